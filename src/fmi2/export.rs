@@ -1,0 +1,883 @@
+//! The one generic adapter that turns a [`Slave`] into every fmi2* symbol of a Co-Simulation FMU.
+//!
+//! It owns what every FMU must get right and no model should repeat: the FMI state machine (calls in
+//! the wrong state are refused with fmi2Error and a log line), null-pointer and value-reference checks,
+//! NaN/inf rejection, parameter ranges from the XML, logging through the host's callback, FMU state
+//! snapshots and their serialisation, and `catch_unwind` around every entry point so no panic crosses
+//! the C boundary. The `export_fmu!` macro (crate root) emits the `#[no_mangle]` symbols that call
+//! these functions.
+//!
+//! # Safety
+//! Every function here is `unsafe` because it dereferences pointers handed over by the host. Each one
+//! checks for null before reading and never builds a slice from a null pointer, even of length 0.
+
+use super::slave::{Log, Slave};
+use super::types::*;
+use super::variables::{Causality, VarType, Variability, Variable, lookup};
+use std::ffi::{CStr, CString, c_int};
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::PathBuf;
+
+/// FMI 2.0 §4.2.4 states of a Co-Simulation slave.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum ModelState {
+    Instantiated,
+    InitializationMode,
+    StepComplete,
+    StepFailed,
+    Terminated,
+    Error,
+    Fatal,
+}
+
+use ModelState::*;
+
+const CATEGORIES: [&str; 4] = ["logEvents", "logStatusWarning", "logStatusError", "logCalls"];
+
+/// The host's logger and what it wants to hear.
+pub struct LogSink {
+    instance_name: CString,
+    callbacks: Fmi2CallbackFunctions,
+    logging_on: bool,
+    enabled: [bool; CATEGORIES.len()],
+    warned: bool,
+}
+
+impl LogSink {
+    fn emit(&self, status: Fmi2Status, category: &str, msg: &str) {
+        let Some(logger) = self.callbacks.logger else { return };
+        let always = matches!(status, Fmi2Status::Error | Fmi2Status::Fatal);
+        let wanted = self.logging_on && CATEGORIES.iter().zip(self.enabled).any(|(c, on)| on && *c == category);
+        if !(always || wanted) {
+            return;
+        }
+        let category = CString::new(category).unwrap_or_default();
+        let text = CString::new(msg.replace('\0', " ")).unwrap_or_default();
+        // SAFETY: the host gave us this logger; "%s" with one C string is the only safe format.
+        unsafe {
+            logger(
+                self.callbacks.component_environment,
+                self.instance_name.as_ptr(),
+                status as c_int,
+                category.as_ptr(),
+                c"%s".as_ptr(),
+                text.as_ptr(),
+            )
+        };
+    }
+
+    fn error(&self, msg: &str) {
+        self.emit(Fmi2Status::Error, "logStatusError", msg);
+    }
+}
+
+impl Log for LogSink {
+    fn warning(&mut self, msg: &str) {
+        self.warned = true;
+        self.emit(Fmi2Status::Warning, "logStatusWarning", msg);
+    }
+    fn event(&mut self, msg: &str) {
+        self.emit(Fmi2Status::Ok, "logEvents", msg);
+    }
+}
+
+/// One FMU instance: what `fmi2Component` points to.
+pub struct Instance<S: Slave> {
+    sink: LogSink,
+    resources: Option<PathBuf>,
+    state: ModelState,
+    time: f64,
+    start_time: f64,
+    stop_time: Option<f64>,
+    last_successful_time: f64,
+    slave: S,
+}
+
+/// A saved FMU state (fmi2GetFMUstate) and the unit of serialisation.
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
+struct Snapshot<S> {
+    guid: String,
+    state: ModelState,
+    time: f64,
+    start_time: f64,
+    stop_time: Option<f64>,
+    last_successful_time: f64,
+    slave: S,
+}
+
+type CallResult = Result<Fmi2Status, String>;
+
+/// Runs `body` on the instance behind `c` if the call is legal in its state, with panics caught.
+/// A refused or failed call logs its reason and moves the instance to the Error state (FMI 2.0:
+/// after fmi2Error only get, reset, set-state and free are meaningful).
+unsafe fn call<S: Slave>(
+    c: Fmi2Component,
+    function: &str,
+    allowed: &[ModelState],
+    body: impl FnOnce(&mut Instance<S>) -> CallResult,
+) -> Fmi2Status {
+    if c.is_null() {
+        return Fmi2Status::Error;
+    }
+    let ptr = c as *mut Instance<S>;
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: non-null component pointers come from fmi2Instantiate and stay valid until freed.
+        let inst = unsafe { &mut *ptr };
+        inst.sink.emit(Fmi2Status::Ok, "logCalls", function);
+        if !allowed.contains(&inst.state) {
+            return Err(format!("{function} is not allowed in state {:?}", inst.state));
+        }
+        inst.sink.warned = false;
+        let status = body(inst)?;
+        Ok(if inst.sink.warned { status.max(Fmi2Status::Warning) } else { status })
+    }));
+    // SAFETY: as above; the closure's borrow has ended.
+    let inst = unsafe { &mut *ptr };
+    match outcome {
+        Ok(Ok(status)) => status,
+        Ok(Err(msg)) => {
+            inst.sink.error(&format!("{function}: {msg}"));
+            if inst.state != Fatal {
+                inst.state = Error;
+            }
+            Fmi2Status::Error
+        }
+        Err(panic) => {
+            let what = panic
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".into());
+            inst.state = Fatal;
+            inst.sink.emit(Fmi2Status::Fatal, "logStatusError", &format!("{function}: internal error: {what}"));
+            Fmi2Status::Fatal
+        }
+    }
+}
+
+const ANY: &[ModelState] = &[Instantiated, InitializationMode, StepComplete, StepFailed, Terminated, Error];
+const READABLE: &[ModelState] = &[InitializationMode, StepComplete, StepFailed, Terminated, Error];
+
+unsafe fn c_str<'a>(p: Fmi2String) -> Option<&'a str> {
+    if p.is_null() {
+        return None;
+    }
+    // SAFETY: non-null strings from the host are NUL-terminated (FMI 2.0 §2.1.2).
+    unsafe { CStr::from_ptr(p) }.to_str().ok()
+}
+
+/// `fmuResourceLocation` → directory: `file:///abs`, `file:/abs` and `file://localhost/abs`, percent-decoded.
+pub fn resource_dir(uri: &str) -> Option<PathBuf> {
+    let rest = uri.strip_prefix("file:")?;
+    let path = if let Some(r) = rest.strip_prefix("//") {
+        let slash = r.find('/')?;
+        let authority = &r[..slash];
+        if !(authority.is_empty() || authority.eq_ignore_ascii_case("localhost")) {
+            return None;
+        }
+        &r[slash..]
+    } else {
+        rest
+    };
+    let bytes = path.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' && i + 2 < bytes.len() {
+            let hex = std::str::from_utf8(&bytes[i + 1..i + 3]).ok()?;
+            out.push(u8::from_str_radix(hex, 16).ok()?);
+            i += 3;
+        } else {
+            out.push(bytes[i]);
+            i += 1;
+        }
+    }
+    Some(PathBuf::from(String::from_utf8(out).ok()?))
+}
+
+/// # Safety
+/// `instance_name`, `guid` and `resource_location` must be NUL-terminated or null; `functions` a valid
+/// pointer or null.
+pub unsafe fn instantiate<S: Slave>(
+    instance_name: Fmi2String,
+    fmu_type: c_int,
+    guid: Fmi2String,
+    resource_location: Fmi2String,
+    functions: *const Fmi2CallbackFunctions,
+    _visible: Fmi2Boolean,
+    logging_on: Fmi2Boolean,
+) -> Fmi2Component {
+    let built = catch_unwind(AssertUnwindSafe(|| {
+        let callbacks = if functions.is_null() {
+            Fmi2CallbackFunctions {
+                logger: None,
+                allocate_memory: None,
+                free_memory: None,
+                step_finished: None,
+                component_environment: std::ptr::null_mut(),
+            }
+        } else {
+            // SAFETY: checked non-null; copied so the host may drop its struct.
+            unsafe { *functions }
+        };
+        let name = unsafe { c_str(instance_name) }.unwrap_or("");
+        let sink = LogSink {
+            instance_name: CString::new(if name.is_empty() { S::MODEL_IDENTIFIER } else { name }).unwrap_or_default(),
+            callbacks,
+            logging_on: logging_on != FMI2_FALSE,
+            enabled: [true; CATEGORIES.len()],
+            warned: false,
+        };
+        let refuse = |msg: String| {
+            sink.error(&format!("fmi2Instantiate: {msg}"));
+            None
+        };
+        if instance_name.is_null() || name.is_empty() {
+            return refuse("instanceName is null or empty".into());
+        }
+        if fmu_type != FMI2_CO_SIMULATION {
+            return refuse(format!("fmuType {fmu_type} requested, this FMU supports only fmi2CoSimulation (1)"));
+        }
+        match unsafe { c_str(guid) } {
+            Some(g) if g == S::GUID => {}
+            Some(g) => return refuse(format!("GUID {g} does not match this binary's {}", S::GUID)),
+            None => return refuse("fmuGUID is null".into()),
+        }
+        let resources = unsafe { c_str(resource_location) }.and_then(resource_dir);
+        let slave = S::instantiate(resources.as_deref());
+        Some(Box::new(Instance {
+            sink,
+            resources,
+            state: Instantiated,
+            time: 0.0,
+            start_time: 0.0,
+            stop_time: None,
+            last_successful_time: 0.0,
+            slave,
+        }))
+    }));
+    match built {
+        Ok(Some(inst)) => Box::into_raw(inst) as Fmi2Component,
+        _ => std::ptr::null_mut(),
+    }
+}
+
+/// # Safety
+/// `c` must come from [`instantiate`] of the same `S` and not be freed yet, or be null.
+pub unsafe fn free_instance<S: Slave>(c: Fmi2Component) {
+    if c.is_null() {
+        return;
+    }
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: the host hands back the pointer fmi2Instantiate gave it, exactly once.
+        drop(unsafe { Box::from_raw(c as *mut Instance<S>) });
+    }));
+}
+
+/// # Safety
+/// As [`free_instance`]; `categories` holds `n` C strings or is null when `n` is 0.
+pub unsafe fn set_debug_logging<S: Slave>(
+    c: Fmi2Component,
+    logging_on: Fmi2Boolean,
+    n: usize,
+    categories: *const Fmi2String,
+) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2SetDebugLogging", ANY, |inst| {
+            let mut enabled = [n == 0; CATEGORIES.len()];
+            if n > 0 {
+                if categories.is_null() {
+                    return Err(format!("{n} categories announced but the array is null"));
+                }
+                for &p in std::slice::from_raw_parts(categories, n) {
+                    let name = c_str(p).ok_or("a category is null")?;
+                    let i = CATEGORIES.iter().position(|c| *c == name).ok_or_else(|| {
+                        format!("unknown log category {name:?}; known: {}", CATEGORIES.join(", "))
+                    })?;
+                    enabled[i] = true;
+                }
+            }
+            inst.sink.logging_on = logging_on != FMI2_FALSE;
+            inst.sink.enabled = enabled;
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// As [`free_instance`].
+pub unsafe fn setup_experiment<S: Slave>(
+    c: Fmi2Component,
+    _tolerance_defined: Fmi2Boolean,
+    _tolerance: f64,
+    start_time: f64,
+    stop_time_defined: Fmi2Boolean,
+    stop_time: f64,
+) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2SetupExperiment", &[Instantiated], |inst| {
+            if !start_time.is_finite() {
+                return Err(format!("startTime {start_time} is not finite"));
+            }
+            let stop = (stop_time_defined != FMI2_FALSE).then_some(stop_time);
+            if let Some(stop) = stop {
+                if !stop.is_finite() || stop < start_time {
+                    return Err(format!("stopTime {stop} is not finite or lies before startTime {start_time}"));
+                }
+            }
+            inst.start_time = start_time;
+            inst.time = start_time;
+            inst.last_successful_time = start_time;
+            inst.stop_time = stop;
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// As [`free_instance`].
+pub unsafe fn enter_initialization_mode<S: Slave>(c: Fmi2Component) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2EnterInitializationMode", &[Instantiated], |inst| {
+            inst.state = InitializationMode;
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// As [`free_instance`].
+pub unsafe fn exit_initialization_mode<S: Slave>(c: Fmi2Component) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2ExitInitializationMode", &[InitializationMode], |inst| {
+            inst.slave.initialize(inst.start_time, &mut inst.sink).map_err(|e| e.0)?;
+            inst.state = StepComplete;
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// As [`free_instance`].
+pub unsafe fn terminate<S: Slave>(c: Fmi2Component) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2Terminate", &[StepComplete, StepFailed, Error], |inst| {
+            inst.state = Terminated;
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// As [`free_instance`].
+pub unsafe fn reset<S: Slave>(c: Fmi2Component) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2Reset", ANY, |inst| {
+            inst.slave = S::instantiate(inst.resources.as_deref());
+            inst.state = Instantiated;
+            inst.time = 0.0;
+            inst.start_time = 0.0;
+            inst.stop_time = None;
+            inst.last_successful_time = 0.0;
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
+/// Checks a value reference before a get: it exists with this type.
+fn known(table: &'static [Variable], ty: VarType, vr: u32) -> Result<&'static Variable, String> {
+    lookup(table, ty, vr).ok_or_else(|| format!("unknown {ty:?} value reference {vr}"))
+}
+
+/// Checks that a variable may be set now (FMI 2.0 §4.2.4 and the XML's min/max for parameters).
+fn settable(v: &Variable, state: ModelState) -> Result<(), String> {
+    let ok = match v.causality {
+        Causality::Input => matches!(state, Instantiated | InitializationMode | StepComplete),
+        Causality::Parameter => match v.variability {
+            Variability::Tunable => matches!(state, Instantiated | InitializationMode | StepComplete),
+            Variability::Fixed => matches!(state, Instantiated | InitializationMode),
+            _ => false,
+        },
+        _ => false,
+    };
+    if ok {
+        Ok(())
+    } else {
+        Err(format!(
+            "{} ({:?} {:?}) cannot be set in state {state:?}",
+            v.name, v.variability, v.causality
+        ))
+    }
+}
+
+fn check_real(v: &Variable, value: f64) -> Result<(), String> {
+    if !value.is_finite() {
+        return Err(format!("{} = {value} rejected: not a finite number", v.name));
+    }
+    if v.causality == Causality::Parameter {
+        if let Some(min) = v.min.filter(|m| value < *m) {
+            return Err(format!("parameter {} = {value} is below its minimum {min}", v.name));
+        }
+        if let Some(max) = v.max.filter(|m| value > *m) {
+            return Err(format!("parameter {} = {value} is above its maximum {max}", v.name));
+        }
+    }
+    Ok(())
+}
+
+/// Pairs the host's value-reference and value arrays, refusing null pointers when n > 0.
+unsafe fn arrays<'a, T>(vr: *const Fmi2ValueReference, n: usize, values: *const T) -> Result<(&'a [u32], &'a [T]), String> {
+    if n == 0 {
+        return Ok((&[], &[]));
+    }
+    if vr.is_null() || values.is_null() {
+        return Err(format!("null value-reference or value array for {n} variables"));
+    }
+    // SAFETY: checked non-null; the host promises n elements.
+    Ok(unsafe { (std::slice::from_raw_parts(vr, n), std::slice::from_raw_parts(values, n)) })
+}
+
+unsafe fn arrays_mut<'a, T>(
+    vr: *const Fmi2ValueReference,
+    n: usize,
+    values: *mut T,
+) -> Result<(&'a [u32], &'a mut [T]), String> {
+    if n == 0 {
+        return Ok((&[], &mut []));
+    }
+    if vr.is_null() || values.is_null() {
+        return Err(format!("null value-reference or value array for {n} variables"));
+    }
+    // SAFETY: checked non-null; the host promises n elements.
+    Ok(unsafe { (std::slice::from_raw_parts(vr, n), std::slice::from_raw_parts_mut(values, n)) })
+}
+
+macro_rules! getter {
+    ($name:ident, $fmi:literal, $t:ty, $ty:expr, $method:ident, $conv:expr) => {
+        /// # Safety
+        /// `c` as [`free_instance`]; `vr` and `value` hold `n` elements or are null when `n` is 0.
+        pub unsafe fn $name<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, value: *mut $t) -> Fmi2Status {
+            unsafe {
+                call::<S>(c, $fmi, READABLE, |inst| {
+                    let (vrs, out) = arrays_mut(vr, n, value)?;
+                    for (r, o) in vrs.iter().zip(out.iter_mut()) {
+                        known(S::VARIABLES, $ty, *r)?;
+                        let v = inst.slave.$method(*r).map_err(|e| e.0)?;
+                        *o = $conv(v);
+                    }
+                    Ok(Fmi2Status::Ok)
+                })
+            }
+        }
+    };
+}
+
+getter!(get_real, "fmi2GetReal", f64, VarType::Real, get_real, |v| v);
+getter!(get_integer, "fmi2GetInteger", c_int, VarType::Integer, get_integer, |v| v);
+getter!(get_boolean, "fmi2GetBoolean", Fmi2Boolean, VarType::Boolean, get_boolean, |v: bool| v as Fmi2Boolean);
+
+/// # Safety
+/// As [`get_real`]. The returned strings stay valid until the next call on this instance.
+pub unsafe fn get_string<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, value: *mut Fmi2String) -> Fmi2Status {
+    thread_local! {
+        // Strings handed out stay alive until the next fmi2GetString on this thread (FMI 2.0 allows
+        // invalidating them at the next call); kept per thread so instances never share mutable state
+        // across threads.
+        static RETURNED: std::cell::RefCell<Vec<CString>> = const { std::cell::RefCell::new(Vec::new()) };
+    }
+    unsafe {
+        call::<S>(c, "fmi2GetString", READABLE, |inst| {
+            let (vrs, out) = arrays_mut(vr, n, value)?;
+            let mut strings = Vec::with_capacity(n);
+            for r in vrs {
+                known(S::VARIABLES, VarType::String, *r)?;
+                let s = inst.slave.get_string(*r).map_err(|e| e.0)?;
+                strings.push(CString::new(s).map_err(|_| "string contains NUL")?);
+            }
+            for (o, s) in out.iter_mut().zip(&strings) {
+                *o = s.as_ptr();
+            }
+            RETURNED.with(|r| *r.borrow_mut() = strings);
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
+const SETTABLE: &[ModelState] = &[Instantiated, InitializationMode, StepComplete];
+
+/// # Safety
+/// `c` as [`free_instance`]; `vr` and `value` hold `n` elements or are null when `n` is 0.
+pub unsafe fn set_real<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, value: *const f64) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2SetReal", SETTABLE, |inst| {
+            let (vrs, vals) = arrays(vr, n, value)?;
+            for (r, v) in vrs.iter().zip(vals) {
+                let var = known(S::VARIABLES, VarType::Real, *r)?;
+                settable(var, inst.state)?;
+                check_real(var, *v)?;
+                inst.slave.set_real(*r, *v, &mut inst.sink).map_err(|e| e.0)?;
+            }
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// As [`set_real`].
+pub unsafe fn set_integer<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, value: *const c_int) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2SetInteger", SETTABLE, |inst| {
+            let (vrs, vals) = arrays(vr, n, value)?;
+            for (r, v) in vrs.iter().zip(vals) {
+                let var = known(S::VARIABLES, VarType::Integer, *r)?;
+                settable(var, inst.state)?;
+                inst.slave.set_integer(*r, *v, &mut inst.sink).map_err(|e| e.0)?;
+            }
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// As [`set_real`].
+pub unsafe fn set_boolean<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, value: *const Fmi2Boolean) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2SetBoolean", SETTABLE, |inst| {
+            let (vrs, vals) = arrays(vr, n, value)?;
+            for (r, v) in vrs.iter().zip(vals) {
+                let var = known(S::VARIABLES, VarType::Boolean, *r)?;
+                settable(var, inst.state)?;
+                inst.slave.set_boolean(*r, *v != FMI2_FALSE, &mut inst.sink).map_err(|e| e.0)?;
+            }
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// As [`set_real`]; every string is NUL-terminated.
+pub unsafe fn set_string<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, value: *const Fmi2String) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2SetString", SETTABLE, |inst| {
+            let (vrs, vals) = arrays(vr, n, value)?;
+            for (r, v) in vrs.iter().zip(vals) {
+                let var = known(S::VARIABLES, VarType::String, *r)?;
+                settable(var, inst.state)?;
+                let s = c_str(*v).ok_or_else(|| format!("{}: null or non-UTF-8 string", var.name))?;
+                inst.slave.set_string(*r, s, &mut inst.sink).map_err(|e| e.0)?;
+            }
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
+fn snapshot<S: Slave>(inst: &Instance<S>) -> Snapshot<S> {
+    Snapshot {
+        guid: S::GUID.to_string(),
+        state: inst.state,
+        time: inst.time,
+        start_time: inst.start_time,
+        stop_time: inst.stop_time,
+        last_successful_time: inst.last_successful_time,
+        slave: inst.slave.clone(),
+    }
+}
+
+fn restore<S: Slave>(inst: &mut Instance<S>, snap: Snapshot<S>) -> Result<(), String> {
+    if snap.guid != S::GUID {
+        return Err(format!("state belongs to GUID {}, this FMU is {}", snap.guid, S::GUID));
+    }
+    inst.state = snap.state;
+    inst.time = snap.time;
+    inst.start_time = snap.start_time;
+    inst.stop_time = snap.stop_time;
+    inst.last_successful_time = snap.last_successful_time;
+    inst.slave = snap.slave;
+    Ok(())
+}
+
+/// # Safety
+/// `c` as [`free_instance`]; `state` points to null or to a state from this function.
+pub unsafe fn get_fmu_state<S: Slave>(c: Fmi2Component, state: *mut Fmi2FmuState) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2GetFMUstate", &[Instantiated, InitializationMode, StepComplete, StepFailed, Terminated], |inst| {
+            if state.is_null() {
+                return Err("FMUstate pointer is null".into());
+            }
+            let snap = snapshot(inst);
+            if (*state).is_null() {
+                *state = Box::into_raw(Box::new(snap)) as Fmi2FmuState;
+            } else {
+                // FMI 2.0: a non-null *FMUstate is updated in place.
+                *((*state) as *mut Snapshot<S>) = snap;
+            }
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// `c` as [`free_instance`]; `state` from [`get_fmu_state`] or [`deserialize_fmu_state`] of this FMU.
+pub unsafe fn set_fmu_state<S: Slave>(c: Fmi2Component, state: Fmi2FmuState) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2SetFMUstate", ANY, |inst| {
+            if state.is_null() {
+                return Err("FMUstate is null".into());
+            }
+            let snap = (*(state as *const Snapshot<S>)).clone();
+            restore(inst, snap)?;
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// As [`set_fmu_state`]; `*state` is set to null.
+pub unsafe fn free_fmu_state<S: Slave>(c: Fmi2Component, state: *mut Fmi2FmuState) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2FreeFMUstate", ANY, |_| {
+            if state.is_null() {
+                return Err("FMUstate pointer is null".into());
+            }
+            if !(*state).is_null() {
+                drop(Box::from_raw((*state) as *mut Snapshot<S>));
+                *state = std::ptr::null_mut();
+            }
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
+fn encode<S: Slave>(snap: &Snapshot<S>) -> Result<Vec<u8>, String> {
+    postcard::to_allocvec(snap).map_err(|e| format!("cannot serialise state: {e}"))
+}
+
+/// # Safety
+/// As [`set_fmu_state`]; `size` is writable.
+pub unsafe fn serialized_fmu_state_size<S: Slave>(c: Fmi2Component, state: Fmi2FmuState, size: *mut usize) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2SerializedFMUstateSize", ANY, |_| {
+            if state.is_null() || size.is_null() {
+                return Err("FMUstate or size pointer is null".into());
+            }
+            *size = encode(&*(state as *const Snapshot<S>))?.len();
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// As [`set_fmu_state`]; `bytes` has room for `size` bytes.
+pub unsafe fn serialize_fmu_state<S: Slave>(c: Fmi2Component, state: Fmi2FmuState, bytes: *mut Fmi2Byte, size: usize) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2SerializeFMUstate", ANY, |_| {
+            if state.is_null() || bytes.is_null() {
+                return Err("FMUstate or byte buffer is null".into());
+            }
+            let encoded = encode(&*(state as *const Snapshot<S>))?;
+            if encoded.len() > size {
+                return Err(format!("buffer of {size} bytes is smaller than the state ({} bytes)", encoded.len()));
+            }
+            std::ptr::copy_nonoverlapping(encoded.as_ptr(), bytes as *mut u8, encoded.len());
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// `c` as [`free_instance`]; `bytes` holds `size` bytes; `state` is writable.
+pub unsafe fn deserialize_fmu_state<S: Slave>(c: Fmi2Component, bytes: *const Fmi2Byte, size: usize, state: *mut Fmi2FmuState) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2DeSerializeFMUstate", ANY, |_| {
+            if bytes.is_null() || state.is_null() {
+                return Err("byte buffer or FMUstate pointer is null".into());
+            }
+            let data = std::slice::from_raw_parts(bytes as *const u8, size);
+            let snap: Snapshot<S> = postcard::from_bytes(data).map_err(|e| format!("corrupt serialised state: {e}"))?;
+            if snap.guid != S::GUID {
+                return Err(format!("serialised state belongs to GUID {}, this FMU is {}", snap.guid, S::GUID));
+            }
+            if !(*state).is_null() {
+                drop(Box::from_raw((*state) as *mut Snapshot<S>));
+            }
+            *state = Box::into_raw(Box::new(snap)) as Fmi2FmuState;
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// As [`free_instance`].
+pub unsafe fn get_directional_derivative<S: Slave>(c: Fmi2Component) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2GetDirectionalDerivative", ANY, |_| {
+            Err("not provided (providesDirectionalDerivative=\"false\" in modelDescription.xml)".into())
+        })
+    }
+}
+
+/// # Safety
+/// `c` as [`free_instance`]; the three arrays hold `n` elements or are null when `n` is 0.
+pub unsafe fn set_real_input_derivatives<S: Slave>(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    n: usize,
+    order: *const Fmi2Integer,
+    value: *const f64,
+) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2SetRealInputDerivatives", &[InitializationMode, StepComplete], |inst| {
+            let (vrs, vals) = arrays(vr, n, value)?;
+            let (_, orders) = arrays(vr, n, order)?;
+            for ((r, v), o) in vrs.iter().zip(vals).zip(orders) {
+                let var = known(S::VARIABLES, VarType::Real, *r)?;
+                if var.causality != Causality::Input {
+                    return Err(format!("{} is not an input", var.name));
+                }
+                if !v.is_finite() {
+                    return Err(format!("derivative of {} = {v} rejected: not finite", var.name));
+                }
+                inst.slave.set_input_derivative(*r, *o, *v).map_err(|e| format!("{}: {e}", var.name))?;
+            }
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
+/// # Safety
+/// As [`free_instance`].
+pub unsafe fn get_real_output_derivatives<S: Slave>(c: Fmi2Component) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2GetRealOutputDerivatives", ANY, |_| {
+            Err("not provided (maxOutputDerivativeOrder=\"0\" in modelDescription.xml)".into())
+        })
+    }
+}
+
+/// # Safety
+/// As [`free_instance`].
+pub unsafe fn do_step<S: Slave>(c: Fmi2Component, t: f64, h: f64, _no_set_prior: Fmi2Boolean) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2DoStep", &[StepComplete], |inst| {
+            if !t.is_finite() || !h.is_finite() {
+                return Err(format!("currentCommunicationPoint {t} or communicationStepSize {h} is not finite"));
+            }
+            if h <= 0.0 {
+                return Err(format!("communicationStepSize {h} must be positive"));
+            }
+            let tolerance = 1e-9 * (1.0 + t.abs());
+            if (t - inst.time).abs() > tolerance {
+                return Err(format!(
+                    "currentCommunicationPoint {t} does not match the FMU's time {}; steps must be contiguous \
+                     (roll back with fmi2SetFMUstate to repeat a step)",
+                    inst.time
+                ));
+            }
+            if let Some(stop) = inst.stop_time {
+                if t + h > stop + 1e-9 * (1.0 + stop.abs()) {
+                    return Err(format!("step to {} passes the stopTime {stop} given in fmi2SetupExperiment", t + h));
+                }
+            }
+            match inst.slave.do_step(t, h, &mut inst.sink) {
+                Ok(()) => {
+                    inst.time = t + h;
+                    inst.last_successful_time = inst.time;
+                    Ok(Fmi2Status::Ok)
+                }
+                Err(e) => {
+                    inst.state = StepFailed;
+                    Err(format!("step from t = {t} s by {h} s failed: {e}"))
+                }
+            }
+        })
+    }
+}
+
+/// # Safety
+/// As [`free_instance`].
+pub unsafe fn cancel_step<S: Slave>(c: Fmi2Component) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2CancelStep", ANY, |_| {
+            Err("no step in progress: fmi2DoStep always completes before returning (never fmi2Pending)".into())
+        })
+    }
+}
+
+/// # Safety
+/// `c` as [`free_instance`]; `value` writable.
+pub unsafe fn get_status<S: Slave>(c: Fmi2Component, kind: c_int, value: *mut c_int) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2GetStatus", ANY, |_| {
+            if value.is_null() {
+                return Err("status pointer is null".into());
+            }
+            // Only fmi2DoStepStatus exists for fmi2GetStatus, and only after fmi2Pending, which we never return.
+            let _ = kind;
+            Ok(Fmi2Status::Discard)
+        })
+    }
+}
+
+/// # Safety
+/// `c` as [`free_instance`]; `value` writable.
+pub unsafe fn get_real_status<S: Slave>(c: Fmi2Component, kind: c_int, value: *mut f64) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2GetRealStatus", ANY, |inst| {
+            if value.is_null() {
+                return Err("status pointer is null".into());
+            }
+            if kind == FMI2_LAST_SUCCESSFUL_TIME {
+                *value = inst.last_successful_time;
+                Ok(Fmi2Status::Ok)
+            } else {
+                Ok(Fmi2Status::Discard)
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` as [`free_instance`]; `value` writable.
+pub unsafe fn get_integer_status<S: Slave>(c: Fmi2Component, _kind: c_int, value: *mut c_int) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2GetIntegerStatus", ANY, |_| {
+            if value.is_null() {
+                return Err("status pointer is null".into());
+            }
+            Ok(Fmi2Status::Discard)
+        })
+    }
+}
+
+/// # Safety
+/// `c` as [`free_instance`]; `value` writable.
+pub unsafe fn get_boolean_status<S: Slave>(c: Fmi2Component, kind: c_int, value: *mut Fmi2Boolean) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2GetBooleanStatus", ANY, |inst| {
+            if value.is_null() {
+                return Err("status pointer is null".into());
+            }
+            if kind == FMI2_TERMINATED {
+                // A failed step cannot be continued: the master should terminate (or roll back).
+                *value = (inst.state == StepFailed) as Fmi2Boolean;
+                Ok(Fmi2Status::Ok)
+            } else {
+                Ok(Fmi2Status::Discard)
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` as [`free_instance`]; `value` writable.
+pub unsafe fn get_string_status<S: Slave>(c: Fmi2Component, _kind: c_int, value: *mut Fmi2String) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2GetStringStatus", ANY, |_| {
+            if value.is_null() {
+                return Err("status pointer is null".into());
+            }
+            Ok(Fmi2Status::Discard)
+        })
+    }
+}
+

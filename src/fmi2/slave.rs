@@ -1,0 +1,60 @@
+//! The contract between a physics model and the FMI export adapter: a plain Rust trait with no raw
+//! pointers. The adapter (export.rs) owns the state machine, argument checks and logging.
+
+use super::variables::Variable;
+use serde::{Serialize, de::DeserializeOwned};
+use std::path::Path;
+
+/// An error a model reports; the adapter logs the message and answers fmi2Error.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct SlaveError(pub String);
+
+impl SlaveError {
+    pub fn new(msg: impl Into<String>) -> Self {
+        Self(msg.into())
+    }
+}
+
+pub type SlaveResult<T> = Result<T, SlaveError>;
+
+/// What a model may say through the host's logger while it works.
+pub trait Log {
+    /// A warning (category logStatusWarning); the call that emits it answers fmi2Warning.
+    fn warning(&mut self, msg: &str);
+    /// A model event such as a brake locking (category logEvents).
+    fn event(&mut self, msg: &str);
+}
+
+/// A Co-Simulation model. Value references reaching these methods already exist in `VARIABLES`
+/// with the right type, and the call is legal in the current FMI state; Real values are finite.
+pub trait Slave: Sized + Clone + Send + Serialize + DeserializeOwned + 'static {
+    const MODEL_IDENTIFIER: &'static str;
+    const GUID: &'static str;
+    const MODEL_DESCRIPTION_XML: &'static str;
+    const VARIABLES: &'static [Variable];
+
+    /// A new instance with every start value of the XML applied (importers do not apply them).
+    fn instantiate(resources: Option<&Path>) -> Self;
+
+    fn get_real(&mut self, vr: u32) -> SlaveResult<f64>;
+    fn set_real(&mut self, vr: u32, value: f64, log: &mut dyn Log) -> SlaveResult<()>;
+    fn get_integer(&mut self, vr: u32) -> SlaveResult<i32>;
+    fn set_integer(&mut self, vr: u32, value: i32, log: &mut dyn Log) -> SlaveResult<()>;
+    fn get_boolean(&mut self, vr: u32) -> SlaveResult<bool>;
+    fn set_boolean(&mut self, vr: u32, value: bool, log: &mut dyn Log) -> SlaveResult<()>;
+    fn get_string(&mut self, vr: u32) -> SlaveResult<String>;
+    fn set_string(&mut self, vr: u32, value: &str, log: &mut dyn Log) -> SlaveResult<()>;
+
+    /// Checks the parameters and builds the model; called by fmi2ExitInitializationMode.
+    fn initialize(&mut self, start_time: f64, log: &mut dyn Log) -> SlaveResult<()>;
+
+    /// The `order`-th time derivative of a Real input, used to interpolate it during the next steps.
+    fn set_input_derivative(&mut self, vr: u32, order: i32, value: f64) -> SlaveResult<()> {
+        let _ = (vr, order, value);
+        Err(SlaveError::new("this FMU cannot interpolate inputs (canInterpolateInputs=false)"))
+    }
+
+    /// Advances from `t` to `t + h`; `t` already matches the model's time.
+    fn do_step(&mut self, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()>;
+}

@@ -1,0 +1,287 @@
+//! Stage description of a drivetrain and the presets A–D of the thesis (PARAMETERS.md §1–3).
+//!
+//! A drivetrain is a rotor, a chain of gear stages joined by shafts, and a generator. Planetary
+//! stages have a fixed ring, the carrier as input and the sun as output; parallel stages take the
+//! gear as input and the pinion as output. Every model fidelity is derived from this one description.
+
+use serde::{Deserialize, Serialize};
+
+/// Gear geometry used for line-of-action quantities (mesh force, TVMS). Only the base radii matter
+/// to the dynamics' force outputs: the torsional mesh stiffness is given referred to the small wheel.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Geometry {
+    /// Normal module, m.
+    pub module: f64,
+    /// Normal pressure angle, rad.
+    pub pressure_angle: f64,
+    /// Helix angle, rad.
+    pub helix_angle: f64,
+    /// True when the module is a documented estimate rather than published data.
+    pub estimated: bool,
+}
+
+impl Geometry {
+    /// Base radius of a wheel with `z` teeth (standard gearing, x = 0).
+    pub fn base_radius(&self, z: u32) -> f64 {
+        let transverse_module = self.module / self.helix_angle.cos();
+        let transverse_pressure = (self.pressure_angle.tan() / self.helix_angle.cos()).atan();
+        0.5 * transverse_module * f64::from(z) * transverse_pressure.cos()
+    }
+}
+
+/// A fixed-ring planetary stage: carrier in, sun out.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Planetary {
+    pub z_sun: u32,
+    pub z_planet: u32,
+    pub z_ring: u32,
+    pub planets: usize,
+    pub j_carrier: f64,
+    pub j_planet: f64,
+    pub j_sun: f64,
+    /// Ring–planet and sun–planet torsional mesh stiffness, N·m/rad, referred to the sun base radius.
+    pub k_ring_planet: f64,
+    pub k_sun_planet: f64,
+    /// Mesh damping, N·m·s/rad referred to the sun base radius; None = derive from ζ_mesh.
+    pub c_ring_planet: Option<f64>,
+    pub c_sun_planet: Option<f64>,
+    pub geometry: Geometry,
+}
+
+/// A parallel stage: gear in, pinion out.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Parallel {
+    pub z_gear: u32,
+    pub z_pinion: u32,
+    pub j_gear: f64,
+    pub j_pinion: f64,
+    /// Torsional mesh stiffness, N·m/rad, referred to the pinion base radius.
+    pub k_mesh: f64,
+    /// Mesh damping, N·m·s/rad referred to the pinion base radius; None = derive from ζ_mesh.
+    pub c_mesh: Option<f64>,
+    pub geometry: Geometry,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Stage {
+    Planetary(Planetary),
+    Parallel(Parallel),
+}
+
+impl Stage {
+    /// Output speed over input speed.
+    pub fn ratio(&self) -> f64 {
+        match self {
+            Stage::Planetary(p) => 1.0 + f64::from(p.z_ring) / f64::from(p.z_sun),
+            Stage::Parallel(p) => f64::from(p.z_gear) / f64::from(p.z_pinion),
+        }
+    }
+}
+
+/// A torsional shaft: stiffness N·m/rad, damping N·m·s/rad (None = derive from ζ_shaft).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Shaft {
+    pub stiffness: f64,
+    pub damping: Option<f64>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Drivetrain {
+    pub name: String,
+    pub rated_power: f64,
+    /// Rated rotor speed, rad/s.
+    pub rated_rotor_speed: f64,
+    pub j_rotor: f64,
+    pub j_generator: f64,
+    pub stages: Vec<Stage>,
+    /// stages.len() + 1 shafts: LSS (rotor → stage 1), the intermediate shafts, HSS (last stage → generator).
+    pub shafts: Vec<Shaft>,
+    /// Electrical torsional stiffness of a grid-locked generator, N·m/rad at the HSS (thesis K_gen).
+    pub k_generator: f64,
+    /// True when k_generator is an estimate (A–C), not a published value.
+    pub k_generator_estimated: bool,
+}
+
+impl Drivetrain {
+    pub fn gear_ratio(&self) -> f64 {
+        self.stages.iter().map(Stage::ratio).product()
+    }
+
+    pub fn rated_rotor_torque(&self) -> f64 {
+        self.rated_power / self.rated_rotor_speed
+    }
+
+    pub fn rated_generator_torque(&self) -> f64 {
+        self.rated_rotor_torque() / self.gear_ratio()
+    }
+
+    /// Looks up a preset by name (case-insensitive): A, B, C or D.
+    pub fn preset(name: &str) -> Option<Drivetrain> {
+        match name.trim().to_ascii_uppercase().as_str() {
+            "A" => Some(preset_a()),
+            "B" => Some(preset_b()),
+            "C" => Some(preset_c()),
+            "D" => Some(preset_d()),
+            _ => None,
+        }
+    }
+}
+
+pub const PRESETS: [&str; 4] = ["A", "B", "C", "D"];
+
+fn rpm(n: f64) -> f64 {
+    n * std::f64::consts::PI / 30.0
+}
+
+fn geometry(module_mm: f64, helix_deg: f64, estimated: bool) -> Geometry {
+    Geometry {
+        module: module_mm * 1e-3,
+        pressure_angle: 20f64.to_radians(),
+        helix_angle: helix_deg.to_radians(),
+        estimated,
+    }
+}
+
+fn shaft(stiffness: f64) -> Shaft {
+    Shaft { stiffness, damping: None }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn planetary(z: (u32, u32, u32), j: (f64, f64, f64), k: f64, g: Geometry) -> Stage {
+    Stage::Planetary(Planetary {
+        z_sun: z.0,
+        z_planet: z.1,
+        z_ring: z.2,
+        planets: 3,
+        j_carrier: j.0,
+        j_planet: j.1,
+        j_sun: j.2,
+        k_ring_planet: k,
+        k_sun_planet: k,
+        c_ring_planet: None,
+        c_sun_planet: None,
+        geometry: g,
+    })
+}
+
+fn parallel(z_gear: u32, z_pinion: u32, j_gear: f64, j_pinion: f64, k: f64, g: Geometry) -> Stage {
+    Stage::Parallel(Parallel { z_gear, z_pinion, j_gear, j_pinion, k_mesh: k, c_mesh: None, geometry: g })
+}
+
+/// Electrical stiffness for A–C, which the thesis does not give: D's per-unit value
+/// K_gen / T_rated,gen = 2.81e4 / 3.96e3 ≈ 7.1 per rad, applied to each rated generator torque.
+fn estimated_k_generator(dt: &Drivetrain) -> f64 {
+    let d = preset_d();
+    d.k_generator / d.rated_generator_torque() * dt.rated_generator_torque()
+}
+
+/// Drivetrain A: 3 MW, two planetary stages, PMG (thesis Tables 4.1, 4.3, 4.7). Modules are estimates.
+pub fn preset_a() -> Drivetrain {
+    let mut dt = Drivetrain {
+        name: "A".into(),
+        rated_power: 3e6,
+        rated_rotor_speed: rpm(14.8),
+        j_rotor: 2.67e6,
+        j_generator: 680.0,
+        stages: vec![
+            planetary((24, 49, 122), (2.32e3, 37.119, 2.187), 1.54e9, geometry(20.0, 0.0, true)),
+            planetary((21, 39, 99), (871.4, 7.115, 0.887), 1.62e8, geometry(14.0, 0.0, true)),
+        ],
+        shafts: vec![shaft(9.30e9), shaft(1.06e8), shaft(1.40e7)],
+        k_generator: 0.0,
+        k_generator_estimated: true,
+    };
+    dt.k_generator = estimated_k_generator(&dt);
+    dt
+}
+
+/// Drivetrain B: 3 MW, two planetary stages and one parallel stage, DFIG. Modules are estimates.
+pub fn preset_b() -> Drivetrain {
+    let mut dt = Drivetrain {
+        name: "B".into(),
+        rated_power: 3e6,
+        rated_rotor_speed: rpm(16.1),
+        j_rotor: 2.67e6,
+        j_generator: 680.0,
+        stages: vec![
+            planetary((27, 50, 127), (2.32e3, 87.9, 7.9), 7.09e8, geometry(20.0, 0.0, true)),
+            planetary((19, 43, 105), (871.4, 9.0, 0.4), 1.43e8, geometry(14.0, 0.0, true)),
+            parallel(65, 21, 17.7, 0.3, 5.88e8, geometry(10.0, 0.0, true)),
+        ],
+        shafts: vec![shaft(9.30e9), shaft(1.06e8), shaft(1.40e7), shaft(1.95e6)],
+        k_generator: 0.0,
+        k_generator_estimated: true,
+    };
+    dt.k_generator = estimated_k_generator(&dt);
+    dt
+}
+
+/// Drivetrain C: 2 MW field turbine, one planetary and two parallel stages, DFIG. Modules are estimates.
+pub fn preset_c() -> Drivetrain {
+    let mut dt = Drivetrain {
+        name: "C".into(),
+        rated_power: 2e6,
+        rated_rotor_speed: rpm(16.0),
+        j_rotor: 6.03e6,
+        j_generator: 60.0,
+        stages: vec![
+            planetary((29, 58, 145), (173.86, 356.0, 29.0), 1.22e9, geometry(16.0, 0.0, true)),
+            parallel(108, 27, 270.0, 1.5, 1.63e9, geometry(12.0, 0.0, true)),
+            parallel(111, 29, 270.0, 2.0, 5.7e8, geometry(9.0, 0.0, true)),
+        ],
+        shafts: vec![shaft(1.6e8), shaft(3.42e8), shaft(1.85e9), shaft(3.1e8)],
+        k_generator: 0.0,
+        k_generator_estimated: true,
+    };
+    dt.k_generator = estimated_k_generator(&dt);
+    dt
+}
+
+/// Drivetrain D: NREL GRC 750 kW, the thesis's 11-mass model (Table 4.2) with its damping values.
+/// Modules and helix angles from the GRC description (REFERENCE-DATA.md §1.1, unconfirmed).
+pub fn preset_d() -> Drivetrain {
+    let planetary = Stage::Planetary(Planetary {
+        z_sun: 21,
+        z_planet: 39,
+        z_ring: 99,
+        planets: 3,
+        j_carrier: 65.2,
+        j_planet: 3.2,
+        j_sun: 1.02,
+        k_ring_planet: 5.86e7,
+        k_sun_planet: 5.86e7,
+        c_ring_planet: Some(3.13e3),
+        c_sun_planet: Some(0.812e3),
+        geometry: geometry(10.0, 7.5, false),
+    });
+    let p1 = Stage::Parallel(Parallel {
+        z_gear: 82,
+        z_pinion: 23,
+        j_gear: 31.72,
+        j_pinion: 0.4,
+        k_mesh: 5.23e7,
+        c_mesh: Some(3.974e3),
+        geometry: geometry(8.25, 14.0, false),
+    });
+    let p2 = Stage::Parallel(Parallel {
+        z_gear: 88,
+        z_pinion: 22,
+        j_gear: 3.42,
+        j_pinion: 0.08,
+        k_mesh: 1.72e7,
+        c_mesh: Some(0.354e3),
+        geometry: geometry(5.0, 14.0, false),
+    });
+    let damped = |stiffness, damping| Shaft { stiffness, damping: Some(damping) };
+    Drivetrain {
+        name: "D".into(),
+        rated_power: 750e3,
+        rated_rotor_speed: rpm(18.6),
+        j_rotor: 998_138.0,
+        j_generator: 24.0,
+        stages: vec![planetary, p1, p2],
+        shafts: vec![damped(3.69e7, 2.396), damped(2.45e7, 0.476), damped(2.70e8, 5.561), damped(2.08e6, 5.753)],
+        k_generator: 2.81e4,
+        k_generator_estimated: false,
+    }
+}

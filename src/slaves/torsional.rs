@@ -1,0 +1,412 @@
+//! The `torsional` FMU: variables of modelDescription/torsional.xml mapped onto [`TorsionalModel`]
+//! and the integrators of [`crate::solver`].
+
+use crate::fmi2::slave::{Log, Slave, SlaveError, SlaveResult};
+use crate::fmi2::variables::{Start, Variable};
+use crate::models::torsional as xml;
+use crate::models::torsional::vr;
+use crate::physics::drivetrain::Drivetrain;
+use crate::physics::torsional::{Fidelity, ModelOptions, TorsionalModel};
+use crate::solver::{self, DynState, Loads, newmark::Newmark, rk4};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use std::sync::Arc;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Integrator {
+    Implicit,
+    Rk4,
+}
+
+/// Every parameter of the XML, at its start value after instantiation.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+pub struct Params {
+    pub preset: String,
+    pub fidelity: String,
+    pub integrator: String,
+    pub max_internal_step: f64,
+    pub shaft_damping_ratio: f64,
+    pub mesh_damping_ratio: f64,
+    pub damping_scale: f64,
+    pub mesh_backlash: f64,
+    pub mesh_stiffness_variation: f64,
+    pub contact_ratio: f64,
+    pub brake_torque_max: f64,
+    pub brake_static_ratio: f64,
+    pub initial_speed_ratio: f64,
+    pub initial_rotor_torque: f64,
+}
+
+/// Input values and their time derivatives (set by fmi2SetRealInputDerivatives, orders 1 and 2).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub struct Inputs {
+    pub values: [f64; 3],
+    pub derivatives: [[f64; 2]; 3],
+}
+
+impl Inputs {
+    fn index(vr: u32) -> Option<usize> {
+        match vr {
+            vr::ROTOR_TORQUE => Some(0),
+            vr::GENERATOR_TORQUE => Some(1),
+            vr::BRAKE_COMMAND => Some(2),
+            _ => None,
+        }
+    }
+
+    /// Input values `dt` seconds after the current communication point (Taylor polynomial).
+    fn at(&self, dt: f64) -> [f64; 3] {
+        std::array::from_fn(|i| self.values[i] + dt * self.derivatives[i][0] + 0.5 * dt * dt * self.derivatives[i][1])
+    }
+
+    /// Moves the expansion point forward by `h` so the polynomial continues if nobody sets new values.
+    fn advance(&mut self, h: f64) {
+        self.values = self.at(h);
+        for d in &mut self.derivatives {
+            d[0] += h * d[1];
+        }
+    }
+}
+
+/// What a set of parameters builds: checked once, shared by snapshots.
+#[derive(Debug)]
+pub struct Built {
+    pub drivetrain: Drivetrain,
+    pub model: TorsionalModel,
+    pub integrator: Integrator,
+    pub brake_torque_max: f64,
+    pub rk4_step_limit: f64,
+}
+
+#[derive(Clone, Serialize, Deserialize)]
+pub struct TorsionalSlave {
+    pub params: Params,
+    pub inputs: Inputs,
+    /// None until the model is first needed; rebuilt from `params` after deserialisation.
+    state: Option<DynState>,
+    #[serde(skip)]
+    built: Option<Arc<Built>>,
+    #[serde(skip)]
+    newmark: Newmark,
+}
+
+fn err(msg: impl Into<String>) -> SlaveError {
+    SlaveError::new(msg)
+}
+
+impl Params {
+    pub fn build(&self) -> SlaveResult<Built> {
+        let drivetrain = Drivetrain::preset(&self.preset)
+            .ok_or_else(|| err(format!("parameter preset = {:?}: unknown drivetrain, use A, B, C or D", self.preset)))?;
+        let fidelity = Fidelity::parse(&self.fidelity)
+            .ok_or_else(|| err(format!("parameter fidelity = {:?}: use 2, 5 or full", self.fidelity)))?;
+        let integrator = match self.integrator.trim().to_ascii_lowercase().as_str() {
+            "implicit" | "newmark" | "trapezoidal" => Integrator::Implicit,
+            "rk4" | "explicit" => Integrator::Rk4,
+            other => return Err(err(format!("parameter integrator = {other:?}: use implicit or rk4"))),
+        };
+        let nonlinear = self.mesh_backlash > 0.0 || self.mesh_stiffness_variation > 0.0;
+        if nonlinear && fidelity != Fidelity::Full {
+            return Err(err("mesh_backlash and mesh_stiffness_variation need fidelity = full (meshes are rigid below it)"));
+        }
+        if self.mesh_stiffness_variation * (self.contact_ratio - 1.0) >= 1.0 {
+            return Err(err(format!(
+                "mesh_stiffness_variation {} with contact_ratio {} makes the single-contact stiffness negative",
+                self.mesh_stiffness_variation, self.contact_ratio
+            )));
+        }
+        let options = ModelOptions {
+            shaft_damping_ratio: self.shaft_damping_ratio,
+            mesh_damping_ratio: self.mesh_damping_ratio,
+            damping_scale: self.damping_scale,
+            mesh_backlash: self.mesh_backlash,
+            mesh_stiffness_variation: self.mesh_stiffness_variation,
+            contact_ratio: self.contact_ratio,
+        };
+        let model = TorsionalModel::new(&drivetrain, fidelity, &options).map_err(err)?;
+        let brake_torque_max =
+            if self.brake_torque_max > 0.0 { self.brake_torque_max } else { 1.5 * drivetrain.rated_generator_torque() };
+        let rk4_step_limit = rk4::stability_limit(model.max_angular_frequency());
+        Ok(Built { drivetrain, model, integrator, brake_torque_max, rk4_step_limit })
+    }
+
+    fn initial_state(&self, b: &Built) -> SlaveResult<DynState> {
+        let m = &b.model;
+        let q = m.static_deflection(self.initial_rotor_torque).map_err(err)?;
+        let w = self.initial_speed_ratio * b.drivetrain.rated_rotor_speed;
+        let v = m.speed_ratio.iter().map(|r| r * w).collect();
+        Ok(DynState::new(q, v))
+    }
+}
+
+impl TorsionalSlave {
+    fn blank() -> Self {
+        Self { params: Params::default(), inputs: Inputs::default(), state: None, built: None, newmark: Newmark::new() }
+    }
+
+    /// The built model and state, created from the current parameters on first use.
+    pub fn ensure(&mut self) -> SlaveResult<(&Built, &mut DynState)> {
+        if self.built.is_none() {
+            self.built = Some(Arc::new(self.params.build()?));
+        }
+        let built = self.built.as_ref().unwrap();
+        if self.state.is_none() {
+            self.state = Some(self.params.initial_state(built)?);
+        }
+        Ok((built, self.state.as_mut().unwrap()))
+    }
+
+    fn invalidate(&mut self) {
+        self.built = None;
+        self.state = None;
+    }
+
+    fn loads(&self, inputs: [f64; 3], brake_torque_max: f64) -> Loads {
+        Loads {
+            rotor_torque: inputs[0],
+            generator_torque: inputs[1],
+            brake_capacity: inputs[2].clamp(0.0, 1.0) * brake_torque_max,
+        }
+    }
+
+    fn element_output(built: &Built, st: &DynState, out: Option<crate::physics::torsional::ForceOutput>) -> f64 {
+        let Some(o) = out else { return 0.0 };
+        let e = &built.model.elements[o.element];
+        o.factor * e.force(e.stiffness_at(&st.q), e.deflection(&st.q), e.deflection(&st.v))
+    }
+
+    /// Statistics of the implicit integrator: (factorisations, Newton iterations).
+    pub fn solver_statistics(&self) -> (u64, u64) {
+        (self.newmark.factorizations, self.newmark.iterations)
+    }
+
+    pub fn built(&mut self) -> SlaveResult<&Built> {
+        Ok(self.ensure()?.0)
+    }
+}
+
+const MESH_FIRST: u32 = vr::MESH_FORCE_RING_PLANET_1;
+const ANGLE_FIRST: u32 = vr::ANGLE_ROTOR;
+const SPEED_FIRST: u32 = vr::SPEED_ROTOR;
+const BODY_COUNT: u32 = crate::physics::torsional::BODY_SLOTS.len() as u32;
+const MESH_COUNT: u32 = crate::physics::torsional::MESH_SLOTS.len() as u32;
+
+impl Slave for TorsionalSlave {
+    const MODEL_IDENTIFIER: &'static str = xml::MODEL_IDENTIFIER;
+    const GUID: &'static str = xml::GUID;
+    const MODEL_DESCRIPTION_XML: &'static str = xml::MODEL_DESCRIPTION_XML;
+    const VARIABLES: &'static [Variable] = xml::VARIABLES;
+
+    fn instantiate(_resources: Option<&Path>) -> Self {
+        struct Quiet;
+        impl Log for Quiet {
+            fn warning(&mut self, _: &str) {}
+            fn event(&mut self, _: &str) {}
+        }
+        let mut s = Self::blank();
+        for v in Self::VARIABLES {
+            // start values come from the XML table, so code and XML cannot disagree
+            let _ = match v.start {
+                Start::Real(x) => s.set_real(v.vr, x, &mut Quiet),
+                Start::Integer(x) => s.set_integer(v.vr, x, &mut Quiet),
+                Start::Boolean(x) => s.set_boolean(v.vr, x, &mut Quiet),
+                Start::String(x) => s.set_string(v.vr, x, &mut Quiet),
+                Start::None => Ok(()),
+            };
+        }
+        s
+    }
+
+    fn get_real(&mut self, r: u32) -> SlaveResult<f64> {
+        let p = &self.params;
+        let direct = match r {
+            vr::MAX_INTERNAL_STEP => Some(p.max_internal_step),
+            vr::SHAFT_DAMPING_RATIO => Some(p.shaft_damping_ratio),
+            vr::MESH_DAMPING_RATIO => Some(p.mesh_damping_ratio),
+            vr::DAMPING_SCALE => Some(p.damping_scale),
+            vr::MESH_BACKLASH => Some(p.mesh_backlash),
+            vr::MESH_STIFFNESS_VARIATION => Some(p.mesh_stiffness_variation),
+            vr::CONTACT_RATIO => Some(p.contact_ratio),
+            vr::BRAKE_TORQUE_MAX => Some(p.brake_torque_max),
+            vr::BRAKE_STATIC_RATIO => Some(p.brake_static_ratio),
+            vr::INITIAL_SPEED_RATIO => Some(p.initial_speed_ratio),
+            vr::INITIAL_ROTOR_TORQUE => Some(p.initial_rotor_torque),
+            _ => Inputs::index(r).map(|i| self.inputs.values[i]),
+        };
+        if let Some(v) = direct {
+            return Ok(v);
+        }
+        let (b, st) = self.ensure()?;
+        let body = |slot: u32, speed: bool| {
+            b.model.bodies[slot as usize].map_or(0.0, |(d, f)| f * if speed { st.v[d] } else { st.q[d] })
+        };
+        Ok(match r {
+            vr::GEAR_RATIO => b.model.gear_ratio,
+            vr::RATED_ROTOR_TORQUE => b.drivetrain.rated_rotor_torque(),
+            vr::RATED_GENERATOR_TORQUE => b.drivetrain.rated_generator_torque(),
+            vr::RK4_STEP_LIMIT => b.rk4_step_limit,
+            vr::ROTOR_SPEED => body(0, true),
+            vr::GENERATOR_SPEED => body(BODY_COUNT - 1, true),
+            vr::LSS_TORQUE => Self::element_output(b, st, b.model.shafts[0]),
+            vr::IS1_TORQUE => Self::element_output(b, st, b.model.shafts[1]),
+            vr::IS2_TORQUE => Self::element_output(b, st, b.model.shafts[2]),
+            vr::HSS_TORQUE => Self::element_output(b, st, b.model.shafts[3]),
+            vr::BRAKE_TORQUE => st.brake_torque,
+            vr::STORED_ENERGY => solver::stored_energy(&b.model, &st.q, &st.v),
+            r if (MESH_FIRST..MESH_FIRST + MESH_COUNT).contains(&r) => {
+                Self::element_output(b, st, b.model.meshes[(r - MESH_FIRST) as usize])
+            }
+            r if (ANGLE_FIRST..ANGLE_FIRST + BODY_COUNT).contains(&r) => body(r - ANGLE_FIRST, false),
+            r if (SPEED_FIRST..SPEED_FIRST + BODY_COUNT).contains(&r) => body(r - SPEED_FIRST, true),
+            _ => return Err(err(format!("Real value reference {r} has no getter"))),
+        })
+    }
+
+    fn set_real(&mut self, r: u32, value: f64, log: &mut dyn Log) -> SlaveResult<()> {
+        if let Some(i) = Inputs::index(r) {
+            let mut value = value;
+            if r == vr::BRAKE_COMMAND && !(0.0..=1.0).contains(&value) {
+                log.warning(&format!("brake_command = {value} outside [0, 1], clamped"));
+                value = value.clamp(0.0, 1.0);
+            }
+            self.inputs.values[i] = value;
+            self.inputs.derivatives[i] = [0.0; 2];
+            return Ok(());
+        }
+        let p = &mut self.params;
+        let slot = match r {
+            vr::MAX_INTERNAL_STEP => &mut p.max_internal_step,
+            vr::SHAFT_DAMPING_RATIO => &mut p.shaft_damping_ratio,
+            vr::MESH_DAMPING_RATIO => &mut p.mesh_damping_ratio,
+            vr::DAMPING_SCALE => &mut p.damping_scale,
+            vr::MESH_BACKLASH => &mut p.mesh_backlash,
+            vr::MESH_STIFFNESS_VARIATION => &mut p.mesh_stiffness_variation,
+            vr::CONTACT_RATIO => &mut p.contact_ratio,
+            vr::BRAKE_TORQUE_MAX => &mut p.brake_torque_max,
+            vr::BRAKE_STATIC_RATIO => &mut p.brake_static_ratio,
+            vr::INITIAL_SPEED_RATIO => &mut p.initial_speed_ratio,
+            vr::INITIAL_ROTOR_TORQUE => &mut p.initial_rotor_torque,
+            _ => return Err(err(format!("Real value reference {r} cannot be set"))),
+        };
+        *slot = value;
+        self.invalidate();
+        Ok(())
+    }
+
+    fn get_integer(&mut self, r: u32) -> SlaveResult<i32> {
+        match r {
+            vr::DOF_COUNT => Ok(self.ensure()?.0.model.dofs() as i32),
+            _ => Err(err(format!("Integer value reference {r} has no getter"))),
+        }
+    }
+
+    fn set_integer(&mut self, r: u32, _: i32, _: &mut dyn Log) -> SlaveResult<()> {
+        Err(err(format!("Integer value reference {r} cannot be set")))
+    }
+
+    fn get_boolean(&mut self, r: u32) -> SlaveResult<bool> {
+        match r {
+            vr::BRAKE_LOCKED => Ok(self.ensure()?.1.locked),
+            _ => Err(err(format!("Boolean value reference {r} has no getter"))),
+        }
+    }
+
+    fn set_boolean(&mut self, r: u32, _: bool, _: &mut dyn Log) -> SlaveResult<()> {
+        Err(err(format!("Boolean value reference {r} cannot be set")))
+    }
+
+    fn get_string(&mut self, r: u32) -> SlaveResult<String> {
+        Ok(match r {
+            vr::PRESET => self.params.preset.clone(),
+            vr::FIDELITY => self.params.fidelity.clone(),
+            vr::INTEGRATOR => self.params.integrator.clone(),
+            _ => return Err(err(format!("String value reference {r} has no getter"))),
+        })
+    }
+
+    fn set_string(&mut self, r: u32, value: &str, _: &mut dyn Log) -> SlaveResult<()> {
+        let slot = match r {
+            vr::PRESET => &mut self.params.preset,
+            vr::FIDELITY => &mut self.params.fidelity,
+            vr::INTEGRATOR => &mut self.params.integrator,
+            _ => return Err(err(format!("String value reference {r} cannot be set"))),
+        };
+        *slot = value.to_string();
+        self.invalidate();
+        Ok(())
+    }
+
+    fn initialize(&mut self, _start_time: f64, _log: &mut dyn Log) -> SlaveResult<()> {
+        let p = &self.params;
+        if p.max_internal_step <= 0.0 {
+            return Err(err(format!("max_internal_step = {} must be positive", p.max_internal_step)));
+        }
+        self.ensure()?;
+        Ok(())
+    }
+
+    fn set_input_derivative(&mut self, r: u32, order: i32, value: f64) -> SlaveResult<()> {
+        let i = Inputs::index(r).ok_or_else(|| err("not an input"))?;
+        match order {
+            1 | 2 => {
+                self.inputs.derivatives[i][(order - 1) as usize] = value;
+                Ok(())
+            }
+            _ => Err(err(format!("derivative order {order} not supported (1 or 2)"))),
+        }
+    }
+
+    fn do_step(&mut self, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
+        let static_ratio = self.params.brake_static_ratio;
+        let max_step = self.params.max_internal_step;
+        self.ensure()?;
+        let built = Arc::clone(self.built.as_ref().unwrap());
+        let substeps = (h / max_step * (1.0 - 1e-12)).ceil().max(1.0);
+        let hs = h / substeps;
+        if built.integrator == Integrator::Rk4 && hs > built.rk4_step_limit {
+            return Err(err(format!(
+                "RK4 is unstable at an internal step of {hs:.3e} s: its stability limit is 2.785/omega_max = {:.3e} s \
+                 (omega_max = {:.0} rad/s, the stiffest gear-mesh mode at {:.0} Hz); set max_internal_step <= {:.3e} \
+                 or use integrator = implicit",
+                built.rk4_step_limit,
+                2.785 / built.rk4_step_limit,
+                2.785 / built.rk4_step_limit / std::f64::consts::TAU,
+                built.rk4_step_limit
+            )));
+        }
+        let brake_max = built.brake_torque_max;
+        let inputs = self.inputs;
+        let start_loads = self.loads(inputs.at(0.0), brake_max);
+        let st = self.state.as_mut().unwrap();
+        let was_locked = st.locked;
+        solver::consistent_acceleration(&built.model, st, &start_loads, static_ratio);
+        let n = substeps as usize;
+        for i in 0..n {
+            let tau = if i + 1 == n { h } else { (i + 1) as f64 * hs };
+            let u = inputs.at(tau);
+            let loads = Loads {
+                rotor_torque: u[0],
+                generator_torque: u[1],
+                brake_capacity: u[2].clamp(0.0, 1.0) * brake_max,
+            };
+            match built.integrator {
+                Integrator::Implicit => {
+                    self.newmark.step(&built.model, st, hs, &loads, static_ratio).map_err(err)?;
+                }
+                Integrator::Rk4 => rk4::step(&built.model, st, hs, &loads, static_ratio),
+            }
+        }
+        if st.q.iter().chain(&st.v).any(|x| !x.is_finite()) {
+            return Err(err(format!("the state became non-finite during the step from t = {t} s")));
+        }
+        if st.locked != was_locked {
+            log.event(&format!(
+                "t = {:.6} s: HSS brake {}",
+                t + h,
+                if st.locked { "locked (stiction)" } else { "released (slipping)" }
+            ));
+        }
+        self.inputs.advance(h);
+        Ok(())
+    }
+}
