@@ -223,6 +223,21 @@ fn generate(m: &Model, xml: &str, guid: &str) -> String {
         .unwrap();
     }
     writeln!(s, "];").unwrap();
+    // Dense value-reference → table-index maps per type: an FMI call resolves a reference in O(1).
+    writeln!(s, "/// The variable with this type and value reference.").unwrap();
+    writeln!(s, "pub fn variable(ty: VarType, vr: u32) -> Option<&'static Variable> {{").unwrap();
+    writeln!(s, "    const NONE: u16 = u16::MAX;").unwrap();
+    for ty in ["Real", "Integer", "Boolean", "String"] {
+        let max = m.vars.iter().filter(|v| v.ty == ty).map(|v| v.vr).max().map_or(0, |x| x as usize + 1);
+        let mut table = vec!["NONE".to_string(); max];
+        for (i, v) in m.vars.iter().enumerate().filter(|(_, v)| v.ty == ty) {
+            table[v.vr as usize] = i.to_string();
+        }
+        writeln!(s, "    static {}: [u16; {max}] = [{}];", ty.to_uppercase(), table.join(", ")).unwrap();
+    }
+    writeln!(s, "    let table: &[u16] = match ty {{ VarType::Real => &REAL, VarType::Integer => &INTEGER, VarType::Boolean => &BOOLEAN, VarType::String => &STRING }};").unwrap();
+    writeln!(s, "    table.get(vr as usize).filter(|i| **i != NONE).map(|i| &VARIABLES[*i as usize])").unwrap();
+    writeln!(s, "}}").unwrap();
     s
 }
 

@@ -1,0 +1,20 @@
+use clap::Parser;
+use windrive::cli::{Cli, Command};
+
+fn main() -> anyhow::Result<()> {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Pack { names } => {
+            let root = windrive::pack::workspace_root()?;
+            let names = if names.is_empty() { windrive::pack::fmu_names(&root) } else { names };
+            for name in names {
+                let path = windrive::pack::pack(&root, &name)?;
+                println!("packed {}", path.display());
+            }
+            Ok(())
+        }
+        Command::Modes(args) => windrive::cli::modes::run(&args),
+        Command::StepResponse(args) => windrive::cli::step::run(&args),
+        Command::Bench(args) => windrive::cli::bench::run(&args),
+    }
+}

@@ -13,7 +13,7 @@
 
 use super::slave::{Log, Slave};
 use super::types::*;
-use super::variables::{Causality, VarType, Variability, Variable, lookup};
+use super::variables::{Causality, VarType, Variability, Variable};
 use std::ffi::{CStr, CString, c_int};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
@@ -384,9 +384,9 @@ pub unsafe fn reset<S: Slave>(c: Fmi2Component) -> Fmi2Status {
     }
 }
 
-/// Checks a value reference before a get: it exists with this type.
-fn known(table: &'static [Variable], ty: VarType, vr: u32) -> Result<&'static Variable, String> {
-    lookup(table, ty, vr).ok_or_else(|| format!("unknown {ty:?} value reference {vr}"))
+/// Checks a value reference: it exists with this type.
+fn known<S: Slave>(ty: VarType, vr: u32) -> Result<&'static Variable, String> {
+    S::variable(ty, vr).ok_or_else(|| format!("unknown {ty:?} value reference {vr}"))
 }
 
 /// Checks that a variable may be set now (FMI 2.0 §4.2.4 and the XML's min/max for parameters).
@@ -461,7 +461,7 @@ macro_rules! getter {
                 call::<S>(c, $fmi, READABLE, |inst| {
                     let (vrs, out) = arrays_mut(vr, n, value)?;
                     for (r, o) in vrs.iter().zip(out.iter_mut()) {
-                        known(S::VARIABLES, $ty, *r)?;
+                        known::<S>($ty, *r)?;
                         let v = inst.slave.$method(*r).map_err(|e| e.0)?;
                         *o = $conv(v);
                     }
@@ -490,7 +490,7 @@ pub unsafe fn get_string<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueReferen
             let (vrs, out) = arrays_mut(vr, n, value)?;
             let mut strings = Vec::with_capacity(n);
             for r in vrs {
-                known(S::VARIABLES, VarType::String, *r)?;
+                known::<S>(VarType::String, *r)?;
                 let s = inst.slave.get_string(*r).map_err(|e| e.0)?;
                 strings.push(CString::new(s).map_err(|_| "string contains NUL")?);
             }
@@ -512,7 +512,7 @@ pub unsafe fn set_real<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueReference
         call::<S>(c, "fmi2SetReal", SETTABLE, |inst| {
             let (vrs, vals) = arrays(vr, n, value)?;
             for (r, v) in vrs.iter().zip(vals) {
-                let var = known(S::VARIABLES, VarType::Real, *r)?;
+                let var = known::<S>(VarType::Real, *r)?;
                 settable(var, inst.state)?;
                 check_real(var, *v)?;
                 inst.slave.set_real(*r, *v, &mut inst.sink).map_err(|e| e.0)?;
@@ -529,7 +529,7 @@ pub unsafe fn set_integer<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueRefere
         call::<S>(c, "fmi2SetInteger", SETTABLE, |inst| {
             let (vrs, vals) = arrays(vr, n, value)?;
             for (r, v) in vrs.iter().zip(vals) {
-                let var = known(S::VARIABLES, VarType::Integer, *r)?;
+                let var = known::<S>(VarType::Integer, *r)?;
                 settable(var, inst.state)?;
                 inst.slave.set_integer(*r, *v, &mut inst.sink).map_err(|e| e.0)?;
             }
@@ -545,7 +545,7 @@ pub unsafe fn set_boolean<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueRefere
         call::<S>(c, "fmi2SetBoolean", SETTABLE, |inst| {
             let (vrs, vals) = arrays(vr, n, value)?;
             for (r, v) in vrs.iter().zip(vals) {
-                let var = known(S::VARIABLES, VarType::Boolean, *r)?;
+                let var = known::<S>(VarType::Boolean, *r)?;
                 settable(var, inst.state)?;
                 inst.slave.set_boolean(*r, *v != FMI2_FALSE, &mut inst.sink).map_err(|e| e.0)?;
             }
@@ -561,7 +561,7 @@ pub unsafe fn set_string<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueReferen
         call::<S>(c, "fmi2SetString", SETTABLE, |inst| {
             let (vrs, vals) = arrays(vr, n, value)?;
             for (r, v) in vrs.iter().zip(vals) {
-                let var = known(S::VARIABLES, VarType::String, *r)?;
+                let var = known::<S>(VarType::String, *r)?;
                 settable(var, inst.state)?;
                 let s = c_str(*v).ok_or_else(|| format!("{}: null or non-UTF-8 string", var.name))?;
                 inst.slave.set_string(*r, s, &mut inst.sink).map_err(|e| e.0)?;
@@ -730,7 +730,7 @@ pub unsafe fn set_real_input_derivatives<S: Slave>(
             let (vrs, vals) = arrays(vr, n, value)?;
             let (_, orders) = arrays(vr, n, order)?;
             for ((r, v), o) in vrs.iter().zip(vals).zip(orders) {
-                let var = known(S::VARIABLES, VarType::Real, *r)?;
+                let var = known::<S>(VarType::Real, *r)?;
                 if var.causality != Causality::Input {
                     return Err(format!("{} is not an input", var.name));
                 }

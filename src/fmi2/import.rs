@@ -1,0 +1,419 @@
+//! Host side of FMI 2.0 Co-Simulation: open an `.fmu` (or an unpacked folder), resolve all 34
+//! symbols up front, and drive instances through a safe [`Instance`] whose every call returns a
+//! `Result` the caller must handle. Messages an FMU logs are collected per instance.
+
+use super::description::ModelDescription;
+use super::types::*;
+use libloading::Library;
+use std::ffi::{CStr, CString, c_char, c_int, c_void};
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+#[derive(Debug, thiserror::Error)]
+pub enum ImportError {
+    #[error("{path}: {message}")]
+    Archive { path: PathBuf, message: String },
+    #[error("{path}: modelDescription.xml: {message}")]
+    Description { path: PathBuf, message: String },
+    #[error("{path}: cannot load: {message}")]
+    Library { path: PathBuf, message: String },
+    #[error("{path}: missing FMI function {symbol}")]
+    MissingSymbol { path: PathBuf, symbol: String },
+    #[error("{instance}: fmi2Instantiate returned NULL{}", log_suffix(.log))]
+    Instantiate { instance: String, log: Vec<String> },
+    #[error("{instance}: {function} returned {status}{}", log_suffix(.log))]
+    Call { instance: String, function: &'static str, status: &'static str, log: Vec<String> },
+    #[error("{model}: no variable named {name}")]
+    UnknownVariable { model: String, name: String },
+}
+
+fn log_suffix(log: &[String]) -> String {
+    if log.is_empty() { String::new() } else { format!(": {}", log.join(" | ")) }
+}
+
+/// A temporary directory removed on drop.
+#[derive(Debug)]
+pub struct TempDir(PathBuf);
+
+impl TempDir {
+    pub fn new(prefix: &str) -> std::io::Result<Self> {
+        use std::sync::atomic::{AtomicU64, Ordering};
+        static COUNTER: AtomicU64 = AtomicU64::new(0);
+        let nanos = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos());
+        let path = std::env::temp_dir().join(format!(
+            "{prefix}-{}-{}-{nanos}",
+            std::process::id(),
+            COUNTER.fetch_add(1, Ordering::Relaxed)
+        ));
+        std::fs::create_dir_all(&path)?;
+        Ok(Self(path))
+    }
+    pub fn path(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Unpacks a zip archive into `dest`, refusing entries that would land outside it.
+pub fn unzip(archive: &Path, dest: &Path) -> Result<(), ImportError> {
+    let fail = |message: String| ImportError::Archive { path: archive.to_path_buf(), message };
+    let file = std::fs::File::open(archive).map_err(|e| fail(e.to_string()))?;
+    let mut zip = zip::ZipArchive::new(file).map_err(|e| fail(format!("not a valid zip archive: {e}")))?;
+    for i in 0..zip.len() {
+        let mut entry = zip.by_index(i).map_err(|e| fail(e.to_string()))?;
+        let rel = entry.enclosed_name().ok_or_else(|| fail(format!("entry {:?} escapes the archive folder", entry.name())))?;
+        let out = dest.join(rel);
+        if entry.is_dir() {
+            std::fs::create_dir_all(&out).map_err(|e| fail(e.to_string()))?;
+        } else {
+            if let Some(parent) = out.parent() {
+                std::fs::create_dir_all(parent).map_err(|e| fail(e.to_string()))?;
+            }
+            let mut w = std::fs::File::create(&out).map_err(|e| fail(e.to_string()))?;
+            std::io::copy(&mut entry, &mut w).map_err(|e| fail(e.to_string()))?;
+        }
+    }
+    Ok(())
+}
+
+macro_rules! api {
+    ($($field:ident : $sym:literal : $ty:ty,)*) => {
+        /// Every FMI 2.0 Co-Simulation function, resolved when the library is loaded.
+        pub struct Api { $(pub $field: $ty,)* _lib: Library }
+        impl Api {
+            /// # Safety
+            /// `lib` must be an FMI 2.0 FMU binary whose symbols have the standard signatures.
+            unsafe fn resolve(lib: Library, path: &Path) -> Result<Self, ImportError> {
+                $(
+                    let $field: $ty = *unsafe { lib.get::<$ty>(concat!($sym, "\0").as_bytes()) }
+                        .map_err(|_| ImportError::MissingSymbol { path: path.to_path_buf(), symbol: $sym.into() })?;
+                )*
+                Ok(Self { $($field,)* _lib: lib })
+            }
+        }
+    };
+}
+
+type C = Fmi2Component;
+type Vr = *const Fmi2ValueReference;
+api! {
+    get_types_platform: "fmi2GetTypesPlatform": unsafe extern "C" fn() -> *const c_char,
+    get_version: "fmi2GetVersion": unsafe extern "C" fn() -> *const c_char,
+    set_debug_logging: "fmi2SetDebugLogging": unsafe extern "C" fn(C, Fmi2Boolean, usize, *const Fmi2String) -> Fmi2Status,
+    instantiate: "fmi2Instantiate": unsafe extern "C" fn(Fmi2String, c_int, Fmi2String, Fmi2String, *const Fmi2CallbackFunctions, Fmi2Boolean, Fmi2Boolean) -> C,
+    free_instance: "fmi2FreeInstance": unsafe extern "C" fn(C),
+    setup_experiment: "fmi2SetupExperiment": unsafe extern "C" fn(C, Fmi2Boolean, f64, f64, Fmi2Boolean, f64) -> Fmi2Status,
+    enter_initialization_mode: "fmi2EnterInitializationMode": unsafe extern "C" fn(C) -> Fmi2Status,
+    exit_initialization_mode: "fmi2ExitInitializationMode": unsafe extern "C" fn(C) -> Fmi2Status,
+    terminate: "fmi2Terminate": unsafe extern "C" fn(C) -> Fmi2Status,
+    reset: "fmi2Reset": unsafe extern "C" fn(C) -> Fmi2Status,
+    get_real: "fmi2GetReal": unsafe extern "C" fn(C, Vr, usize, *mut f64) -> Fmi2Status,
+    get_integer: "fmi2GetInteger": unsafe extern "C" fn(C, Vr, usize, *mut c_int) -> Fmi2Status,
+    get_boolean: "fmi2GetBoolean": unsafe extern "C" fn(C, Vr, usize, *mut Fmi2Boolean) -> Fmi2Status,
+    get_string: "fmi2GetString": unsafe extern "C" fn(C, Vr, usize, *mut Fmi2String) -> Fmi2Status,
+    set_real: "fmi2SetReal": unsafe extern "C" fn(C, Vr, usize, *const f64) -> Fmi2Status,
+    set_integer: "fmi2SetInteger": unsafe extern "C" fn(C, Vr, usize, *const c_int) -> Fmi2Status,
+    set_boolean: "fmi2SetBoolean": unsafe extern "C" fn(C, Vr, usize, *const Fmi2Boolean) -> Fmi2Status,
+    set_string: "fmi2SetString": unsafe extern "C" fn(C, Vr, usize, *const Fmi2String) -> Fmi2Status,
+    get_fmu_state: "fmi2GetFMUstate": unsafe extern "C" fn(C, *mut Fmi2FmuState) -> Fmi2Status,
+    set_fmu_state: "fmi2SetFMUstate": unsafe extern "C" fn(C, Fmi2FmuState) -> Fmi2Status,
+    free_fmu_state: "fmi2FreeFMUstate": unsafe extern "C" fn(C, *mut Fmi2FmuState) -> Fmi2Status,
+    serialized_fmu_state_size: "fmi2SerializedFMUstateSize": unsafe extern "C" fn(C, Fmi2FmuState, *mut usize) -> Fmi2Status,
+    serialize_fmu_state: "fmi2SerializeFMUstate": unsafe extern "C" fn(C, Fmi2FmuState, *mut Fmi2Byte, usize) -> Fmi2Status,
+    deserialize_fmu_state: "fmi2DeSerializeFMUstate": unsafe extern "C" fn(C, *const Fmi2Byte, usize, *mut Fmi2FmuState) -> Fmi2Status,
+    get_directional_derivative: "fmi2GetDirectionalDerivative": unsafe extern "C" fn(C, Vr, usize, Vr, usize, *const f64, *mut f64) -> Fmi2Status,
+    set_real_input_derivatives: "fmi2SetRealInputDerivatives": unsafe extern "C" fn(C, Vr, usize, *const Fmi2Integer, *const f64) -> Fmi2Status,
+    get_real_output_derivatives: "fmi2GetRealOutputDerivatives": unsafe extern "C" fn(C, Vr, usize, *const Fmi2Integer, *mut f64) -> Fmi2Status,
+    do_step: "fmi2DoStep": unsafe extern "C" fn(C, f64, f64, Fmi2Boolean) -> Fmi2Status,
+    cancel_step: "fmi2CancelStep": unsafe extern "C" fn(C) -> Fmi2Status,
+    get_status: "fmi2GetStatus": unsafe extern "C" fn(C, c_int, *mut c_int) -> Fmi2Status,
+    get_real_status: "fmi2GetRealStatus": unsafe extern "C" fn(C, c_int, *mut f64) -> Fmi2Status,
+    get_integer_status: "fmi2GetIntegerStatus": unsafe extern "C" fn(C, c_int, *mut c_int) -> Fmi2Status,
+    get_boolean_status: "fmi2GetBooleanStatus": unsafe extern "C" fn(C, c_int, *mut Fmi2Boolean) -> Fmi2Status,
+    get_string_status: "fmi2GetStringStatus": unsafe extern "C" fn(C, c_int, *mut Fmi2String) -> Fmi2Status,
+}
+
+/// An FMU ready to instantiate: its description, unpacked folder and loaded binary.
+pub struct Fmu {
+    pub description: ModelDescription,
+    pub dir: PathBuf,
+    pub api: Arc<Api>,
+    _unpacked: Option<TempDir>,
+}
+
+impl Fmu {
+    /// Opens a `.fmu` archive (unpacked into a private temporary folder, removed on drop) or an
+    /// already unpacked folder.
+    pub fn open(path: &Path) -> Result<Self, ImportError> {
+        if path.is_dir() {
+            return Self::load(path.to_path_buf(), None);
+        }
+        let tmp = TempDir::new("windrive-fmu")
+            .map_err(|e| ImportError::Archive { path: path.to_path_buf(), message: e.to_string() })?;
+        unzip(path, tmp.path())?;
+        Self::load(tmp.path().to_path_buf(), Some(tmp))
+    }
+
+    fn load(dir: PathBuf, unpacked: Option<TempDir>) -> Result<Self, ImportError> {
+        let md_path = dir.join("modelDescription.xml");
+        let xml = std::fs::read_to_string(&md_path)
+            .map_err(|e| ImportError::Description { path: dir.clone(), message: e.to_string() })?;
+        let description = ModelDescription::parse(&xml)
+            .map_err(|e| ImportError::Description { path: dir.clone(), message: e.to_string() })?;
+        let cs = description.co_simulation.as_ref().ok_or_else(|| ImportError::Description {
+            path: dir.clone(),
+            message: "no <CoSimulation> element: only Co-Simulation FMUs are supported".into(),
+        })?;
+        let lib_path = dir.join("binaries").join("linux64").join(format!("{}.so", cs.model_identifier));
+        if !lib_path.is_file() {
+            return Err(ImportError::Library { path: lib_path, message: "file not found".into() });
+        }
+        let api = Self::load_library(&lib_path)?;
+        Ok(Self { description, dir, api: Arc::new(api), _unpacked: unpacked })
+    }
+
+    /// Loads a binary and resolves the 34 functions.
+    pub fn load_library(path: &Path) -> Result<Api, ImportError> {
+        // SAFETY: loading runs the library's initialisers; an FMU binary is trusted code by design.
+        let lib = unsafe { Library::new(path) }
+            .map_err(|e| ImportError::Library { path: path.to_path_buf(), message: e.to_string() })?;
+        // SAFETY: the symbols of an FMI 2.0 binary have the standard signatures.
+        unsafe { Api::resolve(lib, path) }
+    }
+
+    pub fn resource_uri(&self) -> String {
+        let path = self.dir.join("resources");
+        let mut uri = String::from("file://");
+        for b in path.to_string_lossy().bytes() {
+            if b.is_ascii_alphanumeric() || b"/-_.~".contains(&b) {
+                uri.push(b as char);
+            } else {
+                uri.push_str(&format!("%{b:02X}"));
+            }
+        }
+        uri
+    }
+
+    /// Value reference of a variable by name.
+    pub fn vr(&self, name: &str) -> Result<u32, ImportError> {
+        self.description.variable(name).map(|v| v.value_reference).ok_or_else(|| ImportError::UnknownVariable {
+            model: self.description.model_name.clone(),
+            name: name.into(),
+        })
+    }
+
+    pub fn instantiate(&self, name: &str, logging_on: bool) -> Result<Instance, ImportError> {
+        Instance::new(Arc::clone(&self.api), name, &self.description.guid, &self.resource_uri(), logging_on)
+    }
+}
+
+/// One logged message: (status, category, text).
+pub type LogRecord = (Fmi2Status, String, String);
+
+struct LogTarget {
+    records: Mutex<Vec<LogRecord>>,
+    echo: bool,
+}
+
+unsafe extern "C" {
+    fn windrive_fmi2_logger(env: *mut c_void, instance: *const c_char, status: c_int, category: *const c_char, format: *const c_char, ...);
+}
+
+/// Called by the C shim with the formatted message.
+///
+/// # Safety
+/// `env` is the `LogTarget` an [`Instance`] registered; strings are NUL-terminated or null.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn windrive_log_sink(env: *mut c_void, instance: *const c_char, status: c_int, category: *const c_char, message: *const c_char) {
+    let _ = std::panic::catch_unwind(|| {
+        if env.is_null() {
+            return;
+        }
+        let text = |p: *const c_char| if p.is_null() { String::new() } else { unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned() };
+        // SAFETY: env is the boxed LogTarget owned by the instance that is calling.
+        let target = unsafe { &*(env as *const LogTarget) };
+        let status = Fmi2Status::from_raw(status);
+        let (instance, category, message) = (text(instance), text(category), text(message));
+        if target.echo {
+            eprintln!("[{instance}] {} {category}: {message}", status.name());
+        }
+        if let Ok(mut r) = target.records.lock() {
+            r.push((status, category, message));
+        }
+    });
+}
+
+/// A live FMU instance. Freed on drop (terminated first when it was initialised).
+pub struct Instance {
+    api: Arc<Api>,
+    c: Fmi2Component,
+    name: String,
+    log: Box<LogTarget>,
+    _callbacks: Box<Fmi2CallbackFunctions>,
+}
+
+// SAFETY: an FMI instance may be used from any one thread at a time (FMI 2.0 §2.1.5); Instance is
+// not Sync, so it is never used from two threads at once.
+unsafe impl Send for Instance {}
+
+impl Instance {
+    fn new(api: Arc<Api>, name: &str, guid: &str, resources: &str, logging_on: bool) -> Result<Self, ImportError> {
+        let log = Box::new(LogTarget { records: Mutex::new(Vec::new()), echo: std::env::var_os("WINDRIVE_FMU_LOG").is_some() });
+        let callbacks = Box::new(Fmi2CallbackFunctions {
+            // SAFETY: the shim has exactly the fmi2CallbackLogger signature.
+            logger: Some(unsafe {
+                std::mem::transmute::<
+                    unsafe extern "C" fn(*mut c_void, *const c_char, c_int, *const c_char, *const c_char, ...),
+                    unsafe extern "C" fn(Fmi2ComponentEnvironment, Fmi2String, c_int, Fmi2String, Fmi2String, ...),
+                >(windrive_fmi2_logger)
+            }),
+            allocate_memory: Some(calloc_shim),
+            free_memory: Some(free_shim),
+            step_finished: None,
+            component_environment: &*log as *const LogTarget as *mut c_void,
+        });
+        let cname = CString::new(name).unwrap_or_default();
+        let cguid = CString::new(guid).unwrap_or_default();
+        let cres = CString::new(resources).unwrap_or_default();
+        // SAFETY: all pointers are valid for the call; callbacks and log outlive the instance.
+        let c = unsafe {
+            (api.instantiate)(cname.as_ptr(), FMI2_CO_SIMULATION, cguid.as_ptr(), cres.as_ptr(), &*callbacks, FMI2_FALSE, logging_on as c_int)
+        };
+        if c.is_null() {
+            let log = log.records.lock().map(|r| r.iter().map(|x| x.2.clone()).collect()).unwrap_or_default();
+            return Err(ImportError::Instantiate { instance: name.into(), log });
+        }
+        Ok(Self { api, c, name: name.into(), log, _callbacks: callbacks })
+    }
+
+    /// Messages the FMU logged so far (drained).
+    pub fn take_log(&self) -> Vec<LogRecord> {
+        self.log.records.lock().map(|mut r| std::mem::take(&mut *r)).unwrap_or_default()
+    }
+
+    fn check(&self, function: &'static str, status: Fmi2Status) -> Result<Fmi2Status, ImportError> {
+        match status {
+            Fmi2Status::Ok => Ok(status),
+            _ => Err(ImportError::Call {
+                instance: self.name.clone(),
+                function,
+                status: status.name(),
+                log: self.take_log().into_iter().map(|r| r.2).collect(),
+            }),
+        }
+    }
+
+    pub fn raw(&self) -> Fmi2Component {
+        self.c
+    }
+
+    pub fn api(&self) -> &Api {
+        &self.api
+    }
+
+    pub fn setup_experiment(&mut self, start: f64, stop: Option<f64>) -> Result<(), ImportError> {
+        let s = unsafe { (self.api.setup_experiment)(self.c, FMI2_FALSE, 0.0, start, stop.is_some() as c_int, stop.unwrap_or(0.0)) };
+        self.check("fmi2SetupExperiment", s).map(|_| ())
+    }
+    pub fn enter_initialization_mode(&mut self) -> Result<(), ImportError> {
+        let s = unsafe { (self.api.enter_initialization_mode)(self.c) };
+        self.check("fmi2EnterInitializationMode", s).map(|_| ())
+    }
+    pub fn exit_initialization_mode(&mut self) -> Result<(), ImportError> {
+        let s = unsafe { (self.api.exit_initialization_mode)(self.c) };
+        self.check("fmi2ExitInitializationMode", s).map(|_| ())
+    }
+    pub fn terminate(&mut self) -> Result<(), ImportError> {
+        let s = unsafe { (self.api.terminate)(self.c) };
+        self.check("fmi2Terminate", s).map(|_| ())
+    }
+    pub fn reset(&mut self) -> Result<(), ImportError> {
+        let s = unsafe { (self.api.reset)(self.c) };
+        self.check("fmi2Reset", s).map(|_| ())
+    }
+    pub fn set_real(&mut self, vr: &[u32], values: &[f64]) -> Result<(), ImportError> {
+        assert_eq!(vr.len(), values.len());
+        let s = unsafe { (self.api.set_real)(self.c, vr.as_ptr(), vr.len(), values.as_ptr()) };
+        self.check("fmi2SetReal", s).map(|_| ())
+    }
+    pub fn get_real(&mut self, vr: &[u32], values: &mut [f64]) -> Result<(), ImportError> {
+        assert_eq!(vr.len(), values.len());
+        let s = unsafe { (self.api.get_real)(self.c, vr.as_ptr(), vr.len(), values.as_mut_ptr()) };
+        self.check("fmi2GetReal", s).map(|_| ())
+    }
+    pub fn get_integer(&mut self, vr: &[u32], values: &mut [i32]) -> Result<(), ImportError> {
+        let s = unsafe { (self.api.get_integer)(self.c, vr.as_ptr(), vr.len(), values.as_mut_ptr()) };
+        self.check("fmi2GetInteger", s).map(|_| ())
+    }
+    pub fn get_boolean(&mut self, vr: &[u32], values: &mut [bool]) -> Result<(), ImportError> {
+        let mut raw = vec![0; vr.len()];
+        let s = unsafe { (self.api.get_boolean)(self.c, vr.as_ptr(), vr.len(), raw.as_mut_ptr()) };
+        self.check("fmi2GetBoolean", s)?;
+        values.iter_mut().zip(raw).for_each(|(v, r)| *v = r != 0);
+        Ok(())
+    }
+    pub fn set_string(&mut self, vr: &[u32], values: &[&str]) -> Result<(), ImportError> {
+        let owned: Vec<CString> = values.iter().map(|v| CString::new(*v).unwrap_or_default()).collect();
+        let ptrs: Vec<Fmi2String> = owned.iter().map(|c| c.as_ptr()).collect();
+        let s = unsafe { (self.api.set_string)(self.c, vr.as_ptr(), vr.len(), ptrs.as_ptr()) };
+        self.check("fmi2SetString", s).map(|_| ())
+    }
+    pub fn do_step(&mut self, t: f64, h: f64) -> Result<(), ImportError> {
+        let s = unsafe { (self.api.do_step)(self.c, t, h, FMI2_TRUE) };
+        self.check("fmi2DoStep", s).map(|_| ())
+    }
+    /// Saves the FMU state; free it with [`Instance::free_state`].
+    pub fn get_state(&mut self) -> Result<Fmi2FmuState, ImportError> {
+        let mut st: Fmi2FmuState = std::ptr::null_mut();
+        let s = unsafe { (self.api.get_fmu_state)(self.c, &mut st) };
+        self.check("fmi2GetFMUstate", s).map(|_| st)
+    }
+    pub fn set_state(&mut self, st: Fmi2FmuState) -> Result<(), ImportError> {
+        let s = unsafe { (self.api.set_fmu_state)(self.c, st) };
+        self.check("fmi2SetFMUstate", s).map(|_| ())
+    }
+    pub fn free_state(&mut self, mut st: Fmi2FmuState) -> Result<(), ImportError> {
+        let s = unsafe { (self.api.free_fmu_state)(self.c, &mut st) };
+        self.check("fmi2FreeFMUstate", s).map(|_| ())
+    }
+    pub fn serialize_state(&mut self, st: Fmi2FmuState) -> Result<Vec<u8>, ImportError> {
+        let mut size = 0usize;
+        let s = unsafe { (self.api.serialized_fmu_state_size)(self.c, st, &mut size) };
+        self.check("fmi2SerializedFMUstateSize", s)?;
+        let mut bytes = vec![0u8; size];
+        let s = unsafe { (self.api.serialize_fmu_state)(self.c, st, bytes.as_mut_ptr() as *mut Fmi2Byte, size) };
+        self.check("fmi2SerializeFMUstate", s)?;
+        Ok(bytes)
+    }
+    pub fn deserialize_state(&mut self, bytes: &[u8]) -> Result<Fmi2FmuState, ImportError> {
+        let mut st: Fmi2FmuState = std::ptr::null_mut();
+        let s = unsafe { (self.api.deserialize_fmu_state)(self.c, bytes.as_ptr() as *const Fmi2Byte, bytes.len(), &mut st) };
+        self.check("fmi2DeSerializeFMUstate", s).map(|_| st)
+    }
+}
+
+impl Drop for Instance {
+    fn drop(&mut self) {
+        // SAFETY: c came from fmi2Instantiate and is freed exactly once.
+        unsafe { (self.api.free_instance)(self.c) };
+    }
+}
+
+unsafe extern "C" fn calloc_shim(n: usize, size: usize) -> *mut c_void {
+    unsafe extern "C" {
+        fn calloc(n: usize, size: usize) -> *mut c_void;
+    }
+    unsafe { calloc(n, size) }
+}
+
+unsafe extern "C" fn free_shim(p: *mut c_void) {
+    unsafe extern "C" {
+        fn free(p: *mut c_void);
+    }
+    unsafe { free(p) }
+}

@@ -7,6 +7,8 @@ pub mod types;
 pub mod variables;
 
 #[cfg(feature = "cli")]
+pub mod description;
+#[cfg(feature = "cli")]
 pub mod import;
 
 /// Emits the 34 `fmi2*` symbols of a Co-Simulation FMU for a [`slave::Slave`] type, plus

@@ -1,7 +1,7 @@
 //! The contract between a physics model and the FMI export adapter: a plain Rust trait with no raw
 //! pointers. The adapter (export.rs) owns the state machine, argument checks and logging.
 
-use super::variables::Variable;
+use super::variables::{VarType, Variable};
 use serde::{Serialize, de::DeserializeOwned};
 use std::path::Path;
 
@@ -33,6 +33,9 @@ pub trait Slave: Sized + Clone + Send + Serialize + DeserializeOwned + 'static {
     const GUID: &'static str;
     const MODEL_DESCRIPTION_XML: &'static str;
     const VARIABLES: &'static [Variable];
+
+    /// The variable with this type and value reference (generated O(1) lookup).
+    fn variable(ty: VarType, vr: u32) -> Option<&'static Variable>;
 
     /// A new instance with every start value of the XML applied (importers do not apply them).
     fn instantiate(resources: Option<&Path>) -> Self;

@@ -31,9 +31,12 @@ impl Boundary {
 pub struct Modes {
     pub dof_names: Vec<String>,
     pub frequencies_hz: Vec<f64>,
-    /// One shape per mode, an entry per DOF, scaled to a largest magnitude of 1. A locked generator
-    /// DOF appears with amplitude 0.
+    /// One shape per mode, an entry per DOF, referred to the LSS (each angle divided by the DOF's
+    /// speed ratio, so rigid rotation is a flat line) and scaled to a largest magnitude of 1. A locked
+    /// generator DOF appears with amplitude 0.
     pub shapes: Vec<Vec<f64>>,
+    /// Index of the DOF holding the largest share of each mode's kinetic energy (m·x²).
+    pub dominant_dof: Vec<usize>,
 }
 
 pub fn modes(model: &TorsionalModel, boundary: Boundary, k_generator: f64) -> Modes {
@@ -52,19 +55,26 @@ pub fn modes(model: &TorsionalModel, boundary: Boundary, k_generator: f64) -> Mo
     let scale = eig.eigenvalues.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let mut frequencies_hz = Vec::with_capacity(n);
     let mut shapes = Vec::with_capacity(n);
+    let mut dominant_dof = Vec::with_capacity(n);
     for &m in &order {
         // the rigid-body eigenvalue comes out as round-off of either sign
         let lambda = if eig.eigenvalues[m].abs() < 1e-12 * scale { 0.0 } else { eig.eigenvalues[m].max(0.0) };
         frequencies_hz.push(lambda.sqrt() / std::f64::consts::TAU);
         let mut shape = vec![0.0; model.dofs()];
+        let mut energy = (0, 0.0);
         for (i, &d) in keep.iter().enumerate() {
-            shape[d] = eig.eigenvectors[(i, m)] * inv_sqrt[i];
+            let x = eig.eigenvectors[(i, m)] * inv_sqrt[i];
+            if model.mass[d] * x * x > energy.1 {
+                energy = (d, model.mass[d] * x * x);
+            }
+            shape[d] = x / model.speed_ratio[d];
         }
+        dominant_dof.push(energy.0);
         let peak = shape.iter().cloned().fold(0.0f64, |p, v| if v.abs() > p.abs() { v } else { p });
         if peak != 0.0 {
             shape.iter_mut().for_each(|v| *v /= peak);
         }
         shapes.push(shape);
     }
-    Modes { dof_names: model.dof_names.clone(), frequencies_hz, shapes }
+    Modes { dof_names: model.dof_names.clone(), frequencies_hz, shapes, dominant_dof }
 }

@@ -160,6 +160,38 @@ pub struct TorsionalModel {
     pub meshes: Vec<Option<ForceOutput>>,
     pub shafts: Vec<Option<ForceOutput>>,
     pub gear_ratio: f64,
+    /// Some mesh has backlash (steps need Newton iterations).
+    pub backlash: bool,
+    /// Some mesh has time-varying stiffness.
+    pub stiffness_variation: bool,
+    /// The elements flattened for the linear fast path (see [`TorsionalModel::linear_forces`]).
+    flat: Flat,
+}
+
+/// Element coefficients in contiguous arrays: element e owns entries start[e]..start[e + 1].
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+struct Flat {
+    start: Vec<usize>,
+    dof: Vec<usize>,
+    g: Vec<f64>,
+    k: Vec<f64>,
+    c: Vec<f64>,
+}
+
+impl Flat {
+    fn new(elements: &[Element]) -> Self {
+        let mut f = Flat { start: vec![0], ..Default::default() };
+        for e in elements {
+            for &(d, g) in &e.coeffs {
+                f.dof.push(d);
+                f.g.push(g);
+            }
+            f.start.push(f.dof.len());
+            f.k.push(e.stiffness);
+            f.c.push(e.damping);
+        }
+        f
+    }
 }
 
 struct FullBody {
@@ -468,7 +500,13 @@ impl TorsionalModel {
                 (vec![element], meshes, shafts)
             }
         };
+        let backlash = elements.iter().any(|e| e.half_backlash > 0.0);
+        let stiffness_variation = elements.iter().any(|e| e.variation.is_some());
+        let flat = Flat::new(&elements);
         Ok(Self {
+            flat,
+            backlash,
+            stiffness_variation,
             fidelity,
             dof_names: names,
             mass,
@@ -488,12 +526,33 @@ impl TorsionalModel {
     }
 
     /// True when some element is nonlinear (backlash) so a step needs Newton iterations.
+    /// Σ g (k δ + c·v_sign·δ̇) for a model without backlash or stiffness variation: the same sum
+    /// as the general element sweep, over contiguous arrays and without per-element branches.
+    pub fn linear_forces(&self, q: &[f64], v: &[f64], v_sign: f64, out: &mut [f64]) {
+        debug_assert!(!self.backlash && !self.stiffness_variation);
+        out.iter_mut().for_each(|x| *x = 0.0);
+        let f = &self.flat;
+        for e in 0..f.k.len() {
+            let range = f.start[e]..f.start[e + 1];
+            let (dofs, gs) = (&f.dof[range.clone()], &f.g[range]);
+            let (mut dq, mut dv) = (0.0, 0.0);
+            for (&d, &g) in dofs.iter().zip(gs) {
+                dq += g * q[d];
+                dv += g * v[d];
+            }
+            let force = f.k[e] * dq + v_sign * f.c[e] * dv;
+            for (&d, &g) in dofs.iter().zip(gs) {
+                out[d] += g * force;
+            }
+        }
+    }
+
     pub fn has_backlash(&self) -> bool {
-        self.elements.iter().any(|e| e.half_backlash > 0.0)
+        self.backlash
     }
 
     pub fn has_stiffness_variation(&self) -> bool {
-        self.elements.iter().any(|e| e.variation.is_some())
+        self.stiffness_variation
     }
 
     /// Stiffness matrix with every element in contact at its nominal (mean) stiffness.
@@ -508,6 +567,21 @@ impl TorsionalModel {
             }
         }
         k
+    }
+
+    /// Stiffness and damping matrices with every element in contact at nominal stiffness.
+    pub fn stiffness_and_damping(&self) -> (nalgebra::DMatrix<f64>, nalgebra::DMatrix<f64>) {
+        let n = self.dofs();
+        let (mut k, mut c) = (nalgebra::DMatrix::zeros(n, n), nalgebra::DMatrix::zeros(n, n));
+        for e in &self.elements {
+            for &(i, gi) in &e.coeffs {
+                for &(j, gj) in &e.coeffs {
+                    k[(i, j)] += e.stiffness * gi * gj;
+                    c[(i, j)] += e.damping * gi * gj;
+                }
+            }
+        }
+        (k, c)
     }
 
     /// Largest undamped natural angular frequency with every mesh at its stiffest, rad/s.

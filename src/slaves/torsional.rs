@@ -2,12 +2,12 @@
 //! and the integrators of [`crate::solver`].
 
 use crate::fmi2::slave::{Log, Slave, SlaveError, SlaveResult};
-use crate::fmi2::variables::{Start, Variable};
+use crate::fmi2::variables::{Start, VarType, Variable};
 use crate::models::torsional as xml;
 use crate::models::torsional::vr;
 use crate::physics::drivetrain::Drivetrain;
 use crate::physics::torsional::{Fidelity, ModelOptions, TorsionalModel};
-use crate::solver::{self, DynState, Loads, newmark::Newmark, rk4};
+use crate::solver::{self, DynState, Loads, Scratch, newmark::Newmark, rk4};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
@@ -88,6 +88,10 @@ pub struct TorsionalSlave {
     built: Option<Arc<Built>>,
     #[serde(skip)]
     newmark: Newmark,
+    #[serde(skip)]
+    rk4: rk4::Rk4,
+    #[serde(skip)]
+    scratch: Scratch,
 }
 
 fn err(msg: impl Into<String>) -> SlaveError {
@@ -141,7 +145,15 @@ impl Params {
 
 impl TorsionalSlave {
     fn blank() -> Self {
-        Self { params: Params::default(), inputs: Inputs::default(), state: None, built: None, newmark: Newmark::new() }
+        Self {
+            params: Params::default(),
+            inputs: Inputs::default(),
+            state: None,
+            built: None,
+            newmark: Newmark::new(),
+            rk4: rk4::Rk4::default(),
+            scratch: Scratch::default(),
+        }
     }
 
     /// The built model and state, created from the current parameters on first use.
@@ -196,6 +208,10 @@ impl Slave for TorsionalSlave {
     const GUID: &'static str = xml::GUID;
     const MODEL_DESCRIPTION_XML: &'static str = xml::MODEL_DESCRIPTION_XML;
     const VARIABLES: &'static [Variable] = xml::VARIABLES;
+
+    fn variable(ty: VarType, r: u32) -> Option<&'static Variable> {
+        xml::variable(ty, r)
+    }
 
     fn instantiate(_resources: Option<&Path>) -> Self {
         struct Quiet;
@@ -379,7 +395,7 @@ impl Slave for TorsionalSlave {
         let start_loads = self.loads(inputs.at(0.0), brake_max);
         let st = self.state.as_mut().unwrap();
         let was_locked = st.locked;
-        solver::consistent_acceleration(&built.model, st, &start_loads, static_ratio);
+        solver::consistent_acceleration(&built.model, st, &start_loads, static_ratio, &mut self.scratch);
         let n = substeps as usize;
         for i in 0..n {
             let tau = if i + 1 == n { h } else { (i + 1) as f64 * hs };
@@ -393,7 +409,7 @@ impl Slave for TorsionalSlave {
                 Integrator::Implicit => {
                     self.newmark.step(&built.model, st, hs, &loads, static_ratio).map_err(err)?;
                 }
-                Integrator::Rk4 => rk4::step(&built.model, st, hs, &loads, static_ratio),
+                Integrator::Rk4 => self.rk4.step(&built.model, st, hs, &loads, static_ratio),
             }
         }
         if st.q.iter().chain(&st.v).any(|x| !x.is_finite()) {

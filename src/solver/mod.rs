@@ -1,6 +1,7 @@
 //! Time integration of a [`TorsionalModel`] inside an FMU step: the implicit Newmark average-
 //! acceleration (trapezoidal) scheme, and explicit RK4. Both handle the HSS friction brake with
-//! stiction; the implicit one also handles backlash exactly (active-set Newton).
+//! stiction; the implicit one also handles backlash exactly (active-set Newton). Integrators keep
+//! their scratch memory, so a step allocates nothing.
 
 pub mod newmark;
 pub mod rk4;
@@ -30,12 +31,14 @@ pub struct DynState {
     pub locked: bool,
     /// Brake torque on the generator DOF, positive opposing positive rotation.
     pub brake_torque: f64,
+    /// The external loads `a` is consistent with (None: not yet computed).
+    pub applied: Option<(f64, f64)>,
 }
 
 impl DynState {
     pub fn new(q: Vec<f64>, v: Vec<f64>) -> Self {
         let n = q.len();
-        Self { q, v, a: vec![0.0; n], locked: false, brake_torque: 0.0 }
+        Self { q, v, a: vec![0.0; n], locked: false, brake_torque: 0.0, applied: None }
     }
 }
 
@@ -58,24 +61,54 @@ pub(crate) fn external_forces(model: &TorsionalModel, loads: &Loads, out: &mut [
     out[model.generator] -= loads.generator_torque;
 }
 
+/// Reusable buffers of length n.
+#[derive(Debug, Clone, Default)]
+pub struct Scratch {
+    pub(crate) f: Vec<f64>,
+    pub(crate) fi: Vec<f64>,
+}
+
+impl Scratch {
+    pub(crate) fn fit(&mut self, n: usize) {
+        if self.f.len() != n {
+            self.f = vec![0.0; n];
+            self.fi = vec![0.0; n];
+        }
+    }
+}
+
 /// Sets the accelerations from the equations of motion at the start of a step, so input jumps at a
 /// communication point act from that point on (zero-order hold), brake included.
-pub fn consistent_acceleration(model: &TorsionalModel, st: &mut DynState, loads: &Loads, static_ratio: f64) {
+///
+/// For a linear model the state's accelerations already satisfy the equations of motion for the
+/// previously applied loads (Newmark enforces them at every step end), so only the two loaded DOFs
+/// change: an O(1) update instead of a sweep over all elements. Nonlinear models (backlash, time-
+/// varying stiffness) recompute everything.
+pub fn consistent_acceleration(model: &TorsionalModel, st: &mut DynState, loads: &Loads, static_ratio: f64, s: &mut Scratch) {
     let n = model.dofs();
-    let mut f = vec![0.0; n];
-    let mut fi = vec![0.0; n];
-    external_forces(model, loads, &mut f);
-    internal_forces(model, &st.q, &st.v, &st.q, &mut fi);
-    for d in 0..n {
-        st.a[d] = (f[d] - fi[d]) / model.mass[d];
-    }
     let g = model.generator;
     let m = model.mass[g];
-    let cap = loads.brake_capacity;
-    let (torque, locked) = brake_at_rest_or_slip(st.v[g], m * st.a[g], cap, st.locked, static_ratio);
+    let linear = !model.has_backlash() && !model.has_stiffness_variation();
+    match st.applied {
+        Some((rotor, generator)) if linear => {
+            st.a[model.rotor] += (loads.rotor_torque - rotor) / model.mass[model.rotor];
+            // undo the previous brake torque, apply the new generator torque
+            st.a[g] += (st.brake_torque - (loads.generator_torque - generator)) / m;
+        }
+        _ => {
+            s.fit(n);
+            external_forces(model, loads, &mut s.f);
+            internal_forces(model, &st.q, &st.v, &st.q, &mut s.fi);
+            for d in 0..n {
+                st.a[d] = (s.f[d] - s.fi[d]) / model.mass[d];
+            }
+        }
+    }
+    let (torque, locked) = brake_at_rest_or_slip(st.v[g], m * st.a[g], loads.brake_capacity, st.locked, static_ratio);
     st.a[g] -= torque / m;
     st.brake_torque = torque;
     st.locked = locked;
+    st.applied = Some((loads.rotor_torque, loads.generator_torque));
 }
 
 /// Brake torque (positive opposing rotation) for speed `w` when the other torques on the generator

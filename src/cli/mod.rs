@@ -1,0 +1,46 @@
+//! The `windrive` command line.
+
+pub mod bench;
+pub mod modes;
+pub mod plot;
+pub mod step;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(
+    name = "windrive",
+    version,
+    about = "Wind-turbine drivetrain FMUs (FMI 2.0 Co-Simulation), their master and analysis",
+    long_about = "Wind-turbine drivetrain FMUs (FMI 2.0 Co-Simulation), their master and analysis.\n\n\
+        Typical session:\n  \
+        windrive pack                                   build and pack every FMU into target/fmu/\n  \
+        windrive modes --preset D --fidelity 2 --generator connected\n  \
+        windrive step-response --preset D               rated-torque step through the FMU, modes beside it\n  \
+        windrive bench torsional                        speed and accuracy of the FMU, with baselines"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Build FMU crates (release) and write target/fmu/<name>.fmu; all FMUs when no name is given.
+    Pack {
+        /// FMU names (folders under fmus/), e.g. torsional
+        names: Vec<String>,
+    },
+    /// Natural frequencies and mode shapes of a drivetrain preset.
+    ///
+    /// Solves K x = ω² M x by Cholesky reduction. --generator connected adds the thesis's electrical
+    /// spring K_gen from the generator to ground (fixed-speed generator, free–fixed); disconnected
+    /// leaves the drivetrain free–free with a zero mode (variable speed or tripped); locked holds the
+    /// HSS at standstill (brake engaged).
+    Modes(modes::ModesArgs),
+    /// Rated-torque step on a drivetrain through its torsional FMU; prints peak torques, the dominant
+    /// HSS-torque frequency and the modes, and writes a CSV.
+    StepResponse(step::StepArgs),
+    /// Benchmarks an FMU through the FMI boundary against named baselines in the same run.
+    Bench(bench::BenchArgs),
+}

@@ -1,0 +1,139 @@
+//! Plots with plotters. Text needs a TrueType font: the system's DejaVu Sans (Debian package
+//! fonts-dejavu-core) is registered at first use; no font file is shipped in this repository.
+
+use crate::physics::modes::Modes;
+use anyhow::{Context, anyhow};
+use plotters::prelude::*;
+use std::path::Path;
+
+const FONT_PATHS: [&str; 3] = [
+    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/TTF/DejaVuSans.ttf",
+    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+];
+
+fn register_font() -> anyhow::Result<()> {
+    static DONE: std::sync::OnceLock<Result<(), String>> = std::sync::OnceLock::new();
+    DONE.get_or_init(|| {
+        let path = std::env::var("WINDRIVE_FONT")
+            .ok()
+            .or_else(|| FONT_PATHS.iter().find(|p| Path::new(p).is_file()).map(|p| p.to_string()))
+            .ok_or("no TrueType font found for plot text: install fonts-dejavu-core or set WINDRIVE_FONT=/path/to/font.ttf")?;
+        let bytes: &'static [u8] = std::fs::read(&path).map_err(|e| format!("{path}: {e}"))?.leak();
+        plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).map_err(|_| format!("{path}: not a usable font"))
+    })
+    .clone()
+    .map_err(|e| anyhow!(e))
+}
+
+/// A line chart of several series, to PNG or SVG by extension.
+pub struct Series<'a> {
+    pub label: String,
+    pub points: &'a [(f64, f64)],
+}
+
+pub fn lines(path: &Path, title: &str, x_label: &str, y_label: &str, series: &[Series], markers: &[(f64, String)]) -> anyhow::Result<()> {
+    lines_named(path, title, x_label, y_label, series, markers, None)
+}
+
+/// As [`lines`], with category names for integer x positions.
+pub fn lines_named(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    markers: &[(f64, String)],
+    x_names: Option<&[String]>,
+) -> anyhow::Result<()> {
+    register_font()?;
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    match ext.as_str() {
+        "png" => draw(BitMapBackend::new(path, (1000, 600)).into_drawing_area(), title, x_label, y_label, series, markers, x_names),
+        "svg" => draw(SVGBackend::new(path, (1000, 600)).into_drawing_area(), title, x_label, y_label, series, markers, x_names),
+        _ => Err(anyhow!("{}: plot format must be .png or .svg", path.display())),
+    }
+}
+
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    markers: &[(f64, String)],
+    x_names: Option<&[String]>,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("plot: {e:?}");
+    root.fill(&WHITE).map_err(err)?;
+    let all = series.iter().flat_map(|s| s.points.iter());
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y) in all {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    if x0 >= x1 {
+        x1 = x0 + 1.0;
+    }
+    let pad = 0.05 * (y1 - y0).abs().max(1e-12);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 22))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(80)
+        .build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))
+        .map_err(err)?;
+    let name_of = |x: &f64| match x_names {
+        Some(names) if (x - x.round()).abs() < 1e-9 && x.round() >= 0.0 => {
+            names.get(x.round() as usize).cloned().unwrap_or_default()
+        }
+        Some(_) => String::new(),
+        None => format!("{x}"),
+    };
+    let mut mesh = chart.configure_mesh();
+    mesh.x_desc(x_label).y_desc(y_label).x_label_formatter(&name_of);
+    if let Some(names) = x_names {
+        mesh.x_labels(names.len());
+    }
+    mesh.draw().map_err(err)?;
+    for (i, s) in series.iter().enumerate() {
+        let color = Palette99::pick(i).to_rgba();
+        chart
+            .draw_series(LineSeries::new(s.points.iter().cloned(), color.stroke_width(2)))
+            .map_err(err)?
+            .label(s.label.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
+    }
+    for (x, label) in markers {
+        chart
+            .draw_series(std::iter::once(PathElement::new(vec![(*x, y0 - pad), (*x, y1 + pad)], BLACK.mix(0.4))))
+            .map_err(err)?;
+        chart
+            .draw_series(std::iter::once(Text::new(label.clone(), (*x, y1), ("sans-serif", 14))))
+            .map_err(err)?;
+    }
+    if series.len() > 1 {
+        chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(err)?;
+    }
+    root.present().map_err(err)?;
+    Ok(())
+}
+
+/// Mode shapes: amplitude per DOF, one line per mode (the first eight).
+pub fn mode_shapes(path: &Path, title: &str, m: &Modes) -> anyhow::Result<()> {
+    let pts: Vec<(String, Vec<(f64, f64)>)> = m
+        .frequencies_hz
+        .iter()
+        .zip(&m.shapes)
+        .take(8)
+        .map(|(f, s)| (format!("{f:.3} Hz"), s.iter().enumerate().map(|(i, v)| (i as f64, *v)).collect()))
+        .collect();
+    let series: Vec<Series> = pts.iter().map(|(l, p)| Series { label: l.clone(), points: p }).collect();
+    lines_named(path, title, "degree of freedom", "amplitude, referred to the LSS", &series, &[], Some(&m.dof_names))
+        .context("mode-shape plot")
+}

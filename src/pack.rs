@@ -1,0 +1,158 @@
+//! `windrive pack`: builds an FMU crate and writes `target/fmu/<name>.fmu` with
+//! modelDescription.xml (taken from the built binary, so its GUID is the binary's),
+//! binaries/linux64/<name>.so, resources/ and documentation/index.html.
+
+use crate::fmi2::description::ModelDescription;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, thiserror::Error)]
+pub enum PackError {
+    #[error("cannot find the windrive workspace (a folder with Cargo.toml and fmus/) above {0}")]
+    NoWorkspace(PathBuf),
+    #[error("no FMU crate fmus/{0}; available: {1}")]
+    UnknownFmu(String, String),
+    #[error("cargo build of {0} failed")]
+    Build(String),
+    #[error("{0}")]
+    Io(String),
+}
+
+fn io<E: std::fmt::Display>(context: &Path) -> impl Fn(E) -> PackError + '_ {
+    move |e| PackError::Io(format!("{}: {e}", context.display()))
+}
+
+/// The workspace root: the nearest ancestor of the current folder holding Cargo.toml and fmus/,
+/// else the folder this binary was built from.
+pub fn workspace_root() -> Result<PathBuf, PackError> {
+    let cwd = std::env::current_dir().unwrap_or_default();
+    let is_root = |p: &Path| p.join("Cargo.toml").is_file() && p.join("fmus").is_dir();
+    if let Some(p) = cwd.ancestors().find(|p| is_root(p)) {
+        return Ok(p.to_path_buf());
+    }
+    let built = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    if is_root(&built) { Ok(built) } else { Err(PackError::NoWorkspace(cwd)) }
+}
+
+pub fn target_dir(root: &Path) -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| root.join("target"))
+}
+
+/// Names of the FMU crates under fmus/.
+pub fn fmu_names(root: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(root.join("fmus"))
+        .map(|d| {
+            d.flatten()
+                .filter(|e| e.path().join("Cargo.toml").is_file())
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    names.sort();
+    names
+}
+
+/// Builds the FMU crate in release mode (a no-op when it is up to date) and returns the library path.
+pub fn build(root: &Path, name: &str) -> Result<PathBuf, PackError> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let status = std::process::Command::new(cargo)
+        .current_dir(root)
+        .args(["build", "--quiet", "--release", "-p", name])
+        .status()
+        .map_err(|e| PackError::Io(format!("cannot run cargo: {e}")))?;
+    if !status.success() {
+        return Err(PackError::Build(name.into()));
+    }
+    Ok(target_dir(root).join("release").join(format!("lib{name}.so")))
+}
+
+/// The modelDescription.xml compiled into a built FMU binary.
+pub fn embedded_description(lib: &Path) -> Result<String, PackError> {
+    // SAFETY: our own FMU binary; the symbol returns a static NUL-terminated string.
+    unsafe {
+        let library = libloading::Library::new(lib).map_err(io(lib))?;
+        let f = library
+            .get::<unsafe extern "C" fn() -> *const std::ffi::c_char>(b"windrive_model_description\0")
+            .map_err(io(lib))?;
+        let xml = std::ffi::CStr::from_ptr(f()).to_string_lossy().into_owned();
+        Ok(xml)
+    }
+}
+
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+/// documentation/index.html: the FMU's notes (fmus/<name>/documentation.html) and a table of every variable.
+fn documentation(root: &Path, name: &str, md: &ModelDescription) -> String {
+    let notes = std::fs::read_to_string(root.join("fmus").join(name).join("documentation.html")).unwrap_or_default();
+    let mut rows = String::new();
+    for v in &md.model_variables.variables {
+        let a = v.attributes();
+        rows.push_str(&format!(
+            "<tr><td><code>{}</code></td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+            escape(&v.name),
+            v.value_reference,
+            v.type_name(),
+            escape(&v.causality),
+            escape(a.and_then(|a| a.unit.as_deref()).unwrap_or("")),
+            escape(a.and_then(|a| a.start.as_deref()).unwrap_or("")),
+            escape(v.description.as_deref().unwrap_or(""))
+        ));
+    }
+    format!(
+        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{name} FMU</title>\
+         <style>body{{font-family:sans-serif;max-width:70em;margin:auto}}td,th{{border-bottom:1px solid #ccc;padding:2px 6px;text-align:left}}</style>\
+         </head><body>\n<h1>{name}: {}</h1>\n<p>GUID <code>{}</code>, FMI {} Co-Simulation.</p>\n{notes}\n\
+         <h2>Variables</h2>\n<table><tr><th>name</th><th>vr</th><th>type</th><th>causality</th><th>unit</th><th>start</th><th>description</th></tr>\n{rows}</table>\n</body></html>\n",
+        escape(&md.model_name),
+        escape(&md.guid),
+        escape(&md.fmi_version)
+    )
+}
+
+/// Builds (if needed) and packs one FMU; returns the path of the written `.fmu`.
+pub fn pack(root: &Path, name: &str) -> Result<PathBuf, PackError> {
+    let names = fmu_names(root);
+    if !names.iter().any(|n| n == name) {
+        return Err(PackError::UnknownFmu(name.into(), names.join(", ")));
+    }
+    let lib = build(root, name)?;
+    let xml = embedded_description(&lib)?;
+    let md = ModelDescription::parse(&xml).map_err(|e| PackError::Io(format!("embedded modelDescription: {e}")))?;
+    let out_dir = target_dir(root).join("fmu");
+    std::fs::create_dir_all(&out_dir).map_err(io(&out_dir))?;
+    let out = out_dir.join(format!("{name}.fmu"));
+    // written to a private file and renamed, so concurrent packers never leave a torn archive
+    let tmp = out_dir.join(format!(".{name}.fmu.{}", std::process::id()));
+    {
+        let file = std::fs::File::create(&tmp).map_err(io(&tmp))?;
+        let mut zip = zip::ZipWriter::new(file);
+        let opts = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
+        let binary = std::fs::read(&lib).map_err(io(&lib))?;
+        let doc = documentation(root, name, &md);
+        let entries: [(String, &[u8]); 3] = [
+            ("modelDescription.xml".into(), xml.as_bytes()),
+            (format!("binaries/linux64/{name}.so"), &binary),
+            ("documentation/index.html".into(), doc.as_bytes()),
+        ];
+        for (path, bytes) in entries {
+            zip.start_file(path, opts).map_err(io(&tmp))?;
+            zip.write_all(bytes).map_err(io(&tmp))?;
+        }
+        zip.add_directory("resources/", opts).map_err(io(&tmp))?;
+        let resources = root.join("fmus").join(name).join("resources");
+        if let Ok(dir) = std::fs::read_dir(&resources) {
+            let mut files: Vec<PathBuf> = dir.flatten().map(|e| e.path()).filter(|p| p.is_file()).collect();
+            files.sort();
+            for f in files {
+                let rel = format!("resources/{}", f.file_name().unwrap().to_string_lossy());
+                zip.start_file(rel, opts).map_err(io(&f))?;
+                zip.write_all(&std::fs::read(&f).map_err(io(&f))?).map_err(io(&tmp))?;
+            }
+        }
+        zip.finish().map_err(io(&tmp))?;
+    }
+    std::fs::rename(&tmp, &out).map_err(io(&out))?;
+    Ok(out)
+}
