@@ -784,10 +784,7 @@ pub unsafe fn do_step<S: Slave>(c: Fmi2Component, t: f64, h: f64, _no_set_prior:
                     inst.last_successful_time = inst.time;
                     Ok(Fmi2Status::Ok)
                 }
-                Err(e) => {
-                    inst.state = StepFailed;
-                    Err(format!("step from t = {t} s by {h} s failed: {e}"))
-                }
+                Err(e) => Err(format!("step from t = {t} s by {h} s failed: {e}")),
             }
         })
     }
@@ -859,7 +856,7 @@ pub unsafe fn get_boolean_status<S: Slave>(c: Fmi2Component, kind: c_int, value:
             }
             if kind == FMI2_TERMINATED {
                 // A failed step cannot be continued: the master should terminate (or roll back).
-                *value = (inst.state == StepFailed) as Fmi2Boolean;
+                *value = matches!(inst.state, StepFailed | Error) as Fmi2Boolean;
                 Ok(Fmi2Status::Ok)
             } else {
                 Ok(Fmi2Status::Discard)
@@ -881,3 +878,111 @@ pub unsafe fn get_string_status<S: Slave>(c: Fmi2Component, _kind: c_int, value:
     }
 }
 
+
+#[cfg(test)]
+mod tests {
+    //! The adapter's own guarantees, checked on a deliberately misbehaving model.
+    use super::*;
+    use crate::fmi2::slave::{SlaveError, SlaveResult};
+    use crate::fmi2::variables::Start;
+
+    static VARS: [Variable; 1] = [Variable {
+        name: "x",
+        vr: 0,
+        ty: VarType::Real,
+        causality: Causality::Output,
+        variability: Variability::Continuous,
+        start: Start::None,
+        min: None,
+        max: None,
+    }];
+
+    #[derive(Clone, serde::Serialize, serde::Deserialize)]
+    struct Panicky;
+
+    impl Slave for Panicky {
+        const MODEL_IDENTIFIER: &'static str = "panicky";
+        const GUID: &'static str = "{panicky}";
+        const MODEL_DESCRIPTION_XML: &'static str = "";
+        const VARIABLES: &'static [Variable] = &VARS;
+        fn variable(ty: VarType, vr: u32) -> Option<&'static Variable> {
+            super::super::variables::lookup(&VARS, ty, vr)
+        }
+        fn instantiate(_: Option<&std::path::Path>) -> Self {
+            Panicky
+        }
+        fn get_real(&mut self, _: u32) -> SlaveResult<f64> {
+            panic!("model bug in get_real")
+        }
+        fn set_real(&mut self, _: u32, _: f64, _: &mut dyn Log) -> SlaveResult<()> {
+            Ok(())
+        }
+        fn get_integer(&mut self, _: u32) -> SlaveResult<i32> {
+            Err(SlaveError::new("none"))
+        }
+        fn set_integer(&mut self, _: u32, _: i32, _: &mut dyn Log) -> SlaveResult<()> {
+            Ok(())
+        }
+        fn get_boolean(&mut self, _: u32) -> SlaveResult<bool> {
+            Err(SlaveError::new("none"))
+        }
+        fn set_boolean(&mut self, _: u32, _: bool, _: &mut dyn Log) -> SlaveResult<()> {
+            Ok(())
+        }
+        fn get_string(&mut self, _: u32) -> SlaveResult<String> {
+            Err(SlaveError::new("none"))
+        }
+        fn set_string(&mut self, _: u32, _: &str, _: &mut dyn Log) -> SlaveResult<()> {
+            Ok(())
+        }
+        fn initialize(&mut self, _: f64, _: &mut dyn Log) -> SlaveResult<()> {
+            Ok(())
+        }
+        fn do_step(&mut self, _: f64, _: f64, _: &mut dyn Log) -> SlaveResult<()> {
+            let v: Vec<f64> = Vec::new();
+            let _ = v[3]; // index out of bounds: a panic
+            Ok(())
+        }
+    }
+
+    fn instance() -> Fmi2Component {
+        let name = CString::new("p").unwrap();
+        let guid = CString::new("{panicky}").unwrap();
+        unsafe { instantiate::<Panicky>(name.as_ptr(), FMI2_CO_SIMULATION, guid.as_ptr(), std::ptr::null(), std::ptr::null(), 0, 0) }
+    }
+
+    #[test]
+    fn a_panicking_model_answers_fatal_and_the_instance_stays_freeable() {
+        let c = instance();
+        assert!(!c.is_null());
+        unsafe {
+            assert_eq!(setup_experiment::<Panicky>(c, 0, 0.0, 0.0, 0, 0.0), Fmi2Status::Ok);
+            assert_eq!(enter_initialization_mode::<Panicky>(c), Fmi2Status::Ok);
+            assert_eq!(exit_initialization_mode::<Panicky>(c), Fmi2Status::Ok);
+            assert_eq!(do_step::<Panicky>(c, 0.0, 0.1, 1), Fmi2Status::Fatal);
+            // fatal: nothing but free is allowed any more
+            assert_eq!(do_step::<Panicky>(c, 0.0, 0.1, 1), Fmi2Status::Error);
+            assert_eq!(reset::<Panicky>(c), Fmi2Status::Error);
+            free_instance::<Panicky>(c);
+        }
+        let c = instance();
+        unsafe {
+            enter_initialization_mode::<Panicky>(c);
+            let mut x = [0.0];
+            assert_eq!(get_real::<Panicky>(c, [0].as_ptr(), 1, x.as_mut_ptr()), Fmi2Status::Fatal);
+            free_instance::<Panicky>(c);
+        }
+    }
+
+    #[test]
+    fn resource_locations_in_every_form_importers_use() {
+        let p = |s: &str| resource_dir(s).map(|p| p.to_string_lossy().into_owned());
+        assert_eq!(p("file:///tmp/a/resources").as_deref(), Some("/tmp/a/resources"));
+        assert_eq!(p("file:/tmp/a/resources").as_deref(), Some("/tmp/a/resources"));
+        assert_eq!(p("file://localhost/tmp/a").as_deref(), Some("/tmp/a"));
+        assert_eq!(p("file:///tmp/my%20dir/%C3%BC/resources").as_deref(), Some("/tmp/my dir/\u{fc}/resources"));
+        assert_eq!(p("file://otherhost/tmp"), None);
+        assert_eq!(p("http://x/y"), None);
+        assert_eq!(p("file:///bad%zz"), None);
+    }
+}

@@ -197,6 +197,34 @@ impl TorsionalSlave {
     }
 }
 
+/// Deepest halving of an implicit substep whose backlash contact does not settle: 2⁻¹² of a
+/// substep (0.24 µs at 1 ms) resolves any mesh contact event of these drivetrains.
+const MAX_SUBDIVISION: u32 = 12;
+
+/// One implicit step over the interval `span` (seconds after the communication point), halved
+/// recursively while a backlash contact event inside it keeps the Newton iteration from settling.
+fn implicit_step(
+    newmark: &mut Newmark,
+    built: &Built,
+    st: &mut DynState,
+    inputs: &Inputs,
+    span: (f64, f64),
+    static_ratio: f64,
+    depth: u32,
+) -> SlaveResult<()> {
+    let u = inputs.at(span.1);
+    let loads = Loads { rotor_torque: u[0], generator_torque: u[1], brake_capacity: u[2].clamp(0.0, 1.0) * built.brake_torque_max };
+    match newmark.step(&built.model, st, span.1 - span.0, &loads, static_ratio) {
+        Ok(()) => Ok(()),
+        Err(solver::newmark::NewmarkError::NotSettled) if depth < MAX_SUBDIVISION => {
+            let mid = 0.5 * (span.0 + span.1);
+            implicit_step(newmark, built, st, inputs, (span.0, mid), static_ratio, depth + 1)?;
+            implicit_step(newmark, built, st, inputs, (mid, span.1), static_ratio, depth + 1)
+        }
+        Err(e) => Err(err(format!("{e} (step of {:.3e} s after {depth} halvings)", span.1 - span.0))),
+    }
+}
+
 const MESH_FIRST: u32 = vr::MESH_FORCE_RING_PLANET_1;
 const ANGLE_FIRST: u32 = vr::ANGLE_ROTOR;
 const SPEED_FIRST: u32 = vr::SPEED_ROTOR;
@@ -407,7 +435,8 @@ impl Slave for TorsionalSlave {
             };
             match built.integrator {
                 Integrator::Implicit => {
-                    self.newmark.step(&built.model, st, hs, &loads, static_ratio).map_err(err)?;
+                    let t0 = if i == 0 { 0.0 } else { i as f64 * hs };
+                    implicit_step(&mut self.newmark, &built, st, &inputs, (t0, tau), static_ratio, 0)?;
                 }
                 Integrator::Rk4 => self.rk4.step(&built.model, st, hs, &loads, static_ratio),
             }

@@ -15,6 +15,17 @@ use crate::physics::torsional::TorsionalModel;
 use nalgebra::{DMatrix, DVector};
 
 const MAX_ITERATIONS: usize = 50;
+
+/// Why a step could not be taken.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum NewmarkError {
+    /// The backlash contact pattern kept changing between Newton iterations: the step is too long
+    /// to resolve the contact event; the caller subdivides it.
+    #[error("backlash contact did not settle in {MAX_ITERATIONS} Newton iterations")]
+    NotSettled,
+    #[error("Newmark iteration matrix is singular")]
+    Singular,
+}
 const CACHE_LIMIT: usize = 64;
 
 struct Factor {
@@ -147,7 +158,7 @@ impl Newmark {
     }
 
     /// Index of the cached inverse for this step size and pattern, computing it when new.
-    fn factor(&mut self, model: &TorsionalModel, h: f64, contact: u64, double: u64, q_stiff: &[f64]) -> Result<usize, String> {
+    fn factor(&mut self, model: &TorsionalModel, h: f64, contact: u64, double: u64, q_stiff: &[f64]) -> Result<usize, NewmarkError> {
         let key = (h.to_bits(), contact, double);
         if self.cache.get(self.last).is_some_and(|f| f.key == key) {
             return Ok(self.last);
@@ -170,7 +181,7 @@ impl Newmark {
                 }
             }
         }
-        let inv = j.try_inverse().ok_or("Newmark iteration matrix is singular")?;
+        let inv = j.try_inverse().ok_or(NewmarkError::Singular)?;
         let inverse: Vec<f64> = inv.as_slice().to_vec(); // nalgebra stores column-major
         let unit_brake: Vec<f64> = (0..n).map(|i| inv[(i, model.generator)]).collect();
         let unit_rotor: Vec<f64> = (0..n).map(|i| inv[(i, model.rotor)]).collect();
@@ -198,7 +209,8 @@ impl Newmark {
     }
 
     /// Advances `st` from t to t + h with loads evaluated at t + h.
-    pub fn step(&mut self, model: &TorsionalModel, st: &mut DynState, h: f64, loads: &Loads, static_ratio: f64) -> Result<(), String> {
+    /// On error `st` is unchanged.
+    pub fn step(&mut self, model: &TorsionalModel, st: &mut DynState, h: f64, loads: &Loads, static_ratio: f64) -> Result<(), NewmarkError> {
         let n = model.dofs();
         let g = model.generator;
         if self.work.f.len() != n {
@@ -223,7 +235,7 @@ impl Newmark {
         let linear = !nonlinear && !model.has_stiffness_variation();
         for iteration in 0.. {
             if iteration == MAX_ITERATIONS {
-                return Err(format!("backlash contact did not settle in {MAX_ITERATIONS} Newton iterations"));
+                return Err(NewmarkError::NotSettled);
             }
             self.iterations += 1;
             let idx = self.factor(model, h, contact, double, &st.q)?;

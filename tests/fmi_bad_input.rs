@@ -1,0 +1,259 @@
+//! Every bad-input class of the export layer, called through the real C boundary of the packed FMU:
+//! each answers an error status (never a crash) and logs a message naming the problem.
+
+mod common;
+use common::*;
+use std::ffi::{CString, c_int};
+use std::ptr::{null, null_mut};
+use windrive::fmi2::import::{Fmu, Instance};
+use windrive::fmi2::types::*;
+
+fn logged(inst: &Instance) -> String {
+    inst.take_log().into_iter().map(|r| r.2).collect::<Vec<_>>().join(" | ")
+}
+
+fn expect_error(inst: &Instance, status: Fmi2Status, words: &[&str]) {
+    assert_eq!(status, Fmi2Status::Error);
+    let log = logged(inst);
+    for w in words {
+        assert!(log.contains(w), "log {log:?} does not mention {w:?}");
+    }
+}
+
+#[test]
+fn null_pointers_are_refused() {
+    let fmu = torsional();
+    let api = &fmu.api;
+    let mut inst = initialised(&fmu, &[], &[]);
+    let c = inst.raw();
+    unsafe {
+        // null component: nothing to log to, but an error status and no crash
+        assert_eq!((api.do_step)(null_mut(), 0.0, 1e-3, 1), Fmi2Status::Error);
+        assert_eq!((api.get_real)(null_mut(), null(), 0, null_mut()), Fmi2Status::Error);
+        (api.free_instance)(null_mut());
+        // null arrays with n > 0
+        let s = (api.get_real)(c, null(), 2, null_mut());
+        expect_error(&inst, s, &["fmi2GetReal", "null"]);
+    }
+    inst.reset().unwrap();
+    let c = inst.raw();
+    unsafe {
+        let s = (api.set_real)(c, null(), 1, null());
+        expect_error(&inst, s, &["fmi2SetReal", "null"]);
+        inst.reset().unwrap();
+        let s = (api.get_fmu_state)(c, null_mut());
+        expect_error(&inst, s, &["null"]);
+        inst.reset().unwrap();
+        let s = (api.set_string)(c, [0u32].as_ptr(), 1, [null()].as_ptr());
+        expect_error(&inst, s, &["preset", "null"]);
+        inst.reset().unwrap();
+        let s = (api.deserialize_fmu_state)(c, null(), 10, null_mut());
+        expect_error(&inst, s, &["null"]);
+    }
+    // n = 0 with null arrays is legal
+    inst.reset().unwrap();
+    unsafe { assert_eq!((api.set_real)(inst.raw(), null(), 0, null()), Fmi2Status::Ok) };
+}
+
+#[test]
+fn instantiate_refuses_wrong_guid_type_and_name() {
+    let fmu = torsional();
+    let api = &fmu.api;
+    let name = CString::new("x").unwrap();
+    let bad_guid = CString::new("{00000000-0000-0000-0000-000000000000}").unwrap();
+    let guid = CString::new(fmu.description.guid.clone()).unwrap();
+    let res = CString::new(fmu.resource_uri()).unwrap();
+    unsafe {
+        let fns = null();
+        assert!((api.instantiate)(name.as_ptr(), FMI2_CO_SIMULATION, bad_guid.as_ptr(), res.as_ptr(), fns, 0, 0).is_null());
+        assert!((api.instantiate)(name.as_ptr(), FMI2_MODEL_EXCHANGE, guid.as_ptr(), res.as_ptr(), fns, 0, 0).is_null());
+        assert!((api.instantiate)(null(), FMI2_CO_SIMULATION, guid.as_ptr(), res.as_ptr(), fns, 0, 0).is_null());
+        assert!((api.instantiate)(name.as_ptr(), FMI2_CO_SIMULATION, null(), res.as_ptr(), fns, 0, 0).is_null());
+        // a null resource location and null callbacks are tolerated
+        let c = (api.instantiate)(name.as_ptr(), FMI2_CO_SIMULATION, guid.as_ptr(), null(), fns, 0, 0);
+        assert!(!c.is_null());
+        (api.free_instance)(c);
+    }
+}
+
+#[test]
+fn calls_in_the_wrong_state_are_refused() {
+    let fmu = torsional();
+    let mut inst = fmu.instantiate("state", false).unwrap();
+    // doStep before initialisation
+    let err = inst.do_step(0.0, 1e-3).unwrap_err().to_string();
+    assert!(err.contains("fmi2DoStep is not allowed in state Instantiated"), "{err}");
+    // Error state: only reset, get, set-state and free are meaningful
+    let err = inst.enter_initialization_mode().unwrap_err().to_string();
+    assert!(err.contains("not allowed in state Error"), "{err}");
+    inst.reset().unwrap();
+    inst.setup_experiment(0.0, None).unwrap();
+    inst.enter_initialization_mode().unwrap();
+    let err = inst.setup_experiment(0.0, None).unwrap_err().to_string();
+    assert!(err.contains("fmi2SetupExperiment is not allowed in state InitializationMode"), "{err}");
+    inst.reset().unwrap();
+    inst.setup_experiment(0.0, None).unwrap();
+    inst.enter_initialization_mode().unwrap();
+    inst.exit_initialization_mode().unwrap();
+    // a fixed parameter after initialisation
+    let err = inst.set_real(&[fmu.vr("damping_scale").unwrap()], &[0.5]).unwrap_err().to_string();
+    assert!(err.contains("damping_scale") && err.contains("cannot be set in state StepComplete"), "{err}");
+    inst.reset().unwrap();
+    // outputs and calculated parameters are never settable
+    let err = inst.set_real(&[fmu.vr("hss_torque").unwrap()], &[1.0]).unwrap_err().to_string();
+    assert!(err.contains("hss_torque"), "{err}");
+}
+
+#[test]
+fn bad_numbers_and_references_are_refused() {
+    let fmu = torsional();
+    let cases: [(&str, f64, &str); 6] = [
+        ("rotor_torque", f64::NAN, "not a finite number"),
+        ("generator_torque", f64::INFINITY, "not a finite number"),
+        ("max_internal_step", -1.0, "below its minimum"),
+        ("contact_ratio", 3.0, "above its maximum"),
+        ("damping_scale", f64::NEG_INFINITY, "not a finite number"),
+        ("mesh_stiffness_variation", 5.0, "above its maximum"),
+    ];
+    for (name, value, words) in cases {
+        let mut inst = fmu.instantiate("numbers", false).unwrap();
+        inst.setup_experiment(0.0, None).unwrap();
+        inst.enter_initialization_mode().unwrap();
+        let err = inst.set_real(&[fmu.vr(name).unwrap()], &[value]).unwrap_err().to_string();
+        assert!(err.contains(name) && err.contains(words), "{name}: {err}");
+    }
+    let mut inst = fmu.instantiate("refs", false).unwrap();
+    let mut out = [0.0];
+    inst.setup_experiment(0.0, None).unwrap();
+    inst.enter_initialization_mode().unwrap();
+    let err = inst.get_real(&[9999], &mut out).unwrap_err().to_string();
+    assert!(err.contains("unknown Real value reference 9999"), "{err}");
+    // a Real reference read as Integer
+    inst.reset().unwrap();
+    inst.setup_experiment(0.0, None).unwrap();
+    inst.enter_initialization_mode().unwrap();
+    let mut i = [0];
+    let err = inst.get_integer(&[fmu.vr("hss_torque").unwrap()], &mut i).unwrap_err().to_string();
+    assert!(err.contains("unknown Integer value reference"), "{err}");
+}
+
+#[test]
+fn absurd_parameters_fail_at_initialisation_with_the_parameter_named() {
+    let fmu = torsional();
+    for (kind, name, value, words) in [
+        ("s", "preset", "Z", "unknown drivetrain"),
+        ("s", "fidelity", "7", "use 2, 5 or full"),
+        ("s", "integrator", "euler", "use implicit or rk4"),
+    ] {
+        assert_eq!(kind, "s");
+        let mut inst = fmu.instantiate("absurd", false).unwrap();
+        inst.setup_experiment(0.0, None).unwrap();
+        inst.set_string(&[fmu.vr(name).unwrap()], &[value]).unwrap();
+        inst.enter_initialization_mode().unwrap();
+        let err = inst.exit_initialization_mode().unwrap_err().to_string();
+        assert!(err.contains(name) && err.contains(words), "{err}");
+    }
+    // backlash below full fidelity makes no sense: refused
+    let mut inst = fmu.instantiate("absurd", false).unwrap();
+    inst.setup_experiment(0.0, None).unwrap();
+    inst.set_string(&[fmu.vr("fidelity").unwrap()], &["5"]).unwrap();
+    inst.set_real(&[fmu.vr("mesh_backlash").unwrap()], &[1e-4]).unwrap();
+    inst.enter_initialization_mode().unwrap();
+    let err = inst.exit_initialization_mode().unwrap_err().to_string();
+    assert!(err.contains("mesh_backlash"), "{err}");
+}
+
+#[test]
+fn bad_step_sizes_and_times_are_refused() {
+    let fmu = torsional();
+    for (t, h, words) in [
+        (0.0, 0.0, "must be positive"),
+        (0.0, -1e-3, "must be positive"),
+        (0.0, f64::NAN, "not finite"),
+        (0.5, 1e-3, "does not match the FMU's time 0"),
+    ] {
+        let mut inst = initialised(&fmu, &[], &[]);
+        let err = inst.do_step(t, h).unwrap_err().to_string();
+        assert!(err.contains(words), "{t} {h}: {err}");
+    }
+    // passing the announced stop time
+    let mut inst = fmu.instantiate("stop", false).unwrap();
+    inst.setup_experiment(0.0, Some(0.01)).unwrap();
+    inst.enter_initialization_mode().unwrap();
+    inst.exit_initialization_mode().unwrap();
+    let err = inst.do_step(0.0, 0.02).unwrap_err().to_string();
+    assert!(err.contains("stopTime"), "{err}");
+}
+
+#[test]
+fn unsupported_functions_answer_honestly() {
+    let fmu = torsional();
+    let api = &fmu.api;
+    let inst = initialised(&fmu, &[], &[]);
+    unsafe {
+        let s = (api.get_directional_derivative)(inst.raw(), null(), 0, null(), 0, null(), null_mut());
+        expect_error(&inst, s, &["providesDirectionalDerivative"]);
+    }
+    let mut inst = initialised(&fmu, &[], &[]);
+    unsafe {
+        let s = (api.cancel_step)(inst.raw());
+        expect_error(&inst, s, &["no step in progress"]);
+    }
+    inst.reset().unwrap();
+    inst.setup_experiment(0.0, None).unwrap();
+    inst.enter_initialization_mode().unwrap();
+    inst.exit_initialization_mode().unwrap();
+    unsafe {
+        let order = [3 as c_int];
+        let s = (api.set_real_input_derivatives)(inst.raw(), [fmu.vr("rotor_torque").unwrap()].as_ptr(), 1, order.as_ptr(), [1.0].as_ptr());
+        expect_error(&inst, s, &["order 3"]);
+    }
+}
+
+#[test]
+fn brake_command_outside_its_range_is_clamped_with_a_warning() {
+    let fmu = torsional();
+    let mut inst = initialised(&fmu, &[], &[]);
+    let vr = fmu.vr("brake_command").unwrap();
+    let s = unsafe { (fmu.api.set_real)(inst.raw(), [vr].as_ptr(), 1, [1.5].as_ptr()) };
+    assert_eq!(s, Fmi2Status::Warning);
+    assert!(logged(&inst).contains("clamped"));
+    assert_eq!(get(&fmu, &mut inst, "brake_command"), 1.0);
+    inst.do_step(0.0, 1e-3).unwrap();
+}
+
+#[test]
+fn status_queries_after_a_failed_step() {
+    let fmu = torsional();
+    // RK4 at the default 1 ms internal step is unstable: the step fails visibly
+    let mut inst = initialised(&fmu, &[("integrator", "rk4")], &[]);
+    assert!(inst.do_step(0.0, 1e-3).is_err());
+    // the failed instance refuses further steps
+    let err = inst.do_step(0.0, 1e-3).unwrap_err().to_string();
+    assert!(err.contains("not allowed in state Error"), "{err}");
+    let mut t = 0.0;
+    let mut terminated: Fmi2Boolean = 0;
+    unsafe {
+        assert_eq!((fmu.api.get_real_status)(inst.raw(), FMI2_LAST_SUCCESSFUL_TIME, &mut t), Fmi2Status::Ok);
+        assert_eq!((fmu.api.get_boolean_status)(inst.raw(), FMI2_TERMINATED, &mut terminated), Fmi2Status::Ok);
+        let mut x = 0;
+        assert_eq!((fmu.api.get_integer_status)(inst.raw(), 0, &mut x), Fmi2Status::Discard);
+    }
+    assert_eq!(t, 0.0);
+    assert_eq!(terminated, 1);
+}
+
+#[test]
+fn rk4_beyond_its_limit_names_the_limit() {
+    let fmu: Fmu = torsional();
+    let mut inst = initialised(&fmu, &[("integrator", "rk4")], &[]);
+    let limit = get(&fmu, &mut inst, "rk4_step_limit");
+    assert!(limit > 1e-5 && limit < 1e-3, "{limit}");
+    let err = inst.do_step(0.0, 1e-3).unwrap_err().to_string();
+    assert!(err.contains("RK4 is unstable") && err.contains("stability limit") && err.contains("max_internal_step"), "{err}");
+    // just below the limit it runs
+    let mut ok = initialised(&fmu, &[("integrator", "rk4")], &[("max_internal_step", 0.95 * limit)]);
+    for i in 0..10 {
+        ok.do_step(i as f64 * 1e-3, 1e-3).unwrap();
+    }
+}
