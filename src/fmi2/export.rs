@@ -33,6 +33,9 @@ pub enum ModelState {
 use ModelState::*;
 
 const CATEGORIES: [&str; 4] = ["logEvents", "logStatusWarning", "logStatusError", "logCalls"];
+/// Categories on when logging is on and none were named: all but the per-call trace, which only a
+/// host that names "logCalls" gets (libcosim turns logging on for every FMU).
+const DEFAULT_CATEGORIES: [bool; 4] = [true, true, true, false];
 
 /// The host's logger and what it wants to hear.
 pub struct LogSink {
@@ -225,7 +228,7 @@ pub unsafe fn instantiate<S: Slave>(
             instance_name: CString::new(if name.is_empty() { S::MODEL_IDENTIFIER } else { name }).unwrap_or_default(),
             callbacks,
             logging_on: logging_on != FMI2_FALSE,
-            enabled: [true; CATEGORIES.len()],
+            enabled: DEFAULT_CATEGORIES,
             warned: false,
         };
         let refuse = |msg: String| {
@@ -284,7 +287,7 @@ pub unsafe fn set_debug_logging<S: Slave>(
 ) -> Fmi2Status {
     unsafe {
         call::<S>(c, "fmi2SetDebugLogging", ANY, |inst| {
-            let mut enabled = [n == 0; CATEGORIES.len()];
+            let mut enabled = if n == 0 { DEFAULT_CATEGORIES } else { [false; CATEGORIES.len()] };
             if n > 0 {
                 if categories.is_null() {
                     return Err(format!("{n} categories announced but the array is null"));

@@ -87,11 +87,22 @@ pub struct Element {
     /// Half the backlash: no force while |δ| < half_backlash.
     pub half_backlash: f64,
     pub variation: Option<MeshStiffnessVariation>,
+    /// Rigid-rotation speed ratio of each coefficient's DOF (filled by the model). Deflections are
+    /// summed from angles relative to the rigid rotation with the rotor: the absolute angles grow to
+    /// thousands of radians while a mesh deflects by micro-radians, and Σ g·θ over absolute angles
+    /// would lose those digits (K·r = 0, so the result is the same in exact arithmetic).
+    #[serde(default)]
+    pub ratios: Vec<f64>,
 }
 
 impl Element {
+    /// δ = Σ g_d (θ_d − r_d θ_rotor), the rotor being DOF 0.
     pub fn deflection(&self, q: &[f64]) -> f64 {
-        self.coeffs.iter().map(|&(d, g)| g * q[d]).sum()
+        if self.ratios.is_empty() {
+            return self.coeffs.iter().map(|&(d, g)| g * q[d]).sum();
+        }
+        let q0 = q[0];
+        self.coeffs.iter().zip(&self.ratios).map(|(&(d, g), r)| g * (q[d] - r * q0)).sum()
     }
 
     /// Stiffness at the given DOF angles (changes only with time-varying mesh stiffness).
@@ -174,6 +185,7 @@ struct Flat {
     start: Vec<usize>,
     dof: Vec<usize>,
     g: Vec<f64>,
+    ratio: Vec<f64>,
     k: Vec<f64>,
     c: Vec<f64>,
 }
@@ -182,9 +194,10 @@ impl Flat {
     fn new(elements: &[Element]) -> Self {
         let mut f = Flat { start: vec![0], ..Default::default() };
         for e in elements {
-            for &(d, g) in &e.coeffs {
+            for (&(d, g), &r) in e.coeffs.iter().zip(&e.ratios) {
                 f.dof.push(d);
                 f.g.push(g);
+                f.ratio.push(r);
             }
             f.start.push(f.dof.len());
             f.k.push(e.stiffness);
@@ -289,6 +302,7 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
                         damping: c_rp * opt.damping_scale,
                         half_backlash,
                         variation: variation(k_rp, carrier, cycles, phase),
+                        ratios: Vec::new(),
                     });
                     let sp = elements.len();
                     elements.push(Element {
@@ -298,6 +312,7 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
                         damping: c_sp * opt.damping_scale,
                         half_backlash,
                         variation: variation(k_sp, carrier, cycles, phase),
+                        ratios: Vec::new(),
                     });
                     if n_planetary < 2 && k < 3 {
                         let base = 6 * n_planetary;
@@ -329,6 +344,7 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
                     damping: c * opt.damping_scale,
                     half_backlash,
                     variation: variation(k, pinion, f64::from(p.z_pinion) / TAU, 0.0),
+                    ratios: Vec::new(),
                 });
                 if n_parallel < 2 {
                     mesh_slots.push((12 + n_parallel, e));
@@ -359,6 +375,7 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
             damping: c * opt.damping_scale,
             half_backlash: 0.0,
             variation: None,
+            ratios: Vec::new(),
         });
     }
     let n_shafts = shafts.len();
@@ -489,6 +506,7 @@ impl TorsionalModel {
                     damping: if resistance.is_finite() { 1.0 / resistance } else { 0.0 },
                     half_backlash: 0.0,
                     variation: None,
+                    ratios: Vec::new(),
                 };
                 let mut meshes = vec![None; MESH_SLOTS.len()];
                 for (s, qs) in full.quasi_static_mesh.iter().enumerate() {
@@ -500,6 +518,10 @@ impl TorsionalModel {
                 (vec![element], meshes, shafts)
             }
         };
+        let mut elements = elements;
+        for e in &mut elements {
+            e.ratios = e.coeffs.iter().map(|&(d, _)| speed_ratio[d]).collect();
+        }
         let backlash = elements.iter().any(|e| e.half_backlash > 0.0);
         let stiffness_variation = elements.iter().any(|e| e.variation.is_some());
         let flat = Flat::new(&elements);
@@ -534,11 +556,11 @@ impl TorsionalModel {
         let f = &self.flat;
         for e in 0..f.k.len() {
             let range = f.start[e]..f.start[e + 1];
-            let (dofs, gs) = (&f.dof[range.clone()], &f.g[range]);
+            let (dofs, gs, rs) = (&f.dof[range.clone()], &f.g[range.clone()], &f.ratio[range]);
             let (mut dq, mut dv) = (0.0, 0.0);
-            for (&d, &g) in dofs.iter().zip(gs) {
-                dq += g * q[d];
-                dv += g * v[d];
+            for ((&d, &g), &r) in dofs.iter().zip(gs).zip(rs) {
+                dq += g * (q[d] - r * q[0]);
+                dv += g * (v[d] - r * v[0]);
             }
             let force = f.k[e] * dq + v_sign * f.c[e] * dv;
             for (&d, &g) in dofs.iter().zip(gs) {
