@@ -6,7 +6,11 @@ fn main() -> anyhow::Result<()> {
     match cli.command {
         Command::Pack { names } => {
             let root = windrive::pack::workspace_root()?;
-            let names = if names.is_empty() { windrive::pack::fmu_names(&root) } else { names };
+            let names = if names.is_empty() {
+                windrive::pack::fmu_names(&root)
+            } else {
+                names
+            };
             for name in names {
                 let path = windrive::pack::pack(&root, &name)?;
                 println!("packed {}", path.display());

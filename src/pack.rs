@@ -31,11 +31,17 @@ pub fn workspace_root() -> Result<PathBuf, PackError> {
         return Ok(p.to_path_buf());
     }
     let built = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    if is_root(&built) { Ok(built) } else { Err(PackError::NoWorkspace(cwd)) }
+    if is_root(&built) {
+        Ok(built)
+    } else {
+        Err(PackError::NoWorkspace(cwd))
+    }
 }
 
 pub fn target_dir(root: &Path) -> PathBuf {
-    std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| root.join("target"))
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root.join("target"))
 }
 
 /// Names of the FMU crates under fmus/.
@@ -80,7 +86,10 @@ pub fn embedded_description(lib: &Path) -> Result<String, PackError> {
 }
 
 fn escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
 /// documentation/index.html: the FMU's notes (fmus/<name>/documentation.html) and a table of every variable.

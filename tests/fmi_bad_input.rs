@@ -65,8 +65,30 @@ fn instantiate_refuses_wrong_guid_type_and_name() {
     let res = CString::new(fmu.resource_uri()).unwrap();
     unsafe {
         let fns = null();
-        assert!((api.instantiate)(name.as_ptr(), FMI2_CO_SIMULATION, bad_guid.as_ptr(), res.as_ptr(), fns, 0, 0).is_null());
-        assert!((api.instantiate)(name.as_ptr(), FMI2_MODEL_EXCHANGE, guid.as_ptr(), res.as_ptr(), fns, 0, 0).is_null());
+        assert!(
+            (api.instantiate)(
+                name.as_ptr(),
+                FMI2_CO_SIMULATION,
+                bad_guid.as_ptr(),
+                res.as_ptr(),
+                fns,
+                0,
+                0
+            )
+            .is_null()
+        );
+        assert!(
+            (api.instantiate)(
+                name.as_ptr(),
+                FMI2_MODEL_EXCHANGE,
+                guid.as_ptr(),
+                res.as_ptr(),
+                fns,
+                0,
+                0
+            )
+            .is_null()
+        );
         assert!((api.instantiate)(null(), FMI2_CO_SIMULATION, guid.as_ptr(), res.as_ptr(), fns, 0, 0).is_null());
         assert!((api.instantiate)(name.as_ptr(), FMI2_CO_SIMULATION, null(), res.as_ptr(), fns, 0, 0).is_null());
         // a null resource location and null callbacks are tolerated
@@ -90,17 +112,29 @@ fn calls_in_the_wrong_state_are_refused() {
     inst.setup_experiment(0.0, None).unwrap();
     inst.enter_initialization_mode().unwrap();
     let err = inst.setup_experiment(0.0, None).unwrap_err().to_string();
-    assert!(err.contains("fmi2SetupExperiment is not allowed in state InitializationMode"), "{err}");
+    assert!(
+        err.contains("fmi2SetupExperiment is not allowed in state InitializationMode"),
+        "{err}"
+    );
     inst.reset().unwrap();
     inst.setup_experiment(0.0, None).unwrap();
     inst.enter_initialization_mode().unwrap();
     inst.exit_initialization_mode().unwrap();
     // a fixed parameter after initialisation
-    let err = inst.set_real(&[fmu.vr("damping_scale").unwrap()], &[0.5]).unwrap_err().to_string();
-    assert!(err.contains("damping_scale") && err.contains("cannot be set in state StepComplete"), "{err}");
+    let err = inst
+        .set_real(&[fmu.vr("damping_scale").unwrap()], &[0.5])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("damping_scale") && err.contains("cannot be set in state StepComplete"),
+        "{err}"
+    );
     inst.reset().unwrap();
     // outputs and calculated parameters are never settable
-    let err = inst.set_real(&[fmu.vr("hss_torque").unwrap()], &[1.0]).unwrap_err().to_string();
+    let err = inst
+        .set_real(&[fmu.vr("hss_torque").unwrap()], &[1.0])
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("hss_torque"), "{err}");
 }
 
@@ -119,7 +153,10 @@ fn bad_numbers_and_references_are_refused() {
         let mut inst = fmu.instantiate("numbers", false).unwrap();
         inst.setup_experiment(0.0, None).unwrap();
         inst.enter_initialization_mode().unwrap();
-        let err = inst.set_real(&[fmu.vr(name).unwrap()], &[value]).unwrap_err().to_string();
+        let err = inst
+            .set_real(&[fmu.vr(name).unwrap()], &[value])
+            .unwrap_err()
+            .to_string();
         assert!(err.contains(name) && err.contains(words), "{name}: {err}");
     }
     let mut inst = fmu.instantiate("refs", false).unwrap();
@@ -133,7 +170,10 @@ fn bad_numbers_and_references_are_refused() {
     inst.setup_experiment(0.0, None).unwrap();
     inst.enter_initialization_mode().unwrap();
     let mut i = [0];
-    let err = inst.get_integer(&[fmu.vr("hss_torque").unwrap()], &mut i).unwrap_err().to_string();
+    let err = inst
+        .get_integer(&[fmu.vr("hss_torque").unwrap()], &mut i)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("unknown Integer value reference"), "{err}");
 }
 
@@ -205,7 +245,13 @@ fn unsupported_functions_answer_honestly() {
     inst.exit_initialization_mode().unwrap();
     unsafe {
         let order = [3 as c_int];
-        let s = (api.set_real_input_derivatives)(inst.raw(), [fmu.vr("rotor_torque").unwrap()].as_ptr(), 1, order.as_ptr(), [1.0].as_ptr());
+        let s = (api.set_real_input_derivatives)(
+            inst.raw(),
+            [fmu.vr("rotor_torque").unwrap()].as_ptr(),
+            1,
+            order.as_ptr(),
+            [1.0].as_ptr(),
+        );
         expect_error(&inst, s, &["order 3"]);
     }
 }
@@ -234,8 +280,14 @@ fn status_queries_after_a_failed_step() {
     let mut t = 0.0;
     let mut terminated: Fmi2Boolean = 0;
     unsafe {
-        assert_eq!((fmu.api.get_real_status)(inst.raw(), FMI2_LAST_SUCCESSFUL_TIME, &mut t), Fmi2Status::Ok);
-        assert_eq!((fmu.api.get_boolean_status)(inst.raw(), FMI2_TERMINATED, &mut terminated), Fmi2Status::Ok);
+        assert_eq!(
+            (fmu.api.get_real_status)(inst.raw(), FMI2_LAST_SUCCESSFUL_TIME, &mut t),
+            Fmi2Status::Ok
+        );
+        assert_eq!(
+            (fmu.api.get_boolean_status)(inst.raw(), FMI2_TERMINATED, &mut terminated),
+            Fmi2Status::Ok
+        );
         let mut x = 0;
         assert_eq!((fmu.api.get_integer_status)(inst.raw(), 0, &mut x), Fmi2Status::Discard);
     }
@@ -250,7 +302,10 @@ fn rk4_beyond_its_limit_names_the_limit() {
     let limit = get(&fmu, &mut inst, "rk4_step_limit");
     assert!(limit > 1e-5 && limit < 1e-3, "{limit}");
     let err = inst.do_step(0.0, 1e-3).unwrap_err().to_string();
-    assert!(err.contains("RK4 is unstable") && err.contains("stability limit") && err.contains("max_internal_step"), "{err}");
+    assert!(
+        err.contains("RK4 is unstable") && err.contains("stability limit") && err.contains("max_internal_step"),
+        "{err}"
+    );
     // just below the limit it runs
     let mut ok = initialised(&fmu, &[("integrator", "rk4")], &[("max_internal_step", 0.95 * limit)]);
     for i in 0..10 {

@@ -6,7 +6,14 @@ mod common;
 use common::*;
 use windrive::fmi2::import::{Fmu, Instance};
 
-const OUTPUTS: [&str; 6] = ["hss_torque", "lss_torque", "generator_speed", "mesh_force_sun_planet_2", "angle_rotor", "stored_energy"];
+const OUTPUTS: [&str; 6] = [
+    "hss_torque",
+    "lss_torque",
+    "generator_speed",
+    "mesh_force_sun_planet_2",
+    "angle_rotor",
+    "stored_energy",
+];
 
 fn outputs(fmu: &Fmu, inst: &mut Instance) -> Vec<u64> {
     let vrs: Vec<u32> = OUTPUTS.iter().map(|n| fmu.vr(n).unwrap()).collect();
@@ -37,7 +44,7 @@ fn get_step_set_step_repeats_bit_for_bit() {
     drive(&fmu, &mut inst, 0.0, 200, 0.25);
     let saved = inst.get_state().unwrap();
     let first = drive(&fmu, &mut inst, 0.2, 300, 0.25);
-    inst.set_state(saved).unwrap();
+    inst.set_state(&saved).unwrap();
     let again = drive(&fmu, &mut inst, 0.2, 300, 0.25);
     assert_eq!(first, again);
     inst.free_state(saved).unwrap();
@@ -49,14 +56,14 @@ fn a_serialised_state_continues_bit_identically_in_a_new_instance() {
     let mut a = initialised(&fmu, &[("preset", "C")], &[("mesh_stiffness_variation", 0.2)]);
     drive(&fmu, &mut a, 0.0, 150, 0.1);
     let st = a.get_state().unwrap();
-    let bytes = a.serialize_state(st).unwrap();
+    let bytes = a.serialize_state(&st).unwrap();
     a.free_state(st).unwrap();
     let reference = drive(&fmu, &mut a, 0.15, 200, 0.1);
 
     // a fresh instance with default parameters: everything comes from the bytes
     let mut b = initialised(&fmu, &[], &[]);
     let restored = b.deserialize_state(&bytes).unwrap();
-    b.set_state(restored).unwrap();
+    b.set_state(&restored).unwrap();
     b.free_state(restored).unwrap();
     let continued = drive(&fmu, &mut b, 0.15, 200, 0.1);
     assert_eq!(reference, continued);
@@ -67,7 +74,7 @@ fn corrupt_serialised_state_is_refused() {
     let fmu = torsional();
     let mut a = initialised(&fmu, &[], &[]);
     let st = a.get_state().unwrap();
-    let mut bytes = a.serialize_state(st).unwrap();
+    let mut bytes = a.serialize_state(&st).unwrap();
     a.free_state(st).unwrap();
     bytes.truncate(bytes.len() / 2);
     let err = a.deserialize_state(&bytes).unwrap_err().to_string();

@@ -12,7 +12,10 @@ fn model(preset: &str, fidelity: Fidelity) -> (Drivetrain, TorsionalModel) {
 }
 
 fn close(actual: f64, expected: f64, rel: f64) {
-    assert!((actual - expected).abs() <= rel * expected.abs(), "{actual} vs {expected} (tolerance {rel})");
+    assert!(
+        (actual - expected).abs() <= rel * expected.abs(),
+        "{actual} vs {expected} (tolerance {rel})"
+    );
 }
 
 #[test]
@@ -38,7 +41,11 @@ fn fidelities_agree_on_the_lowest_modes() {
             fr.into_iter().find(|x| *x > 1e-6).unwrap()
         };
         for b in [Boundary::Disconnected, Boundary::Connected] {
-            let (two, five, full) = (lowest(Fidelity::Two, b), lowest(Fidelity::Five, b), lowest(Fidelity::Full, b));
+            let (two, five, full) = (
+                lowest(Fidelity::Two, b),
+                lowest(Fidelity::Five, b),
+                lowest(Fidelity::Full, b),
+            );
             println!("{preset} {b:?}: 2-mass {two:.4} Hz, 5-mass {five:.4} Hz, full {full:.4} Hz");
             // the reductions drop only mesh and intermediate-inertia flexibility, which sits far
             // above the lowest mode: 1 % between neighbours is the physics, not slack

@@ -42,16 +42,25 @@ fn static_torque_split_follows_the_gear_ratios() {
         for fidelity in ["2", "5", "full"] {
             let mut s = slave(preset, fidelity, &[(vr::INITIAL_ROTOR_TORQUE, torque)]);
             s.set_real(vr::ROTOR_TORQUE, torque, &mut Quiet).unwrap();
-            s.set_real(vr::GENERATOR_TORQUE, torque / dt.gear_ratio(), &mut Quiet).unwrap();
+            s.set_real(vr::GENERATOR_TORQUE, torque / dt.gear_ratio(), &mut Quiet)
+                .unwrap();
             run(&mut s, 0.0, 200, 1e-3);
             // shaft i carries the rotor torque divided by the ratio of the stages before it
             let mut ratio = 1.0;
             let shafts = [vr::LSS_TORQUE, vr::IS1_TORQUE, vr::IS2_TORQUE, vr::HSS_TORQUE];
-            let used: Vec<u32> = if dt.stages.len() == 2 { vec![shafts[0], shafts[1], shafts[3]] } else { shafts.to_vec() };
+            let used: Vec<u32> = if dt.stages.len() == 2 {
+                vec![shafts[0], shafts[1], shafts[3]]
+            } else {
+                shafts.to_vec()
+            };
             for (i, r) in used.iter().enumerate() {
                 let t = s.get_real(*r).unwrap();
                 // 1e-9: the equilibrium is exact; what remains is round-off in angles of ~1e3 rad
-                assert!(rel(t, torque / ratio) < 1e-9, "{preset} {fidelity} shaft {i}: {t} vs {}", torque / ratio);
+                assert!(
+                    rel(t, torque / ratio) < 1e-9,
+                    "{preset} {fidelity} shaft {i}: {t} vs {}",
+                    torque / ratio
+                );
                 if i < dt.stages.len() {
                     ratio *= dt.stages[i].ratio();
                 }
@@ -63,7 +72,10 @@ fn static_torque_split_follows_the_gear_ratios() {
                 for k in 0..3 {
                     for first in [vr::MESH_FORCE_RING_PLANET_1, vr::MESH_FORCE_SUN_PLANET_1] {
                         let f = s.get_real(first + k).unwrap();
-                        assert!(rel(f, expected) < 1e-9, "{preset} {fidelity} planet {k}: {f} vs {expected}");
+                        assert!(
+                            rel(f, expected) < 1e-9,
+                            "{preset} {fidelity} planet {k}: {f} vs {expected}"
+                        );
                     }
                 }
             }
@@ -76,7 +88,15 @@ fn undamped_free_vibration_conserves_energy_to_1e_9() {
     // pre-twisted by rated torque, released with no load: the trapezoidal rule conserves the
     // quadratic energy of a linear undamped system exactly, so only round-off remains
     let dt = Drivetrain::preset("D").unwrap();
-    let mut s = slave("D", "full", &[(vr::DAMPING_SCALE, 0.0), (vr::INITIAL_ROTOR_TORQUE, dt.rated_rotor_torque()), (vr::INITIAL_SPEED_RATIO, 0.0)]);
+    let mut s = slave(
+        "D",
+        "full",
+        &[
+            (vr::DAMPING_SCALE, 0.0),
+            (vr::INITIAL_ROTOR_TORQUE, dt.rated_rotor_torque()),
+            (vr::INITIAL_SPEED_RATIO, 0.0),
+        ],
+    );
     let e0 = s.get_real(vr::STORED_ENERGY).unwrap();
     assert!(e0 > 0.0);
     let mut worst: f64 = 0.0;
@@ -135,7 +155,8 @@ fn a_locked_brake_lets_go_when_the_torque_exceeds_static_friction() {
     run(&mut s, 0.0, 100, 1e-3);
     assert!(s.get_boolean(vr::BRAKE_LOCKED).unwrap());
     // an HSS torque well beyond 1.2 x 1.5 x rated (static capacity) tears it loose
-    s.set_real(vr::GENERATOR_TORQUE, -3.0 * dt.rated_generator_torque(), &mut Quiet).unwrap();
+    s.set_real(vr::GENERATOR_TORQUE, -3.0 * dt.rated_generator_torque(), &mut Quiet)
+        .unwrap();
     run(&mut s, 0.1, 100, 1e-3);
     assert!(!s.get_boolean(vr::BRAKE_LOCKED).unwrap());
     assert!(s.get_real(vr::GENERATOR_SPEED).unwrap() > 0.0);
@@ -145,7 +166,11 @@ fn a_locked_brake_lets_go_when_the_torque_exceeds_static_friction() {
 fn backlash_gives_a_dead_zone_and_flank_reversal() {
     let dt = Drivetrain::preset("D").unwrap();
     let backlash = 2e-4;
-    let mut s = slave("D", "full", &[(vr::MESH_BACKLASH, backlash), (vr::INITIAL_SPEED_RATIO, 1.0)]);
+    let mut s = slave(
+        "D",
+        "full",
+        &[(vr::MESH_BACKLASH, backlash), (vr::INITIAL_SPEED_RATIO, 1.0)],
+    );
     let h = 1e-3;
     let (mut positive, mut negative, mut zero) = (false, false, false);
     for i in 0..4000 {
@@ -153,22 +178,35 @@ fn backlash_gives_a_dead_zone_and_flank_reversal() {
         // a torque that reverses: the HSS mesh must open, cross its gap and load the other flank
         let torque = 0.5 * dt.rated_rotor_torque() * (std::f64::consts::TAU * 0.5 * t).sin();
         s.set_real(vr::ROTOR_TORQUE, torque, &mut Quiet).unwrap();
-        s.set_real(vr::GENERATOR_TORQUE, torque / dt.gear_ratio(), &mut Quiet).unwrap();
+        s.set_real(vr::GENERATOR_TORQUE, torque / dt.gear_ratio(), &mut Quiet)
+            .unwrap();
         s.do_step(t, h, &mut Quiet).unwrap();
         let f = s.get_real(vr::MESH_FORCE_GEAR_PINION_2).unwrap();
         positive |= f > 100.0;
         negative |= f < -100.0;
         zero |= f == 0.0;
     }
-    assert!(positive && negative && zero, "positive {positive} negative {negative} in-gap {zero}");
+    assert!(
+        positive && negative && zero,
+        "positive {positive} negative {negative} in-gap {zero}"
+    );
 }
 
 fn hss_mesh_force(variation: f64) -> (Vec<f64>, f64, f64) {
     let dt = Drivetrain::preset("D").unwrap();
     let torque = dt.rated_rotor_torque();
-    let mut s = slave("D", "full", &[(vr::MESH_STIFFNESS_VARIATION, variation), (vr::INITIAL_ROTOR_TORQUE, torque), (vr::MAX_INTERNAL_STEP, 2e-5)]);
+    let mut s = slave(
+        "D",
+        "full",
+        &[
+            (vr::MESH_STIFFNESS_VARIATION, variation),
+            (vr::INITIAL_ROTOR_TORQUE, torque),
+            (vr::MAX_INTERNAL_STEP, 2e-5),
+        ],
+    );
     s.set_real(vr::ROTOR_TORQUE, torque, &mut Quiet).unwrap();
-    s.set_real(vr::GENERATOR_TORQUE, torque / dt.gear_ratio(), &mut Quiet).unwrap();
+    s.set_real(vr::GENERATOR_TORQUE, torque / dt.gear_ratio(), &mut Quiet)
+        .unwrap();
     let h = 2e-5;
     let x = (0..5000)
         .map(|i| {
@@ -177,7 +215,11 @@ fn hss_mesh_force(variation: f64) -> (Vec<f64>, f64, f64) {
         })
         .collect();
     // HSS mesh: z_pinion x pinion speed = 22 x 18.6 rpm x 81.49 / 60 = 556 Hz
-    (x, h, 22.0 * dt.rated_rotor_speed * dt.gear_ratio() / std::f64::consts::TAU)
+    (
+        x,
+        h,
+        22.0 * dt.rated_rotor_speed * dt.gear_ratio() / std::f64::consts::TAU,
+    )
 }
 
 #[test]
@@ -190,7 +232,10 @@ fn time_varying_mesh_stiffness_excites_the_physical_mesh_frequency() {
     // and it is the stiffness variation that puts it there
     let (steady, _, _) = hss_mesh_force(0.0);
     let ratio = power(tail, h, f_mesh) / power(&steady[1000..], h, f_mesh).max(1e-300);
-    assert!(ratio > 1e4, "mesh-frequency power grows only {ratio}x with stiffness variation");
+    assert!(
+        ratio > 1e4,
+        "mesh-frequency power grows only {ratio}x with stiffness variation"
+    );
 }
 
 fn power(x: &[f64], dt: f64, f: f64) -> f64 {
@@ -233,8 +278,10 @@ fn rk4_and_implicit_agree_where_both_are_accurate() {
     b.set_string(vr::INTEGRATOR, "rk4", &mut Quiet).unwrap();
     b.initialize(0.0, &mut Quiet).unwrap();
     for s in [&mut a, &mut b] {
-        s.set_real(vr::ROTOR_TORQUE, dt.rated_rotor_torque(), &mut Quiet).unwrap();
-        s.set_real(vr::GENERATOR_TORQUE, dt.rated_generator_torque(), &mut Quiet).unwrap();
+        s.set_real(vr::ROTOR_TORQUE, dt.rated_rotor_torque(), &mut Quiet)
+            .unwrap();
+        s.set_real(vr::GENERATOR_TORQUE, dt.rated_generator_torque(), &mut Quiet)
+            .unwrap();
         run(s, 0.0, 1000, 1e-3);
     }
     let (ta, tb) = (a.get_real(vr::HSS_TORQUE).unwrap(), b.get_real(vr::HSS_TORQUE).unwrap());

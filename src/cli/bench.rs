@@ -32,7 +32,10 @@ fn rms(x: &[f64]) -> f64 {
 
 /// Relative errors of peak and RMS against the reference.
 fn errors(x: &[f64], reference: &[f64]) -> (f64, f64) {
-    ((peak(x) - peak(reference)).abs() / peak(reference), (rms(x) - rms(reference)).abs() / rms(reference))
+    (
+        (peak(x) - peak(reference)).abs() / peak(reference),
+        (rms(x) - rms(reference)).abs() / rms(reference),
+    )
 }
 
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
@@ -50,14 +53,26 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         step_time: 0.0,
     };
     let steps = (args.stop_time / args.step).round();
-    println!("Drivetrain {} full fidelity, rated-torque step, {} s at {} s communication steps ({steps} steps)", args.preset, args.stop_time, args.step);
+    println!(
+        "Drivetrain {} full fidelity, rated-torque step, {} s at {} s communication steps ({steps} steps)",
+        args.preset, args.stop_time, args.step
+    );
 
     // accuracy reference: implicit at 10 µs, checked against 20 µs
-    let reference = Scenario { max_internal_step: 1e-5, ..base.clone() };
+    let reference = Scenario {
+        max_internal_step: 1e-5,
+        ..base.clone()
+    };
     let (hss_ref, _) = run_native(&reference)?;
-    let (hss_half, _) = run_native(&Scenario { max_internal_step: 2e-5, ..base.clone() })?;
+    let (hss_half, _) = run_native(&Scenario {
+        max_internal_step: 2e-5,
+        ..base.clone()
+    })?;
     let (ref_peak, ref_rms) = errors(&hss_half, &hss_ref);
-    println!("reference (implicit, 10 µs internal step): self-convergence vs 20 µs: peak {:.1e}, RMS {:.1e}", ref_peak, ref_rms);
+    println!(
+        "reference (implicit, 10 µs internal step): self-convergence vs 20 µs: peak {:.1e}, RMS {:.1e}",
+        ref_peak, ref_rms
+    );
 
     // the FMU as users run it: best of 3 to dampen noise of a shared machine
     let mut fmi_wall = f64::MAX;
@@ -78,15 +93,36 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         let mut s = <crate::slaves::torsional::TorsionalSlave as crate::fmi2::slave::Slave>::instantiate(None);
         s.built().map_err(|e| anyhow::anyhow!(e.0))?.rk4_step_limit
     };
-    let rk4 = Scenario { integrator: "rk4".into(), max_internal_step: 0.9 * limit, ..base.clone() };
+    let rk4 = Scenario {
+        integrator: "rk4".into(),
+        max_internal_step: 0.9 * limit,
+        ..base.clone()
+    };
     let (hss_rk4, rk4_wall) = run_native(&rk4)?;
     let (r_peak, r_rms) = errors(&hss_rk4, &hss_ref);
 
     let rtf = |wall: f64| args.stop_time / wall;
     println!();
-    println!("{:<44} {:>12} {:>14} {:>12} {:>12}", "run", "real time x", "steps/s", "peak error", "RMS error");
-    println!("{:<44} {:>12.0} {:>14.0} {:>12.2e} {:>12.2e}", "FMU through FMI (implicit, default settings)", rtf(fmi_wall), steps / fmi_wall, e_peak, e_rms);
-    println!("{:<44} {:>12.0} {:>14.0} {:>12.2e} {:>12.2e}", "same model, no FMI boundary", rtf(native_wall), steps / native_wall, e_peak, e_rms);
+    println!(
+        "{:<44} {:>12} {:>14} {:>12} {:>12}",
+        "run", "real time x", "steps/s", "peak error", "RMS error"
+    );
+    println!(
+        "{:<44} {:>12.0} {:>14.0} {:>12.2e} {:>12.2e}",
+        "FMU through FMI (implicit, default settings)",
+        rtf(fmi_wall),
+        steps / fmi_wall,
+        e_peak,
+        e_rms
+    );
+    println!(
+        "{:<44} {:>12.0} {:>14.0} {:>12.2e} {:>12.2e}",
+        "same model, no FMI boundary",
+        rtf(native_wall),
+        steps / native_wall,
+        e_peak,
+        e_rms
+    );
     println!(
         "{:<44} {:>12.0} {:>14.0} {:>12.2e} {:>12.2e}",
         format!("RK4 at 0.9 x stability limit ({:.1} µs)", 0.9 * limit * 1e6),
@@ -96,11 +132,19 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         r_rms
     );
     println!();
-    println!("ratios: FMI overhead {:.2}x the bare model; implicit {:.1}x faster than RK4; target >= 3000x real time: {}",
+    println!(
+        "ratios: FMI overhead {:.2}x the bare model; implicit {:.1}x faster than RK4; target >= 3000x real time: {}",
         fmi_wall / native_wall,
         rk4_wall / fmi_wall,
-        if rtf(fmi_wall) >= 3000.0 { "met" } else { "NOT met" });
-    println!("accuracy target: HSS torque peak and RMS within 0.5 % of the reference: {}",
-        if e_peak <= 5e-3 && e_rms <= 5e-3 { "met" } else { "NOT met" });
+        if rtf(fmi_wall) >= 3000.0 { "met" } else { "NOT met" }
+    );
+    println!(
+        "accuracy target: HSS torque peak and RMS within 0.5 % of the reference: {}",
+        if e_peak <= 5e-3 && e_rms <= 5e-3 {
+            "met"
+        } else {
+            "NOT met"
+        }
+    );
     Ok(())
 }

@@ -38,8 +38,15 @@ pub fn compute(preset: &str, fidelity: &str, generator: &str) -> anyhow::Result<
 pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
     let (dt, m) = compute(&args.preset, &args.fidelity, &args.generator)?;
     if let Some(path) = &args.plot {
-        super::plot::mode_shapes(path, &format!("Drivetrain {} ({} fidelity, generator {})", dt.name, args.fidelity, args.generator), &m)
-            .with_context(|| format!("writing {}", path.display()))?;
+        super::plot::mode_shapes(
+            path,
+            &format!(
+                "Drivetrain {} ({} fidelity, generator {})",
+                dt.name, args.fidelity, args.generator
+            ),
+            &m,
+        )
+        .with_context(|| format!("writing {}", path.display()))?;
     }
     if args.json {
         println!("{}", serde_json::to_string(&m)?);
@@ -55,7 +62,11 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
             format!(
                 " (K_gen = {:.3e} N·m/rad{})",
                 dt.k_generator,
-                if dt.k_generator_estimated { ", estimated: see README" } else { "" }
+                if dt.k_generator_estimated {
+                    ", estimated: see README"
+                } else {
+                    ""
+                }
             )
         } else {
             String::new()

@@ -32,7 +32,14 @@ pub struct Series<'a> {
     pub points: &'a [(f64, f64)],
 }
 
-pub fn lines(path: &Path, title: &str, x_label: &str, y_label: &str, series: &[Series], markers: &[(f64, String)]) -> anyhow::Result<()> {
+pub fn lines(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    markers: &[(f64, String)],
+) -> anyhow::Result<()> {
     lines_named(path, title, x_label, y_label, series, markers, None)
 }
 
@@ -47,10 +54,30 @@ pub fn lines_named(
     x_names: Option<&[String]>,
 ) -> anyhow::Result<()> {
     register_font()?;
-    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
     match ext.as_str() {
-        "png" => draw(BitMapBackend::new(path, (1000, 600)).into_drawing_area(), title, x_label, y_label, series, markers, x_names),
-        "svg" => draw(SVGBackend::new(path, (1000, 600)).into_drawing_area(), title, x_label, y_label, series, markers, x_names),
+        "png" => draw(
+            BitMapBackend::new(path, (1000, 600)).into_drawing_area(),
+            title,
+            x_label,
+            y_label,
+            series,
+            markers,
+            x_names,
+        ),
+        "svg" => draw(
+            SVGBackend::new(path, (1000, 600)).into_drawing_area(),
+            title,
+            x_label,
+            y_label,
+            series,
+            markers,
+            x_names,
+        ),
         _ => Err(anyhow!("{}: plot format must be .png or .svg", path.display())),
     }
 }
@@ -111,14 +138,22 @@ where
     }
     for (x, label) in markers {
         chart
-            .draw_series(std::iter::once(PathElement::new(vec![(*x, y0 - pad), (*x, y1 + pad)], BLACK.mix(0.4))))
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(*x, y0 - pad), (*x, y1 + pad)],
+                BLACK.mix(0.4),
+            )))
             .map_err(err)?;
         chart
             .draw_series(std::iter::once(Text::new(label.clone(), (*x, y1), ("sans-serif", 14))))
             .map_err(err)?;
     }
     if series.len() > 1 {
-        chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(err)?;
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(err)?;
     }
     root.present().map_err(err)?;
     Ok(())
@@ -131,9 +166,28 @@ pub fn mode_shapes(path: &Path, title: &str, m: &Modes) -> anyhow::Result<()> {
         .iter()
         .zip(&m.shapes)
         .take(8)
-        .map(|(f, s)| (format!("{f:.3} Hz"), s.iter().enumerate().map(|(i, v)| (i as f64, *v)).collect()))
+        .map(|(f, s)| {
+            (
+                format!("{f:.3} Hz"),
+                s.iter().enumerate().map(|(i, v)| (i as f64, *v)).collect(),
+            )
+        })
         .collect();
-    let series: Vec<Series> = pts.iter().map(|(l, p)| Series { label: l.clone(), points: p }).collect();
-    lines_named(path, title, "degree of freedom", "amplitude, referred to the LSS", &series, &[], Some(&m.dof_names))
-        .context("mode-shape plot")
+    let series: Vec<Series> = pts
+        .iter()
+        .map(|(l, p)| Series {
+            label: l.clone(),
+            points: p,
+        })
+        .collect();
+    lines_named(
+        path,
+        title,
+        "degree of freedom",
+        "amplitude, referred to the LSS",
+        &series,
+        &[],
+        Some(&m.dof_names),
+    )
+    .context("mode-shape plot")
 }

@@ -82,7 +82,8 @@ pub fn torsional_fmu(path: Option<&Path>) -> anyhow::Result<Fmu> {
 }
 
 fn rated(preset: &str) -> anyhow::Result<(f64, f64)> {
-    let dt = crate::physics::drivetrain::Drivetrain::preset(preset).ok_or_else(|| anyhow!("unknown preset {preset:?}"))?;
+    let dt =
+        crate::physics::drivetrain::Drivetrain::preset(preset).ok_or_else(|| anyhow!("unknown preset {preset:?}"))?;
     Ok((dt.rated_rotor_torque(), dt.rated_generator_torque()))
 }
 
@@ -92,7 +93,10 @@ pub fn run_fmi(fmu: &Fmu, sc: &Scenario, record: bool) -> anyhow::Result<(Rows, 
     let (t_rotor, t_gen) = rated(&sc.preset)?;
     let mut inst: Instance = fmu.instantiate("torsional", false)?;
     inst.setup_experiment(0.0, Some(sc.stop_time))?;
-    inst.set_string(&[vr::PRESET, vr::FIDELITY, vr::INTEGRATOR], &[&sc.preset, &sc.fidelity, &sc.integrator])?;
+    inst.set_string(
+        &[vr::PRESET, vr::FIDELITY, vr::INTEGRATOR],
+        &[&sc.preset, &sc.fidelity, &sc.integrator],
+    )?;
     inst.set_real(&[vr::MAX_INTERNAL_STEP], &[sc.max_internal_step])?;
     inst.enter_initialization_mode()?;
     inst.exit_initialization_mode()?;
@@ -139,7 +143,8 @@ pub fn run_native(sc: &Scenario) -> anyhow::Result<(Vec<f64>, f64)> {
     s.set_string(vr::PRESET, &sc.preset, &mut Silent).map_err(e)?;
     s.set_string(vr::FIDELITY, &sc.fidelity, &mut Silent).map_err(e)?;
     s.set_string(vr::INTEGRATOR, &sc.integrator, &mut Silent).map_err(e)?;
-    s.set_real(vr::MAX_INTERNAL_STEP, sc.max_internal_step, &mut Silent).map_err(e)?;
+    s.set_real(vr::MAX_INTERNAL_STEP, sc.max_internal_step, &mut Silent)
+        .map_err(e)?;
     s.initialize(0.0, &mut Silent).map_err(e)?;
     let n = (sc.stop_time / sc.step).round() as usize;
     let mut hss = Vec::with_capacity(n + 1);
@@ -186,7 +191,8 @@ pub fn write_csv(path: &Path, rows: &Rows) -> anyhow::Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)?;
     }
-    let mut w = std::io::BufWriter::new(std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?);
+    let mut w =
+        std::io::BufWriter::new(std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?);
     writeln!(w, "time,{}", CHANNELS.map(|c| format!("torsional.{c}")).join(","))?;
     for r in rows {
         let cells: Vec<String> = r.iter().map(|v| format!("{v:.9e}")).collect();
@@ -216,10 +222,22 @@ pub fn run(args: &StepArgs) -> anyhow::Result<()> {
     let f_dom = dominant_frequency(&hss, args.step, 0.2, 50.0);
     println!(
         "Rated-torque step on drivetrain {} ({} fidelity, {} integrator), {} s at {} s steps through the FMU: {:.0}x real time",
-        args.preset, args.fidelity, args.integrator, args.stop_time, args.step, args.stop_time / wall
+        args.preset,
+        args.fidelity,
+        args.integrator,
+        args.stop_time,
+        args.step,
+        args.stop_time / wall
     );
-    println!("  rated LSS torque {:.4e} N·m, rated HSS torque {:.4e} N·m", t_rotor, t_gen);
-    println!("  peak LSS torque / rated: {:.3}   peak HSS torque / rated: {:.3}   (undamped step: 2.0)", peak(col("lss_torque")) / t_rotor, peak(col("hss_torque")) / t_gen);
+    println!(
+        "  rated LSS torque {:.4e} N·m, rated HSS torque {:.4e} N·m",
+        t_rotor, t_gen
+    );
+    println!(
+        "  peak LSS torque / rated: {:.3}   peak HSS torque / rated: {:.3}   (undamped step: 2.0)",
+        peak(col("lss_torque")) / t_rotor,
+        peak(col("hss_torque")) / t_gen
+    );
     println!("  dominant HSS-torque frequency: {f_dom:.3} Hz");
     for boundary in ["disconnected", "connected", "locked"] {
         let (_, m) = super::modes::compute(&args.preset, &args.fidelity, boundary)?;
@@ -235,7 +253,16 @@ pub fn run(args: &StepArgs) -> anyhow::Result<()> {
             &format!("Drivetrain {}: rated-torque step", args.preset),
             "time / s",
             "torque / rated",
-            &[super::plot::Series { label: "LSS".into(), points: &lss }, super::plot::Series { label: "HSS".into(), points: &hss }],
+            &[
+                super::plot::Series {
+                    label: "LSS".into(),
+                    points: &lss,
+                },
+                super::plot::Series {
+                    label: "HSS".into(),
+                    points: &hss,
+                },
+            ],
             &[],
         )?;
         println!("  plot: {}", plot.display());

@@ -105,7 +105,12 @@ impl ScalarVariable {
     }
 
     pub fn attributes(&self) -> Option<&TypeAttributes> {
-        self.real.as_ref().or(self.integer.as_ref()).or(self.boolean.as_ref()).or(self.string.as_ref()).or(self.enumeration.as_ref())
+        self.real
+            .as_ref()
+            .or(self.integer.as_ref())
+            .or(self.boolean.as_ref())
+            .or(self.string.as_ref())
+            .or(self.enumeration.as_ref())
     }
 }
 

@@ -48,7 +48,9 @@ pub struct LogSink {
 
 impl LogSink {
     fn emit(&self, status: Fmi2Status, category: &str, msg: &str) {
-        let Some(logger) = self.callbacks.logger else { return };
+        let Some(logger) = self.callbacks.logger else {
+            return;
+        };
         let always = matches!(status, Fmi2Status::Error | Fmi2Status::Fatal);
         let wanted = self.logging_on && CATEGORIES.iter().zip(self.enabled).any(|(c, on)| on && *c == category);
         if !(always || wanted) {
@@ -132,7 +134,11 @@ unsafe fn call<S: Slave>(
         }
         inst.sink.warned = false;
         let status = body(inst)?;
-        Ok(if inst.sink.warned { status.max(Fmi2Status::Warning) } else { status })
+        Ok(if inst.sink.warned {
+            status.max(Fmi2Status::Warning)
+        } else {
+            status
+        })
     }));
     // SAFETY: as above; the closure's borrow has ended.
     let inst = unsafe { &mut *ptr };
@@ -152,13 +158,24 @@ unsafe fn call<S: Slave>(
                 .or_else(|| panic.downcast_ref::<String>().cloned())
                 .unwrap_or_else(|| "unknown panic".into());
             inst.state = Fatal;
-            inst.sink.emit(Fmi2Status::Fatal, "logStatusError", &format!("{function}: internal error: {what}"));
+            inst.sink.emit(
+                Fmi2Status::Fatal,
+                "logStatusError",
+                &format!("{function}: internal error: {what}"),
+            );
             Fmi2Status::Fatal
         }
     }
 }
 
-const ANY: &[ModelState] = &[Instantiated, InitializationMode, StepComplete, StepFailed, Terminated, Error];
+const ANY: &[ModelState] = &[
+    Instantiated,
+    InitializationMode,
+    StepComplete,
+    StepFailed,
+    Terminated,
+    Error,
+];
 const READABLE: &[ModelState] = &[InitializationMode, StepComplete, StepFailed, Terminated, Error];
 
 unsafe fn c_str<'a>(p: Fmi2String) -> Option<&'a str> {
@@ -239,7 +256,9 @@ pub unsafe fn instantiate<S: Slave>(
             return refuse("instanceName is null or empty".into());
         }
         if fmu_type != FMI2_CO_SIMULATION {
-            return refuse(format!("fmuType {fmu_type} requested, this FMU supports only fmi2CoSimulation (1)"));
+            return refuse(format!(
+                "fmuType {fmu_type} requested, this FMU supports only fmi2CoSimulation (1)"
+            ));
         }
         match unsafe { c_str(guid) } {
             Some(g) if g == S::GUID => {}
@@ -287,16 +306,21 @@ pub unsafe fn set_debug_logging<S: Slave>(
 ) -> Fmi2Status {
     unsafe {
         call::<S>(c, "fmi2SetDebugLogging", ANY, |inst| {
-            let mut enabled = if n == 0 { DEFAULT_CATEGORIES } else { [false; CATEGORIES.len()] };
+            let mut enabled = if n == 0 {
+                DEFAULT_CATEGORIES
+            } else {
+                [false; CATEGORIES.len()]
+            };
             if n > 0 {
                 if categories.is_null() {
                     return Err(format!("{n} categories announced but the array is null"));
                 }
                 for &p in std::slice::from_raw_parts(categories, n) {
                     let name = c_str(p).ok_or("a category is null")?;
-                    let i = CATEGORIES.iter().position(|c| *c == name).ok_or_else(|| {
-                        format!("unknown log category {name:?}; known: {}", CATEGORIES.join(", "))
-                    })?;
+                    let i = CATEGORIES
+                        .iter()
+                        .position(|c| *c == name)
+                        .ok_or_else(|| format!("unknown log category {name:?}; known: {}", CATEGORIES.join(", ")))?;
                     enabled[i] = true;
                 }
             }
@@ -323,10 +347,12 @@ pub unsafe fn setup_experiment<S: Slave>(
                 return Err(format!("startTime {start_time} is not finite"));
             }
             let stop = (stop_time_defined != FMI2_FALSE).then_some(stop_time);
-            if let Some(stop) = stop {
-                if !stop.is_finite() || stop < start_time {
-                    return Err(format!("stopTime {stop} is not finite or lies before startTime {start_time}"));
-                }
+            if let Some(stop) = stop
+                && (!stop.is_finite() || stop < start_time)
+            {
+                return Err(format!(
+                    "stopTime {stop} is not finite or lies before startTime {start_time}"
+                ));
             }
             inst.start_time = start_time;
             inst.time = start_time;
@@ -353,7 +379,9 @@ pub unsafe fn enter_initialization_mode<S: Slave>(c: Fmi2Component) -> Fmi2Statu
 pub unsafe fn exit_initialization_mode<S: Slave>(c: Fmi2Component) -> Fmi2Status {
     unsafe {
         call::<S>(c, "fmi2ExitInitializationMode", &[InitializationMode], |inst| {
-            inst.slave.initialize(inst.start_time, &mut inst.sink).map_err(|e| e.0)?;
+            inst.slave
+                .initialize(inst.start_time, &mut inst.sink)
+                .map_err(|e| e.0)?;
             inst.state = StepComplete;
             Ok(Fmi2Status::Ok)
         })
@@ -397,7 +425,9 @@ fn settable(v: &Variable, state: ModelState) -> Result<(), String> {
     let ok = match v.causality {
         Causality::Input => matches!(state, Instantiated | InitializationMode | StepComplete),
         Causality::Parameter => match v.variability {
-            Variability::Tunable => matches!(state, Instantiated | InitializationMode | StepComplete),
+            Variability::Tunable => {
+                matches!(state, Instantiated | InitializationMode | StepComplete)
+            }
             Variability::Fixed => matches!(state, Instantiated | InitializationMode),
             _ => false,
         },
@@ -429,7 +459,11 @@ fn check_real(v: &Variable, value: f64) -> Result<(), String> {
 }
 
 /// Pairs the host's value-reference and value arrays, refusing null pointers when n > 0.
-unsafe fn arrays<'a, T>(vr: *const Fmi2ValueReference, n: usize, values: *const T) -> Result<(&'a [u32], &'a [T]), String> {
+unsafe fn arrays<'a, T>(
+    vr: *const Fmi2ValueReference,
+    n: usize,
+    values: *const T,
+) -> Result<(&'a [u32], &'a [T]), String> {
     if n == 0 {
         return Ok((&[], &[]));
     }
@@ -452,14 +486,24 @@ unsafe fn arrays_mut<'a, T>(
         return Err(format!("null value-reference or value array for {n} variables"));
     }
     // SAFETY: checked non-null; the host promises n elements.
-    Ok(unsafe { (std::slice::from_raw_parts(vr, n), std::slice::from_raw_parts_mut(values, n)) })
+    Ok(unsafe {
+        (
+            std::slice::from_raw_parts(vr, n),
+            std::slice::from_raw_parts_mut(values, n),
+        )
+    })
 }
 
 macro_rules! getter {
     ($name:ident, $fmi:literal, $t:ty, $ty:expr, $method:ident, $conv:expr) => {
         /// # Safety
         /// `c` as [`free_instance`]; `vr` and `value` hold `n` elements or are null when `n` is 0.
-        pub unsafe fn $name<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, value: *mut $t) -> Fmi2Status {
+        pub unsafe fn $name<S: Slave>(
+            c: Fmi2Component,
+            vr: *const Fmi2ValueReference,
+            n: usize,
+            value: *mut $t,
+        ) -> Fmi2Status {
             unsafe {
                 call::<S>(c, $fmi, READABLE, |inst| {
                     let (vrs, out) = arrays_mut(vr, n, value)?;
@@ -476,12 +520,31 @@ macro_rules! getter {
 }
 
 getter!(get_real, "fmi2GetReal", f64, VarType::Real, get_real, |v| v);
-getter!(get_integer, "fmi2GetInteger", c_int, VarType::Integer, get_integer, |v| v);
-getter!(get_boolean, "fmi2GetBoolean", Fmi2Boolean, VarType::Boolean, get_boolean, |v: bool| v as Fmi2Boolean);
+getter!(
+    get_integer,
+    "fmi2GetInteger",
+    c_int,
+    VarType::Integer,
+    get_integer,
+    |v| v
+);
+getter!(
+    get_boolean,
+    "fmi2GetBoolean",
+    Fmi2Boolean,
+    VarType::Boolean,
+    get_boolean,
+    |v: bool| v as Fmi2Boolean
+);
 
 /// # Safety
 /// As [`get_real`]. The returned strings stay valid until the next call on this instance.
-pub unsafe fn get_string<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, value: *mut Fmi2String) -> Fmi2Status {
+pub unsafe fn get_string<S: Slave>(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    n: usize,
+    value: *mut Fmi2String,
+) -> Fmi2Status {
     thread_local! {
         // Strings handed out stay alive until the next fmi2GetString on this thread (FMI 2.0 allows
         // invalidating them at the next call); kept per thread so instances never share mutable state
@@ -510,7 +573,12 @@ const SETTABLE: &[ModelState] = &[Instantiated, InitializationMode, StepComplete
 
 /// # Safety
 /// `c` as [`free_instance`]; `vr` and `value` hold `n` elements or are null when `n` is 0.
-pub unsafe fn set_real<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, value: *const f64) -> Fmi2Status {
+pub unsafe fn set_real<S: Slave>(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    n: usize,
+    value: *const f64,
+) -> Fmi2Status {
     unsafe {
         call::<S>(c, "fmi2SetReal", SETTABLE, |inst| {
             let (vrs, vals) = arrays(vr, n, value)?;
@@ -527,7 +595,12 @@ pub unsafe fn set_real<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueReference
 
 /// # Safety
 /// As [`set_real`].
-pub unsafe fn set_integer<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, value: *const c_int) -> Fmi2Status {
+pub unsafe fn set_integer<S: Slave>(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    n: usize,
+    value: *const c_int,
+) -> Fmi2Status {
     unsafe {
         call::<S>(c, "fmi2SetInteger", SETTABLE, |inst| {
             let (vrs, vals) = arrays(vr, n, value)?;
@@ -543,14 +616,21 @@ pub unsafe fn set_integer<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueRefere
 
 /// # Safety
 /// As [`set_real`].
-pub unsafe fn set_boolean<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, value: *const Fmi2Boolean) -> Fmi2Status {
+pub unsafe fn set_boolean<S: Slave>(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    n: usize,
+    value: *const Fmi2Boolean,
+) -> Fmi2Status {
     unsafe {
         call::<S>(c, "fmi2SetBoolean", SETTABLE, |inst| {
             let (vrs, vals) = arrays(vr, n, value)?;
             for (r, v) in vrs.iter().zip(vals) {
                 let var = known::<S>(VarType::Boolean, *r)?;
                 settable(var, inst.state)?;
-                inst.slave.set_boolean(*r, *v != FMI2_FALSE, &mut inst.sink).map_err(|e| e.0)?;
+                inst.slave
+                    .set_boolean(*r, *v != FMI2_FALSE, &mut inst.sink)
+                    .map_err(|e| e.0)?;
             }
             Ok(Fmi2Status::Ok)
         })
@@ -559,7 +639,12 @@ pub unsafe fn set_boolean<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueRefere
 
 /// # Safety
 /// As [`set_real`]; every string is NUL-terminated.
-pub unsafe fn set_string<S: Slave>(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, value: *const Fmi2String) -> Fmi2Status {
+pub unsafe fn set_string<S: Slave>(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    n: usize,
+    value: *const Fmi2String,
+) -> Fmi2Status {
     unsafe {
         call::<S>(c, "fmi2SetString", SETTABLE, |inst| {
             let (vrs, vals) = arrays(vr, n, value)?;
@@ -603,19 +688,24 @@ fn restore<S: Slave>(inst: &mut Instance<S>, snap: Snapshot<S>) -> Result<(), St
 /// `c` as [`free_instance`]; `state` points to null or to a state from this function.
 pub unsafe fn get_fmu_state<S: Slave>(c: Fmi2Component, state: *mut Fmi2FmuState) -> Fmi2Status {
     unsafe {
-        call::<S>(c, "fmi2GetFMUstate", &[Instantiated, InitializationMode, StepComplete, StepFailed, Terminated], |inst| {
-            if state.is_null() {
-                return Err("FMUstate pointer is null".into());
-            }
-            let snap = snapshot(inst);
-            if (*state).is_null() {
-                *state = Box::into_raw(Box::new(snap)) as Fmi2FmuState;
-            } else {
-                // FMI 2.0: a non-null *FMUstate is updated in place.
-                *((*state) as *mut Snapshot<S>) = snap;
-            }
-            Ok(Fmi2Status::Ok)
-        })
+        call::<S>(
+            c,
+            "fmi2GetFMUstate",
+            &[Instantiated, InitializationMode, StepComplete, StepFailed, Terminated],
+            |inst| {
+                if state.is_null() {
+                    return Err("FMUstate pointer is null".into());
+                }
+                let snap = snapshot(inst);
+                if (*state).is_null() {
+                    *state = Box::into_raw(Box::new(snap)) as Fmi2FmuState;
+                } else {
+                    // FMI 2.0: a non-null *FMUstate is updated in place.
+                    *((*state) as *mut Snapshot<S>) = snap;
+                }
+                Ok(Fmi2Status::Ok)
+            },
+        )
     }
 }
 
@@ -657,7 +747,11 @@ fn encode<S: Slave>(snap: &Snapshot<S>) -> Result<Vec<u8>, String> {
 
 /// # Safety
 /// As [`set_fmu_state`]; `size` is writable.
-pub unsafe fn serialized_fmu_state_size<S: Slave>(c: Fmi2Component, state: Fmi2FmuState, size: *mut usize) -> Fmi2Status {
+pub unsafe fn serialized_fmu_state_size<S: Slave>(
+    c: Fmi2Component,
+    state: Fmi2FmuState,
+    size: *mut usize,
+) -> Fmi2Status {
     unsafe {
         call::<S>(c, "fmi2SerializedFMUstateSize", ANY, |_| {
             if state.is_null() || size.is_null() {
@@ -671,7 +765,12 @@ pub unsafe fn serialized_fmu_state_size<S: Slave>(c: Fmi2Component, state: Fmi2F
 
 /// # Safety
 /// As [`set_fmu_state`]; `bytes` has room for `size` bytes.
-pub unsafe fn serialize_fmu_state<S: Slave>(c: Fmi2Component, state: Fmi2FmuState, bytes: *mut Fmi2Byte, size: usize) -> Fmi2Status {
+pub unsafe fn serialize_fmu_state<S: Slave>(
+    c: Fmi2Component,
+    state: Fmi2FmuState,
+    bytes: *mut Fmi2Byte,
+    size: usize,
+) -> Fmi2Status {
     unsafe {
         call::<S>(c, "fmi2SerializeFMUstate", ANY, |_| {
             if state.is_null() || bytes.is_null() {
@@ -679,7 +778,10 @@ pub unsafe fn serialize_fmu_state<S: Slave>(c: Fmi2Component, state: Fmi2FmuStat
             }
             let encoded = encode(&*(state as *const Snapshot<S>))?;
             if encoded.len() > size {
-                return Err(format!("buffer of {size} bytes is smaller than the state ({} bytes)", encoded.len()));
+                return Err(format!(
+                    "buffer of {size} bytes is smaller than the state ({} bytes)",
+                    encoded.len()
+                ));
             }
             std::ptr::copy_nonoverlapping(encoded.as_ptr(), bytes as *mut u8, encoded.len());
             Ok(Fmi2Status::Ok)
@@ -689,7 +791,12 @@ pub unsafe fn serialize_fmu_state<S: Slave>(c: Fmi2Component, state: Fmi2FmuStat
 
 /// # Safety
 /// `c` as [`free_instance`]; `bytes` holds `size` bytes; `state` is writable.
-pub unsafe fn deserialize_fmu_state<S: Slave>(c: Fmi2Component, bytes: *const Fmi2Byte, size: usize, state: *mut Fmi2FmuState) -> Fmi2Status {
+pub unsafe fn deserialize_fmu_state<S: Slave>(
+    c: Fmi2Component,
+    bytes: *const Fmi2Byte,
+    size: usize,
+    state: *mut Fmi2FmuState,
+) -> Fmi2Status {
     unsafe {
         call::<S>(c, "fmi2DeSerializeFMUstate", ANY, |_| {
             if bytes.is_null() || state.is_null() {
@@ -698,7 +805,11 @@ pub unsafe fn deserialize_fmu_state<S: Slave>(c: Fmi2Component, bytes: *const Fm
             let data = std::slice::from_raw_parts(bytes as *const u8, size);
             let snap: Snapshot<S> = postcard::from_bytes(data).map_err(|e| format!("corrupt serialised state: {e}"))?;
             if snap.guid != S::GUID {
-                return Err(format!("serialised state belongs to GUID {}, this FMU is {}", snap.guid, S::GUID));
+                return Err(format!(
+                    "serialised state belongs to GUID {}, this FMU is {}",
+                    snap.guid,
+                    S::GUID
+                ));
             }
             if !(*state).is_null() {
                 drop(Box::from_raw((*state) as *mut Snapshot<S>));
@@ -729,21 +840,28 @@ pub unsafe fn set_real_input_derivatives<S: Slave>(
     value: *const f64,
 ) -> Fmi2Status {
     unsafe {
-        call::<S>(c, "fmi2SetRealInputDerivatives", &[InitializationMode, StepComplete], |inst| {
-            let (vrs, vals) = arrays(vr, n, value)?;
-            let (_, orders) = arrays(vr, n, order)?;
-            for ((r, v), o) in vrs.iter().zip(vals).zip(orders) {
-                let var = known::<S>(VarType::Real, *r)?;
-                if var.causality != Causality::Input {
-                    return Err(format!("{} is not an input", var.name));
+        call::<S>(
+            c,
+            "fmi2SetRealInputDerivatives",
+            &[InitializationMode, StepComplete],
+            |inst| {
+                let (vrs, vals) = arrays(vr, n, value)?;
+                let (_, orders) = arrays(vr, n, order)?;
+                for ((r, v), o) in vrs.iter().zip(vals).zip(orders) {
+                    let var = known::<S>(VarType::Real, *r)?;
+                    if var.causality != Causality::Input {
+                        return Err(format!("{} is not an input", var.name));
+                    }
+                    if !v.is_finite() {
+                        return Err(format!("derivative of {} = {v} rejected: not finite", var.name));
+                    }
+                    inst.slave
+                        .set_input_derivative(*r, *o, *v)
+                        .map_err(|e| format!("{}: {e}", var.name))?;
                 }
-                if !v.is_finite() {
-                    return Err(format!("derivative of {} = {v} rejected: not finite", var.name));
-                }
-                inst.slave.set_input_derivative(*r, *o, *v).map_err(|e| format!("{}: {e}", var.name))?;
-            }
-            Ok(Fmi2Status::Ok)
-        })
+                Ok(Fmi2Status::Ok)
+            },
+        )
     }
 }
 
@@ -763,7 +881,9 @@ pub unsafe fn do_step<S: Slave>(c: Fmi2Component, t: f64, h: f64, _no_set_prior:
     unsafe {
         call::<S>(c, "fmi2DoStep", &[StepComplete], |inst| {
             if !t.is_finite() || !h.is_finite() {
-                return Err(format!("currentCommunicationPoint {t} or communicationStepSize {h} is not finite"));
+                return Err(format!(
+                    "currentCommunicationPoint {t} or communicationStepSize {h} is not finite"
+                ));
             }
             if h <= 0.0 {
                 return Err(format!("communicationStepSize {h} must be positive"));
@@ -776,10 +896,13 @@ pub unsafe fn do_step<S: Slave>(c: Fmi2Component, t: f64, h: f64, _no_set_prior:
                     inst.time
                 ));
             }
-            if let Some(stop) = inst.stop_time {
-                if t + h > stop + 1e-9 * (1.0 + stop.abs()) {
-                    return Err(format!("step to {} passes the stopTime {stop} given in fmi2SetupExperiment", t + h));
-                }
+            if let Some(stop) = inst.stop_time
+                && t + h > stop + 1e-9 * (1.0 + stop.abs())
+            {
+                return Err(format!(
+                    "step to {} passes the stopTime {stop} given in fmi2SetupExperiment",
+                    t + h
+                ));
             }
             match inst.slave.do_step(t, h, &mut inst.sink) {
                 Ok(()) => {
@@ -881,7 +1004,6 @@ pub unsafe fn get_string_status<S: Slave>(c: Fmi2Component, _kind: c_int, value:
     }
 }
 
-
 #[cfg(test)]
 mod tests {
     //! The adapter's own guarantees, checked on a deliberately misbehaving model.
@@ -951,7 +1073,17 @@ mod tests {
     fn instance() -> Fmi2Component {
         let name = CString::new("p").unwrap();
         let guid = CString::new("{panicky}").unwrap();
-        unsafe { instantiate::<Panicky>(name.as_ptr(), FMI2_CO_SIMULATION, guid.as_ptr(), std::ptr::null(), std::ptr::null(), 0, 0) }
+        unsafe {
+            instantiate::<Panicky>(
+                name.as_ptr(),
+                FMI2_CO_SIMULATION,
+                guid.as_ptr(),
+                std::ptr::null(),
+                std::ptr::null(),
+                0,
+                0,
+            )
+        }
     }
 
     #[test]
@@ -972,7 +1104,10 @@ mod tests {
         unsafe {
             enter_initialization_mode::<Panicky>(c);
             let mut x = [0.0];
-            assert_eq!(get_real::<Panicky>(c, [0].as_ptr(), 1, x.as_mut_ptr()), Fmi2Status::Fatal);
+            assert_eq!(
+                get_real::<Panicky>(c, [0].as_ptr(), 1, x.as_mut_ptr()),
+                Fmi2Status::Fatal
+            );
             free_instance::<Panicky>(c);
         }
     }
@@ -983,7 +1118,10 @@ mod tests {
         assert_eq!(p("file:///tmp/a/resources").as_deref(), Some("/tmp/a/resources"));
         assert_eq!(p("file:/tmp/a/resources").as_deref(), Some("/tmp/a/resources"));
         assert_eq!(p("file://localhost/tmp/a").as_deref(), Some("/tmp/a"));
-        assert_eq!(p("file:///tmp/my%20dir/%C3%BC/resources").as_deref(), Some("/tmp/my dir/\u{fc}/resources"));
+        assert_eq!(
+            p("file:///tmp/my%20dir/%C3%BC/resources").as_deref(),
+            Some("/tmp/my dir/\u{fc}/resources")
+        );
         assert_eq!(p("file://otherhost/tmp"), None);
         assert_eq!(p("http://x/y"), None);
         assert_eq!(p("file:///bad%zz"), None);

@@ -22,13 +22,22 @@ pub enum ImportError {
     #[error("{instance}: fmi2Instantiate returned NULL{}", log_suffix(.log))]
     Instantiate { instance: String, log: Vec<String> },
     #[error("{instance}: {function} returned {status}{}", log_suffix(.log))]
-    Call { instance: String, function: &'static str, status: &'static str, log: Vec<String> },
+    Call {
+        instance: String,
+        function: &'static str,
+        status: &'static str,
+        log: Vec<String>,
+    },
     #[error("{model}: no variable named {name}")]
     UnknownVariable { model: String, name: String },
 }
 
 fn log_suffix(log: &[String]) -> String {
-    if log.is_empty() { String::new() } else { format!(": {}", log.join(" | ")) }
+    if log.is_empty() {
+        String::new()
+    } else {
+        format!(": {}", log.join(" | "))
+    }
 }
 
 /// A temporary directory removed on drop.
@@ -39,7 +48,9 @@ impl TempDir {
     pub fn new(prefix: &str) -> std::io::Result<Self> {
         use std::sync::atomic::{AtomicU64, Ordering};
         static COUNTER: AtomicU64 = AtomicU64::new(0);
-        let nanos = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos());
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos());
         let path = std::env::temp_dir().join(format!(
             "{prefix}-{}-{}-{nanos}",
             std::process::id(),
@@ -61,12 +72,17 @@ impl Drop for TempDir {
 
 /// Unpacks a zip archive into `dest`, refusing entries that would land outside it.
 pub fn unzip(archive: &Path, dest: &Path) -> Result<(), ImportError> {
-    let fail = |message: String| ImportError::Archive { path: archive.to_path_buf(), message };
+    let fail = |message: String| ImportError::Archive {
+        path: archive.to_path_buf(),
+        message,
+    };
     let file = std::fs::File::open(archive).map_err(|e| fail(e.to_string()))?;
     let mut zip = zip::ZipArchive::new(file).map_err(|e| fail(format!("not a valid zip archive: {e}")))?;
     for i in 0..zip.len() {
         let mut entry = zip.by_index(i).map_err(|e| fail(e.to_string()))?;
-        let rel = entry.enclosed_name().ok_or_else(|| fail(format!("entry {:?} escapes the archive folder", entry.name())))?;
+        let rel = entry
+            .enclosed_name()
+            .ok_or_else(|| fail(format!("entry {:?} escapes the archive folder", entry.name())))?;
         let out = dest.join(rel);
         if entry.is_dir() {
             std::fs::create_dir_all(&out).map_err(|e| fail(e.to_string()))?;
@@ -153,35 +169,57 @@ impl Fmu {
         if path.is_dir() {
             return Self::load(path.to_path_buf(), None);
         }
-        let tmp = TempDir::new("windrive-fmu")
-            .map_err(|e| ImportError::Archive { path: path.to_path_buf(), message: e.to_string() })?;
+        let tmp = TempDir::new("windrive-fmu").map_err(|e| ImportError::Archive {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
         unzip(path, tmp.path())?;
         Self::load(tmp.path().to_path_buf(), Some(tmp))
     }
 
     fn load(dir: PathBuf, unpacked: Option<TempDir>) -> Result<Self, ImportError> {
         let md_path = dir.join("modelDescription.xml");
-        let xml = std::fs::read_to_string(&md_path)
-            .map_err(|e| ImportError::Description { path: dir.clone(), message: e.to_string() })?;
-        let description = ModelDescription::parse(&xml)
-            .map_err(|e| ImportError::Description { path: dir.clone(), message: e.to_string() })?;
-        let cs = description.co_simulation.as_ref().ok_or_else(|| ImportError::Description {
+        let xml = std::fs::read_to_string(&md_path).map_err(|e| ImportError::Description {
             path: dir.clone(),
-            message: "no <CoSimulation> element: only Co-Simulation FMUs are supported".into(),
+            message: e.to_string(),
         })?;
-        let lib_path = dir.join("binaries").join("linux64").join(format!("{}.so", cs.model_identifier));
+        let description = ModelDescription::parse(&xml).map_err(|e| ImportError::Description {
+            path: dir.clone(),
+            message: e.to_string(),
+        })?;
+        let cs = description
+            .co_simulation
+            .as_ref()
+            .ok_or_else(|| ImportError::Description {
+                path: dir.clone(),
+                message: "no <CoSimulation> element: only Co-Simulation FMUs are supported".into(),
+            })?;
+        let lib_path = dir
+            .join("binaries")
+            .join("linux64")
+            .join(format!("{}.so", cs.model_identifier));
         if !lib_path.is_file() {
-            return Err(ImportError::Library { path: lib_path, message: "file not found".into() });
+            return Err(ImportError::Library {
+                path: lib_path,
+                message: "file not found".into(),
+            });
         }
         let api = Self::load_library(&lib_path)?;
-        Ok(Self { description, dir, api: Arc::new(api), _unpacked: unpacked })
+        Ok(Self {
+            description,
+            dir,
+            api: Arc::new(api),
+            _unpacked: unpacked,
+        })
     }
 
     /// Loads a binary and resolves the 34 functions.
     pub fn load_library(path: &Path) -> Result<Api, ImportError> {
         // SAFETY: loading runs the library's initialisers; an FMU binary is trusted code by design.
-        let lib = unsafe { Library::new(path) }
-            .map_err(|e| ImportError::Library { path: path.to_path_buf(), message: e.to_string() })?;
+        let lib = unsafe { Library::new(path) }.map_err(|e| ImportError::Library {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
         // SAFETY: the symbols of an FMI 2.0 binary have the standard signatures.
         unsafe { Api::resolve(lib, path) }
     }
@@ -201,14 +239,23 @@ impl Fmu {
 
     /// Value reference of a variable by name.
     pub fn vr(&self, name: &str) -> Result<u32, ImportError> {
-        self.description.variable(name).map(|v| v.value_reference).ok_or_else(|| ImportError::UnknownVariable {
-            model: self.description.model_name.clone(),
-            name: name.into(),
-        })
+        self.description
+            .variable(name)
+            .map(|v| v.value_reference)
+            .ok_or_else(|| ImportError::UnknownVariable {
+                model: self.description.model_name.clone(),
+                name: name.into(),
+            })
     }
 
     pub fn instantiate(&self, name: &str, logging_on: bool) -> Result<Instance, ImportError> {
-        Instance::new(Arc::clone(&self.api), name, &self.description.guid, &self.resource_uri(), logging_on)
+        Instance::new(
+            Arc::clone(&self.api),
+            name,
+            &self.description.guid,
+            &self.resource_uri(),
+            logging_on,
+        )
     }
 }
 
@@ -221,7 +268,14 @@ struct LogTarget {
 }
 
 unsafe extern "C" {
-    fn windrive_fmi2_logger(env: *mut c_void, instance: *const c_char, status: c_int, category: *const c_char, format: *const c_char, ...);
+    fn windrive_fmi2_logger(
+        env: *mut c_void,
+        instance: *const c_char,
+        status: c_int,
+        category: *const c_char,
+        format: *const c_char,
+        ...
+    );
 }
 
 /// Called by the C shim with the formatted message.
@@ -229,12 +283,24 @@ unsafe extern "C" {
 /// # Safety
 /// `env` is the `LogTarget` an [`Instance`] registered; strings are NUL-terminated or null.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn windrive_log_sink(env: *mut c_void, instance: *const c_char, status: c_int, category: *const c_char, message: *const c_char) {
+pub unsafe extern "C" fn windrive_log_sink(
+    env: *mut c_void,
+    instance: *const c_char,
+    status: c_int,
+    category: *const c_char,
+    message: *const c_char,
+) {
     let _ = std::panic::catch_unwind(|| {
         if env.is_null() {
             return;
         }
-        let text = |p: *const c_char| if p.is_null() { String::new() } else { unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned() };
+        let text = |p: *const c_char| {
+            if p.is_null() {
+                String::new()
+            } else {
+                unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned()
+            }
+        };
         // SAFETY: env is the boxed LogTarget owned by the instance that is calling.
         let target = unsafe { &*(env as *const LogTarget) };
         let status = Fmi2Status::from_raw(status);
@@ -247,6 +313,11 @@ pub unsafe extern "C" fn windrive_log_sink(env: *mut c_void, instance: *const c_
         }
     });
 }
+
+/// An FMU state saved by fmi2GetFMUstate or restored by fmi2DeSerializeFMUstate. Free it with
+/// [`Instance::free_state`] on the instance that made it.
+#[derive(Debug)]
+pub struct SavedState(Fmi2FmuState);
 
 /// A live FMU instance. Freed on drop (terminated first when it was initialised).
 pub struct Instance {
@@ -263,15 +334,13 @@ unsafe impl Send for Instance {}
 
 impl Instance {
     fn new(api: Arc<Api>, name: &str, guid: &str, resources: &str, logging_on: bool) -> Result<Self, ImportError> {
-        let log = Box::new(LogTarget { records: Mutex::new(Vec::new()), echo: std::env::var_os("WINDRIVE_FMU_LOG").is_some() });
+        let log = Box::new(LogTarget {
+            records: Mutex::new(Vec::new()),
+            echo: std::env::var_os("WINDRIVE_FMU_LOG").is_some(),
+        });
         let callbacks = Box::new(Fmi2CallbackFunctions {
-            // SAFETY: the shim has exactly the fmi2CallbackLogger signature.
-            logger: Some(unsafe {
-                std::mem::transmute::<
-                    unsafe extern "C" fn(*mut c_void, *const c_char, c_int, *const c_char, *const c_char, ...),
-                    unsafe extern "C" fn(Fmi2ComponentEnvironment, Fmi2String, c_int, Fmi2String, Fmi2String, ...),
-                >(windrive_fmi2_logger)
-            }),
+            // the C shim has exactly the fmi2CallbackLogger signature
+            logger: Some(windrive_fmi2_logger),
             allocate_memory: Some(calloc_shim),
             free_memory: Some(free_shim),
             step_finished: None,
@@ -282,18 +351,43 @@ impl Instance {
         let cres = CString::new(resources).unwrap_or_default();
         // SAFETY: all pointers are valid for the call; callbacks and log outlive the instance.
         let c = unsafe {
-            (api.instantiate)(cname.as_ptr(), FMI2_CO_SIMULATION, cguid.as_ptr(), cres.as_ptr(), &*callbacks, FMI2_FALSE, logging_on as c_int)
+            (api.instantiate)(
+                cname.as_ptr(),
+                FMI2_CO_SIMULATION,
+                cguid.as_ptr(),
+                cres.as_ptr(),
+                &*callbacks,
+                FMI2_FALSE,
+                logging_on as c_int,
+            )
         };
         if c.is_null() {
-            let log = log.records.lock().map(|r| r.iter().map(|x| x.2.clone()).collect()).unwrap_or_default();
-            return Err(ImportError::Instantiate { instance: name.into(), log });
+            let log = log
+                .records
+                .lock()
+                .map(|r| r.iter().map(|x| x.2.clone()).collect())
+                .unwrap_or_default();
+            return Err(ImportError::Instantiate {
+                instance: name.into(),
+                log,
+            });
         }
-        Ok(Self { api, c, name: name.into(), log, _callbacks: callbacks })
+        Ok(Self {
+            api,
+            c,
+            name: name.into(),
+            log,
+            _callbacks: callbacks,
+        })
     }
 
     /// Messages the FMU logged so far (drained).
     pub fn take_log(&self) -> Vec<LogRecord> {
-        self.log.records.lock().map(|mut r| std::mem::take(&mut *r)).unwrap_or_default()
+        self.log
+            .records
+            .lock()
+            .map(|mut r| std::mem::take(&mut *r))
+            .unwrap_or_default()
     }
 
     fn check(&self, function: &'static str, status: Fmi2Status) -> Result<Fmi2Status, ImportError> {
@@ -317,7 +411,16 @@ impl Instance {
     }
 
     pub fn setup_experiment(&mut self, start: f64, stop: Option<f64>) -> Result<(), ImportError> {
-        let s = unsafe { (self.api.setup_experiment)(self.c, FMI2_FALSE, 0.0, start, stop.is_some() as c_int, stop.unwrap_or(0.0)) };
+        let s = unsafe {
+            (self.api.setup_experiment)(
+                self.c,
+                FMI2_FALSE,
+                0.0,
+                start,
+                stop.is_some() as c_int,
+                stop.unwrap_or(0.0),
+            )
+        };
         self.check("fmi2SetupExperiment", s).map(|_| ())
     }
     pub fn enter_initialization_mode(&mut self) -> Result<(), ImportError> {
@@ -368,20 +471,22 @@ impl Instance {
         self.check("fmi2DoStep", s).map(|_| ())
     }
     /// Saves the FMU state; free it with [`Instance::free_state`].
-    pub fn get_state(&mut self) -> Result<Fmi2FmuState, ImportError> {
+    pub fn get_state(&mut self) -> Result<SavedState, ImportError> {
         let mut st: Fmi2FmuState = std::ptr::null_mut();
         let s = unsafe { (self.api.get_fmu_state)(self.c, &mut st) };
-        self.check("fmi2GetFMUstate", s).map(|_| st)
+        self.check("fmi2GetFMUstate", s).map(|_| SavedState(st))
     }
-    pub fn set_state(&mut self, st: Fmi2FmuState) -> Result<(), ImportError> {
-        let s = unsafe { (self.api.set_fmu_state)(self.c, st) };
+    pub fn set_state(&mut self, st: &SavedState) -> Result<(), ImportError> {
+        let s = unsafe { (self.api.set_fmu_state)(self.c, st.0) };
         self.check("fmi2SetFMUstate", s).map(|_| ())
     }
-    pub fn free_state(&mut self, mut st: Fmi2FmuState) -> Result<(), ImportError> {
-        let s = unsafe { (self.api.free_fmu_state)(self.c, &mut st) };
+    pub fn free_state(&mut self, st: SavedState) -> Result<(), ImportError> {
+        let mut raw = st.0;
+        let s = unsafe { (self.api.free_fmu_state)(self.c, &mut raw) };
         self.check("fmi2FreeFMUstate", s).map(|_| ())
     }
-    pub fn serialize_state(&mut self, st: Fmi2FmuState) -> Result<Vec<u8>, ImportError> {
+    pub fn serialize_state(&mut self, st: &SavedState) -> Result<Vec<u8>, ImportError> {
+        let st = st.0;
         let mut size = 0usize;
         let s = unsafe { (self.api.serialized_fmu_state_size)(self.c, st, &mut size) };
         self.check("fmi2SerializedFMUstateSize", s)?;
@@ -390,10 +495,12 @@ impl Instance {
         self.check("fmi2SerializeFMUstate", s)?;
         Ok(bytes)
     }
-    pub fn deserialize_state(&mut self, bytes: &[u8]) -> Result<Fmi2FmuState, ImportError> {
+    pub fn deserialize_state(&mut self, bytes: &[u8]) -> Result<SavedState, ImportError> {
         let mut st: Fmi2FmuState = std::ptr::null_mut();
-        let s = unsafe { (self.api.deserialize_fmu_state)(self.c, bytes.as_ptr() as *const Fmi2Byte, bytes.len(), &mut st) };
-        self.check("fmi2DeSerializeFMUstate", s).map(|_| st)
+        let s = unsafe {
+            (self.api.deserialize_fmu_state)(self.c, bytes.as_ptr() as *const Fmi2Byte, bytes.len(), &mut st)
+        };
+        self.check("fmi2DeSerializeFMUstate", s).map(|_| SavedState(st))
     }
 }
 

@@ -42,13 +42,23 @@ macro_rules! export_fmu {
                 VERSION.as_ptr()
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetDebugLogging(c: Fmi2Component, on: Fmi2Boolean, n: usize, cats: *const Fmi2String) -> Fmi2Status {
+            pub unsafe extern "C" fn fmi2SetDebugLogging(
+                c: Fmi2Component,
+                on: Fmi2Boolean,
+                n: usize,
+                cats: *const Fmi2String,
+            ) -> Fmi2Status {
                 unsafe { e::set_debug_logging::<S>(c, on, n, cats) }
             }
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi2Instantiate(
-                name: Fmi2String, kind: c_int, guid: Fmi2String, resources: Fmi2String,
-                functions: *const Fmi2CallbackFunctions, visible: Fmi2Boolean, logging_on: Fmi2Boolean,
+                name: Fmi2String,
+                kind: c_int,
+                guid: Fmi2String,
+                resources: Fmi2String,
+                functions: *const Fmi2CallbackFunctions,
+                visible: Fmi2Boolean,
+                logging_on: Fmi2Boolean,
             ) -> Fmi2Component {
                 unsafe { e::instantiate::<S>(name, kind, guid, resources, functions, visible, logging_on) }
             }
@@ -57,7 +67,14 @@ macro_rules! export_fmu {
                 unsafe { e::free_instance::<S>(c) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetupExperiment(c: Fmi2Component, tol_defined: Fmi2Boolean, tol: f64, start: f64, stop_defined: Fmi2Boolean, stop: f64) -> Fmi2Status {
+            pub unsafe extern "C" fn fmi2SetupExperiment(
+                c: Fmi2Component,
+                tol_defined: Fmi2Boolean,
+                tol: f64,
+                start: f64,
+                stop_defined: Fmi2Boolean,
+                stop: f64,
+            ) -> Fmi2Status {
                 unsafe { e::setup_experiment::<S>(c, tol_defined, tol, start, stop_defined, stop) }
             }
             #[unsafe(no_mangle)]
@@ -77,35 +94,75 @@ macro_rules! export_fmu {
                 unsafe { e::reset::<S>(c) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetReal(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, v: *mut f64) -> Fmi2Status {
+            pub unsafe extern "C" fn fmi2GetReal(
+                c: Fmi2Component,
+                vr: *const Fmi2ValueReference,
+                n: usize,
+                v: *mut f64,
+            ) -> Fmi2Status {
                 unsafe { e::get_real::<S>(c, vr, n, v) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetInteger(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, v: *mut c_int) -> Fmi2Status {
+            pub unsafe extern "C" fn fmi2GetInteger(
+                c: Fmi2Component,
+                vr: *const Fmi2ValueReference,
+                n: usize,
+                v: *mut c_int,
+            ) -> Fmi2Status {
                 unsafe { e::get_integer::<S>(c, vr, n, v) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetBoolean(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, v: *mut Fmi2Boolean) -> Fmi2Status {
+            pub unsafe extern "C" fn fmi2GetBoolean(
+                c: Fmi2Component,
+                vr: *const Fmi2ValueReference,
+                n: usize,
+                v: *mut Fmi2Boolean,
+            ) -> Fmi2Status {
                 unsafe { e::get_boolean::<S>(c, vr, n, v) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetString(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, v: *mut Fmi2String) -> Fmi2Status {
+            pub unsafe extern "C" fn fmi2GetString(
+                c: Fmi2Component,
+                vr: *const Fmi2ValueReference,
+                n: usize,
+                v: *mut Fmi2String,
+            ) -> Fmi2Status {
                 unsafe { e::get_string::<S>(c, vr, n, v) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetReal(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, v: *const f64) -> Fmi2Status {
+            pub unsafe extern "C" fn fmi2SetReal(
+                c: Fmi2Component,
+                vr: *const Fmi2ValueReference,
+                n: usize,
+                v: *const f64,
+            ) -> Fmi2Status {
                 unsafe { e::set_real::<S>(c, vr, n, v) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetInteger(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, v: *const c_int) -> Fmi2Status {
+            pub unsafe extern "C" fn fmi2SetInteger(
+                c: Fmi2Component,
+                vr: *const Fmi2ValueReference,
+                n: usize,
+                v: *const c_int,
+            ) -> Fmi2Status {
                 unsafe { e::set_integer::<S>(c, vr, n, v) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetBoolean(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, v: *const Fmi2Boolean) -> Fmi2Status {
+            pub unsafe extern "C" fn fmi2SetBoolean(
+                c: Fmi2Component,
+                vr: *const Fmi2ValueReference,
+                n: usize,
+                v: *const Fmi2Boolean,
+            ) -> Fmi2Status {
                 unsafe { e::set_boolean::<S>(c, vr, n, v) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetString(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, v: *const Fmi2String) -> Fmi2Status {
+            pub unsafe extern "C" fn fmi2SetString(
+                c: Fmi2Component,
+                vr: *const Fmi2ValueReference,
+                n: usize,
+                v: *const Fmi2String,
+            ) -> Fmi2Status {
                 unsafe { e::set_string::<S>(c, vr, n, v) }
             }
             #[unsafe(no_mangle)]
@@ -121,30 +178,61 @@ macro_rules! export_fmu {
                 unsafe { e::free_fmu_state::<S>(c, s) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SerializedFMUstateSize(c: Fmi2Component, s: Fmi2FmuState, size: *mut usize) -> Fmi2Status {
+            pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
+                c: Fmi2Component,
+                s: Fmi2FmuState,
+                size: *mut usize,
+            ) -> Fmi2Status {
                 unsafe { e::serialized_fmu_state_size::<S>(c, s, size) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SerializeFMUstate(c: Fmi2Component, s: Fmi2FmuState, bytes: *mut Fmi2Byte, size: usize) -> Fmi2Status {
+            pub unsafe extern "C" fn fmi2SerializeFMUstate(
+                c: Fmi2Component,
+                s: Fmi2FmuState,
+                bytes: *mut Fmi2Byte,
+                size: usize,
+            ) -> Fmi2Status {
                 unsafe { e::serialize_fmu_state::<S>(c, s, bytes, size) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2DeSerializeFMUstate(c: Fmi2Component, bytes: *const Fmi2Byte, size: usize, s: *mut Fmi2FmuState) -> Fmi2Status {
+            pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
+                c: Fmi2Component,
+                bytes: *const Fmi2Byte,
+                size: usize,
+                s: *mut Fmi2FmuState,
+            ) -> Fmi2Status {
                 unsafe { e::deserialize_fmu_state::<S>(c, bytes, size, s) }
             }
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
-                c: Fmi2Component, _u: *const Fmi2ValueReference, _nu: usize, _z: *const Fmi2ValueReference, _nz: usize,
-                _du: *const f64, _dz: *mut f64,
+                c: Fmi2Component,
+                _u: *const Fmi2ValueReference,
+                _nu: usize,
+                _z: *const Fmi2ValueReference,
+                _nz: usize,
+                _du: *const f64,
+                _dz: *mut f64,
             ) -> Fmi2Status {
                 unsafe { e::get_directional_derivative::<S>(c) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetRealInputDerivatives(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, order: *const Fmi2Integer, v: *const f64) -> Fmi2Status {
+            pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
+                c: Fmi2Component,
+                vr: *const Fmi2ValueReference,
+                n: usize,
+                order: *const Fmi2Integer,
+                v: *const f64,
+            ) -> Fmi2Status {
                 unsafe { e::set_real_input_derivatives::<S>(c, vr, n, order, v) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(c: Fmi2Component, _vr: *const Fmi2ValueReference, _n: usize, _order: *const Fmi2Integer, _v: *mut f64) -> Fmi2Status {
+            pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
+                c: Fmi2Component,
+                _vr: *const Fmi2ValueReference,
+                _n: usize,
+                _order: *const Fmi2Integer,
+                _v: *mut f64,
+            ) -> Fmi2Status {
                 unsafe { e::get_real_output_derivatives::<S>(c) }
             }
             #[unsafe(no_mangle)]
@@ -168,7 +256,11 @@ macro_rules! export_fmu {
                 unsafe { e::get_integer_status::<S>(c, k, v) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetBooleanStatus(c: Fmi2Component, k: c_int, v: *mut Fmi2Boolean) -> Fmi2Status {
+            pub unsafe extern "C" fn fmi2GetBooleanStatus(
+                c: Fmi2Component,
+                k: c_int,
+                v: *mut Fmi2Boolean,
+            ) -> Fmi2Status {
                 unsafe { e::get_boolean_status::<S>(c, k, v) }
             }
             #[unsafe(no_mangle)]

@@ -55,7 +55,9 @@ pub trait Slave: Sized + Clone + Send + Serialize + DeserializeOwned + 'static {
     /// The `order`-th time derivative of a Real input, used to interpolate it during the next steps.
     fn set_input_derivative(&mut self, vr: u32, order: i32, value: f64) -> SlaveResult<()> {
         let _ = (vr, order, value);
-        Err(SlaveError::new("this FMU cannot interpolate inputs (canInterpolateInputs=false)"))
+        Err(SlaveError::new(
+            "this FMU cannot interpolate inputs (canInterpolateInputs=false)",
+        ))
     }
 
     /// Advances from `t` to `t + h`; `t` already matches the model's time.

@@ -68,9 +68,8 @@ pub const FMI2_TERMINATED: c_int = 3;
 
 /// The logger is variadic in C. An FMU calls it with the format "%s" and one C string, so '%'
 /// in a message can never be read as a directive.
-pub type Fmi2CallbackLogger = Option<
-    unsafe extern "C" fn(Fmi2ComponentEnvironment, Fmi2String, c_int, Fmi2String, Fmi2String, ...),
->;
+pub type Fmi2CallbackLogger =
+    Option<unsafe extern "C" fn(Fmi2ComponentEnvironment, Fmi2String, c_int, Fmi2String, Fmi2String, ...)>;
 pub type Fmi2CallbackAllocateMemory = Option<unsafe extern "C" fn(usize, usize) -> *mut c_void>;
 pub type Fmi2CallbackFreeMemory = Option<unsafe extern "C" fn(*mut c_void)>;
 pub type Fmi2StepFinished = Option<unsafe extern "C" fn(Fmi2ComponentEnvironment, c_int)>;

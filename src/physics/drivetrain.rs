@@ -143,7 +143,10 @@ fn geometry(module_mm: f64, helix_deg: f64, estimated: bool) -> Geometry {
 }
 
 fn shaft(stiffness: f64) -> Shaft {
-    Shaft { stiffness, damping: None }
+    Shaft {
+        stiffness,
+        damping: None,
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -165,7 +168,15 @@ fn planetary(z: (u32, u32, u32), j: (f64, f64, f64), k: f64, g: Geometry) -> Sta
 }
 
 fn parallel(z_gear: u32, z_pinion: u32, j_gear: f64, j_pinion: f64, k: f64, g: Geometry) -> Stage {
-    Stage::Parallel(Parallel { z_gear, z_pinion, j_gear, j_pinion, k_mesh: k, c_mesh: None, geometry: g })
+    Stage::Parallel(Parallel {
+        z_gear,
+        z_pinion,
+        j_gear,
+        j_pinion,
+        k_mesh: k,
+        c_mesh: None,
+        geometry: g,
+    })
 }
 
 /// Electrical stiffness for A–C, which the thesis does not give: D's per-unit value
@@ -184,7 +195,12 @@ pub fn preset_a() -> Drivetrain {
         j_rotor: 2.67e6,
         j_generator: 680.0,
         stages: vec![
-            planetary((24, 49, 122), (2.32e3, 37.119, 2.187), 1.54e9, geometry(20.0, 0.0, true)),
+            planetary(
+                (24, 49, 122),
+                (2.32e3, 37.119, 2.187),
+                1.54e9,
+                geometry(20.0, 0.0, true),
+            ),
             planetary((21, 39, 99), (871.4, 7.115, 0.887), 1.62e8, geometry(14.0, 0.0, true)),
         ],
         shafts: vec![shaft(9.30e9), shaft(1.06e8), shaft(1.40e7)],
@@ -272,7 +288,10 @@ pub fn preset_d() -> Drivetrain {
         c_mesh: Some(0.354e3),
         geometry: geometry(5.0, 14.0, false),
     });
-    let damped = |stiffness, damping| Shaft { stiffness, damping: Some(damping) };
+    let damped = |stiffness, damping| Shaft {
+        stiffness,
+        damping: Some(damping),
+    };
     Drivetrain {
         name: "D".into(),
         rated_power: 750e3,
@@ -280,7 +299,12 @@ pub fn preset_d() -> Drivetrain {
         j_rotor: 998_138.0,
         j_generator: 24.0,
         stages: vec![planetary, p1, p2],
-        shafts: vec![damped(3.69e7, 2.396), damped(2.45e7, 0.476), damped(2.70e8, 5.561), damped(2.08e6, 5.753)],
+        shafts: vec![
+            damped(3.69e7, 2.396),
+            damped(2.45e7, 0.476),
+            damped(2.70e8, 5.561),
+            damped(2.08e6, 5.753),
+        ],
         k_generator: 2.81e4,
         k_generator_estimated: false,
     }

@@ -45,7 +45,9 @@ pub fn modes(model: &TorsionalModel, boundary: Boundary, k_generator: f64) -> Mo
     if boundary == Boundary::Connected {
         k[(g, g)] += k_generator;
     }
-    let keep: Vec<usize> = (0..model.dofs()).filter(|&d| !(boundary == Boundary::HssLocked && d == g)).collect();
+    let keep: Vec<usize> = (0..model.dofs())
+        .filter(|&d| !(boundary == Boundary::HssLocked && d == g))
+        .collect();
     let n = keep.len();
     let inv_sqrt: Vec<f64> = keep.iter().map(|&d| 1.0 / model.mass[d].sqrt()).collect();
     let a = nalgebra::DMatrix::from_fn(n, n, |i, j| k[(keep[i], keep[j])] * inv_sqrt[i] * inv_sqrt[j]);
@@ -58,7 +60,11 @@ pub fn modes(model: &TorsionalModel, boundary: Boundary, k_generator: f64) -> Mo
     let mut dominant_dof = Vec::with_capacity(n);
     for &m in &order {
         // the rigid-body eigenvalue comes out as round-off of either sign
-        let lambda = if eig.eigenvalues[m].abs() < 1e-12 * scale { 0.0 } else { eig.eigenvalues[m].max(0.0) };
+        let lambda = if eig.eigenvalues[m].abs() < 1e-12 * scale {
+            0.0
+        } else {
+            eig.eigenvalues[m].max(0.0)
+        };
         frequencies_hz.push(lambda.sqrt() / std::f64::consts::TAU);
         let mut shape = vec![0.0; model.dofs()];
         let mut energy = (0, 0.0);
@@ -70,11 +76,19 @@ pub fn modes(model: &TorsionalModel, boundary: Boundary, k_generator: f64) -> Mo
             shape[d] = x / model.speed_ratio[d];
         }
         dominant_dof.push(energy.0);
-        let peak = shape.iter().cloned().fold(0.0f64, |p, v| if v.abs() > p.abs() { v } else { p });
+        let peak = shape
+            .iter()
+            .cloned()
+            .fold(0.0f64, |p, v| if v.abs() > p.abs() { v } else { p });
         if peak != 0.0 {
             shape.iter_mut().for_each(|v| *v /= peak);
         }
         shapes.push(shape);
     }
-    Modes { dof_names: model.dof_names.clone(), frequencies_hz, shapes, dominant_dof }
+    Modes {
+        dof_names: model.dof_names.clone(),
+        frequencies_hz,
+        shapes,
+        dominant_dof,
+    }
 }

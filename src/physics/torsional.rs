@@ -73,7 +73,11 @@ pub struct MeshStiffnessVariation {
 impl MeshStiffnessVariation {
     pub fn stiffness(&self, angle: f64) -> f64 {
         let x = (self.cycles_per_rad * angle + self.phase).rem_euclid(1.0);
-        if x < self.double_fraction { self.k_double } else { self.k_single }
+        if x < self.double_fraction {
+            self.k_double
+        } else {
+            self.k_single
+        }
     }
 }
 
@@ -102,7 +106,11 @@ impl Element {
             return self.coeffs.iter().map(|&(d, g)| g * q[d]).sum();
         }
         let q0 = q[0];
-        self.coeffs.iter().zip(&self.ratios).map(|(&(d, g), r)| g * (q[d] - r * q0)).sum()
+        self.coeffs
+            .iter()
+            .zip(&self.ratios)
+            .map(|(&(d, g), r)| g * (q[d] - r * q0))
+            .sum()
     }
 
     /// Stiffness at the given DOF angles (changes only with time-varying mesh stiffness).
@@ -129,7 +137,11 @@ impl Element {
     /// Force for deflection and its rate with stiffness `k`: spring and damper act only in contact.
     pub fn force(&self, k: f64, delta: f64, rate: f64) -> f64 {
         let (elastic, touching) = self.contact(delta);
-        if touching { k * elastic + self.damping * rate } else { 0.0 }
+        if touching {
+            k * elastic + self.damping * rate
+        } else {
+            0.0
+        }
     }
 }
 
@@ -142,14 +154,39 @@ pub struct ForceOutput {
 
 /// Body slots of the FMU's angle_/speed_ outputs.
 pub const BODY_SLOTS: [&str; 16] = [
-    "rotor", "carrier_1", "planet_1_1", "planet_1_2", "planet_1_3", "sun_1", "carrier_2", "planet_2_1",
-    "planet_2_2", "planet_2_3", "sun_2", "gear_1", "pinion_1", "gear_2", "pinion_2", "generator",
+    "rotor",
+    "carrier_1",
+    "planet_1_1",
+    "planet_1_2",
+    "planet_1_3",
+    "sun_1",
+    "carrier_2",
+    "planet_2_1",
+    "planet_2_2",
+    "planet_2_3",
+    "sun_2",
+    "gear_1",
+    "pinion_1",
+    "gear_2",
+    "pinion_2",
+    "generator",
 ];
 /// Mesh slots of the FMU's mesh_force_ outputs.
 pub const MESH_SLOTS: [&str; 14] = [
-    "ring_planet_1", "ring_planet_2", "ring_planet_3", "sun_planet_1", "sun_planet_2", "sun_planet_3",
-    "ring_planet2_1", "ring_planet2_2", "ring_planet2_3", "sun_planet2_1", "sun_planet2_2", "sun_planet2_3",
-    "gear_pinion_1", "gear_pinion_2",
+    "ring_planet_1",
+    "ring_planet_2",
+    "ring_planet_3",
+    "sun_planet_1",
+    "sun_planet_2",
+    "sun_planet_3",
+    "ring_planet2_1",
+    "ring_planet2_2",
+    "ring_planet2_3",
+    "sun_planet2_1",
+    "sun_planet2_2",
+    "sun_planet2_3",
+    "gear_pinion_1",
+    "gear_pinion_2",
 ];
 /// Shaft slots: LSS, stage 1–2, stage 2–3, HSS.
 pub const SHAFT_SLOTS: [&str; 4] = ["lss", "is1", "is2", "hss"];
@@ -192,7 +229,10 @@ struct Flat {
 
 impl Flat {
     fn new(elements: &[Element]) -> Self {
-        let mut f = Flat { start: vec![0], ..Default::default() };
+        let mut f = Flat {
+            start: vec![0],
+            ..Default::default()
+        };
         for e in elements {
             for (&(d, g), &r) in e.coeffs.iter().zip(&e.ratios) {
                 f.dof.push(d);
@@ -236,7 +276,13 @@ fn lumped_inertia(bodies: &[FullBody], split: usize, upstream: bool, ratio: f64)
 }
 
 fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
-    let mut bodies = vec![FullBody { slot: Some(0), name: "rotor".into(), inertia: dt.j_rotor, ratio: 1.0, stage: None }];
+    let mut bodies = vec![FullBody {
+        slot: Some(0),
+        name: "rotor".into(),
+        inertia: dt.j_rotor,
+        ratio: 1.0,
+        stage: None,
+    }];
     let mut elements = Vec::new();
     let mut mesh_slots = Vec::new();
     let mut quasi_static_mesh = Vec::new();
@@ -270,7 +316,13 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
                 let (r_s, r_p) = (p.geometry.base_radius(p.z_sun), p.geometry.base_radius(p.z_planet));
                 let a = r_s + r_p;
                 let planet_ratio = ratio * f64::from(p.z_sun + p.z_planet) / f64::from(p.z_planet);
-                bodies.push(FullBody { slot: slot(1), name: format!("carrier {}", s + 1), inertia: p.j_carrier, ratio, stage: Some(s) });
+                bodies.push(FullBody {
+                    slot: slot(1),
+                    name: format!("carrier {}", s + 1),
+                    inertia: p.j_carrier,
+                    ratio,
+                    stage: Some(s),
+                });
                 let carrier = input;
                 let first_planet = bodies.len();
                 for k in 0..p.planets {
@@ -283,13 +335,23 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
                     });
                 }
                 let sun = bodies.len();
-                bodies.push(FullBody { slot: slot(5), name: format!("sun {}", s + 1), inertia: p.j_sun, ratio: ratio * stage.ratio(), stage: Some(s) });
+                bodies.push(FullBody {
+                    slot: slot(5),
+                    name: format!("sun {}", s + 1),
+                    inertia: p.j_sun,
+                    ratio: ratio * stage.ratio(),
+                    stage: Some(s),
+                });
                 let k_rp = p.k_ring_planet / (r_s * r_s);
                 let k_sp = p.k_sun_planet / (r_s * r_s);
                 let m_rp = p.j_planet / (r_p * r_p);
                 let m_sp = 1.0 / (r_s * r_s / p.j_sun + r_p * r_p / p.j_planet);
-                let c_rp = p.c_ring_planet.map_or(2.0 * opt.mesh_damping_ratio * (k_rp * m_rp).sqrt(), |c| c / (r_s * r_s));
-                let c_sp = p.c_sun_planet.map_or(2.0 * opt.mesh_damping_ratio * (k_sp * m_sp).sqrt(), |c| c / (r_s * r_s));
+                let c_rp = p
+                    .c_ring_planet
+                    .map_or(2.0 * opt.mesh_damping_ratio * (k_rp * m_rp).sqrt(), |c| c / (r_s * r_s));
+                let c_sp = p
+                    .c_sun_planet
+                    .map_or(2.0 * opt.mesh_damping_ratio * (k_sp * m_sp).sqrt(), |c| c / (r_s * r_s));
                 let cycles = f64::from(p.z_ring) / TAU;
                 for k in 0..p.planets {
                     let planet = first_planet + k;
@@ -330,12 +392,26 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
             Stage::Parallel(p) => {
                 let slot = |base: usize| (n_parallel < 2).then_some(base + 2 * n_parallel);
                 let (r_g, r_p) = (p.geometry.base_radius(p.z_gear), p.geometry.base_radius(p.z_pinion));
-                bodies.push(FullBody { slot: slot(11), name: format!("gear {}", s + 1), inertia: p.j_gear, ratio, stage: Some(s) });
+                bodies.push(FullBody {
+                    slot: slot(11),
+                    name: format!("gear {}", s + 1),
+                    inertia: p.j_gear,
+                    ratio,
+                    stage: Some(s),
+                });
                 let pinion = bodies.len();
-                bodies.push(FullBody { slot: slot(12), name: format!("pinion {}", s + 1), inertia: p.j_pinion, ratio: ratio * stage.ratio(), stage: Some(s) });
+                bodies.push(FullBody {
+                    slot: slot(12),
+                    name: format!("pinion {}", s + 1),
+                    inertia: p.j_pinion,
+                    ratio: ratio * stage.ratio(),
+                    stage: Some(s),
+                });
                 let k = p.k_mesh / (r_p * r_p);
                 let m_eq = 1.0 / (r_g * r_g / p.j_gear + r_p * r_p / p.j_pinion);
-                let c = p.c_mesh.map_or(2.0 * opt.mesh_damping_ratio * (k * m_eq).sqrt(), |c| c / (r_p * r_p));
+                let c = p
+                    .c_mesh
+                    .map_or(2.0 * opt.mesh_damping_ratio * (k * m_eq).sqrt(), |c| c / (r_p * r_p));
                 let e = elements.len();
                 elements.push(Element {
                     name: format!("gear-pinion {}", s + 1),
@@ -359,7 +435,13 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
     }
     let generator = bodies.len();
     shaft_ends.push((upstream, generator));
-    bodies.push(FullBody { slot: Some(15), name: "generator".into(), inertia: dt.j_generator, ratio, stage: None });
+    bodies.push(FullBody {
+        slot: Some(15),
+        name: "generator".into(),
+        inertia: dt.j_generator,
+        ratio,
+        stage: None,
+    });
     // Shafts go first in the element list: element i = shaft i.
     let mut shafts = Vec::new();
     for (i, (&(a, b), spec)) in shaft_ends.iter().zip(&dt.shafts).enumerate() {
@@ -367,7 +449,9 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
         let j_up = lumped_inertia(&bodies, b, true, r);
         let j_down = lumped_inertia(&bodies, b, false, r);
         let j_eq = j_up * j_down / (j_up + j_down);
-        let c = spec.damping.unwrap_or(2.0 * opt.shaft_damping_ratio * (spec.stiffness * j_eq).sqrt());
+        let c = spec
+            .damping
+            .unwrap_or(2.0 * opt.shaft_damping_ratio * (spec.stiffness * j_eq).sqrt());
         shafts.push(Element {
             name: format!("shaft {}", SHAFT_SLOTS[shaft_slot(i, dt.shafts.len())]),
             coeffs: vec![(a, 1.0), (b, -1.0)],
@@ -383,7 +467,12 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
     for (_, e) in mesh_slots.iter_mut() {
         *e += n_shafts;
     }
-    Assembly { bodies, elements: shafts, mesh_slots, quasi_static_mesh }
+    Assembly {
+        bodies,
+        elements: shafts,
+        mesh_slots,
+        quasi_static_mesh,
+    }
 }
 
 /// Shaft i of n → output slot: first is LSS, last is HSS, the rest IS1, IS2 in order.
@@ -400,7 +489,12 @@ fn shaft_slot(i: usize, n: usize) -> usize {
 impl TorsionalModel {
     pub fn new(dt: &Drivetrain, fidelity: Fidelity, opt: &ModelOptions) -> Result<Self, String> {
         if dt.shafts.len() != dt.stages.len() + 1 {
-            return Err(format!("drivetrain {} needs {} shafts for {} stages", dt.name, dt.stages.len() + 1, dt.stages.len()));
+            return Err(format!(
+                "drivetrain {} needs {} shafts for {} stages",
+                dt.name,
+                dt.stages.len() + 1,
+                dt.stages.len()
+            ));
         }
         let full = assemble_full(dt, opt);
         let n_shafts = dt.shafts.len();
@@ -468,9 +562,15 @@ impl TorsionalModel {
             Fidelity::Full => {
                 let mut meshes = vec![None; MESH_SLOTS.len()];
                 for &(slot, e) in &full.mesh_slots {
-                    meshes[slot] = Some(ForceOutput { element: e, factor: 1.0 });
+                    meshes[slot] = Some(ForceOutput {
+                        element: e,
+                        factor: 1.0,
+                    });
                 }
-                let shafts = shaft_outputs(&|i| ForceOutput { element: i, factor: 1.0 });
+                let shafts = shaft_outputs(&|i| ForceOutput {
+                    element: i,
+                    factor: 1.0,
+                });
                 (full.elements, meshes, shafts)
             }
             Fidelity::Five => {
@@ -488,7 +588,14 @@ impl TorsionalModel {
                         meshes[slot] = Some(ForceOutput { element: s, factor: f });
                     }
                 }
-                (elements, meshes, shaft_outputs(&|i| ForceOutput { element: i, factor: 1.0 }))
+                (
+                    elements,
+                    meshes,
+                    shaft_outputs(&|i| ForceOutput {
+                        element: i,
+                        factor: 1.0,
+                    }),
+                )
             }
             Fidelity::Two => {
                 // Shafts in series, referred to the LSS (thesis: 1/K = Σ 1/K_i, 1/C = Σ 1/C_i).
@@ -497,7 +604,11 @@ impl TorsionalModel {
                 for (i, e) in full.elements[..n_shafts].iter().enumerate() {
                     let n2 = speed_at_shaft(i).powi(2);
                     compliance += 1.0 / (e.stiffness * n2);
-                    resistance += if e.damping > 0.0 { 1.0 / (e.damping * n2) } else { f64::INFINITY };
+                    resistance += if e.damping > 0.0 {
+                        1.0 / (e.damping * n2)
+                    } else {
+                        f64::INFINITY
+                    };
                 }
                 let element = Element {
                     name: "lumped shaft (LSS-referred)".into(),
@@ -511,10 +622,16 @@ impl TorsionalModel {
                 let mut meshes = vec![None; MESH_SLOTS.len()];
                 for (s, qs) in full.quasi_static_mesh.iter().enumerate() {
                     for &(slot, f) in qs {
-                        meshes[slot] = Some(ForceOutput { element: 0, factor: f / speed_at_shaft(s) });
+                        meshes[slot] = Some(ForceOutput {
+                            element: 0,
+                            factor: f / speed_at_shaft(s),
+                        });
                     }
                 }
-                let shafts = shaft_outputs(&|i| ForceOutput { element: 0, factor: 1.0 / speed_at_shaft(i) });
+                let shafts = shaft_outputs(&|i| ForceOutput {
+                    element: 0,
+                    factor: 1.0 / speed_at_shaft(i),
+                });
                 (vec![element], meshes, shafts)
             }
         };
@@ -655,7 +772,10 @@ impl TorsionalModel {
         let keep: Vec<usize> = (0..n).filter(|&d| d != self.rotor).collect();
         let kr = nalgebra::DMatrix::from_fn(keep.len(), keep.len(), |i, j| k[(keep[i], keep[j])]);
         let fr = nalgebra::DVector::from_iterator(keep.len(), keep.iter().map(|&d| f[d]));
-        let x = kr.lu().solve(&fr).ok_or("stiffness matrix is singular with the rotor held")?;
+        let x = kr
+            .lu()
+            .solve(&fr)
+            .ok_or("stiffness matrix is singular with the rotor held")?;
         let mut q = vec![0.0; n];
         for (i, &d) in keep.iter().enumerate() {
             q[d] = x[i];

@@ -100,18 +100,26 @@ fn err(msg: impl Into<String>) -> SlaveError {
 
 impl Params {
     pub fn build(&self) -> SlaveResult<Built> {
-        let drivetrain = Drivetrain::preset(&self.preset)
-            .ok_or_else(|| err(format!("parameter preset = {:?}: unknown drivetrain, use A, B, C or D", self.preset)))?;
+        let drivetrain = Drivetrain::preset(&self.preset).ok_or_else(|| {
+            err(format!(
+                "parameter preset = {:?}: unknown drivetrain, use A, B, C or D",
+                self.preset
+            ))
+        })?;
         let fidelity = Fidelity::parse(&self.fidelity)
             .ok_or_else(|| err(format!("parameter fidelity = {:?}: use 2, 5 or full", self.fidelity)))?;
         let integrator = match self.integrator.trim().to_ascii_lowercase().as_str() {
             "implicit" | "newmark" | "trapezoidal" => Integrator::Implicit,
             "rk4" | "explicit" => Integrator::Rk4,
-            other => return Err(err(format!("parameter integrator = {other:?}: use implicit or rk4"))),
+            other => {
+                return Err(err(format!("parameter integrator = {other:?}: use implicit or rk4")));
+            }
         };
         let nonlinear = self.mesh_backlash > 0.0 || self.mesh_stiffness_variation > 0.0;
         if nonlinear && fidelity != Fidelity::Full {
-            return Err(err("mesh_backlash and mesh_stiffness_variation need fidelity = full (meshes are rigid below it)"));
+            return Err(err(
+                "mesh_backlash and mesh_stiffness_variation need fidelity = full (meshes are rigid below it)",
+            ));
         }
         if self.mesh_stiffness_variation * (self.contact_ratio - 1.0) >= 1.0 {
             return Err(err(format!(
@@ -128,10 +136,19 @@ impl Params {
             contact_ratio: self.contact_ratio,
         };
         let model = TorsionalModel::new(&drivetrain, fidelity, &options).map_err(err)?;
-        let brake_torque_max =
-            if self.brake_torque_max > 0.0 { self.brake_torque_max } else { 1.5 * drivetrain.rated_generator_torque() };
+        let brake_torque_max = if self.brake_torque_max > 0.0 {
+            self.brake_torque_max
+        } else {
+            1.5 * drivetrain.rated_generator_torque()
+        };
         let rk4_step_limit = rk4::stability_limit(model.max_angular_frequency());
-        Ok(Built { drivetrain, model, integrator, brake_torque_max, rk4_step_limit })
+        Ok(Built {
+            drivetrain,
+            model,
+            integrator,
+            brake_torque_max,
+            rk4_step_limit,
+        })
     }
 
     fn initial_state(&self, b: &Built) -> SlaveResult<DynState> {
@@ -213,7 +230,11 @@ fn implicit_step(
     depth: u32,
 ) -> SlaveResult<()> {
     let u = inputs.at(span.1);
-    let loads = Loads { rotor_torque: u[0], generator_torque: u[1], brake_capacity: u[2].clamp(0.0, 1.0) * built.brake_torque_max };
+    let loads = Loads {
+        rotor_torque: u[0],
+        generator_torque: u[1],
+        brake_capacity: u[2].clamp(0.0, 1.0) * built.brake_torque_max,
+    };
     match newmark.step(&built.model, st, span.1 - span.0, &loads, static_ratio) {
         Ok(()) => Ok(()),
         Err(solver::newmark::NewmarkError::NotSettled) if depth < MAX_SUBDIVISION => {
@@ -221,7 +242,10 @@ fn implicit_step(
             implicit_step(newmark, built, st, inputs, (span.0, mid), static_ratio, depth + 1)?;
             implicit_step(newmark, built, st, inputs, (mid, span.1), static_ratio, depth + 1)
         }
-        Err(e) => Err(err(format!("{e} (step of {:.3e} s after {depth} halvings)", span.1 - span.0))),
+        Err(e) => Err(err(format!(
+            "{e} (step of {:.3e} s after {depth} halvings)",
+            span.1 - span.0
+        ))),
     }
 }
 
@@ -383,7 +407,10 @@ impl Slave for TorsionalSlave {
     fn initialize(&mut self, _start_time: f64, _log: &mut dyn Log) -> SlaveResult<()> {
         let p = &self.params;
         if p.max_internal_step <= 0.0 {
-            return Err(err(format!("max_internal_step = {} must be positive", p.max_internal_step)));
+            return Err(err(format!(
+                "max_internal_step = {} must be positive",
+                p.max_internal_step
+            )));
         }
         self.ensure()?;
         Ok(())
@@ -442,13 +469,19 @@ impl Slave for TorsionalSlave {
             }
         }
         if st.q.iter().chain(&st.v).any(|x| !x.is_finite()) {
-            return Err(err(format!("the state became non-finite during the step from t = {t} s")));
+            return Err(err(format!(
+                "the state became non-finite during the step from t = {t} s"
+            )));
         }
         if st.locked != was_locked {
             log.event(&format!(
                 "t = {:.6} s: HSS brake {}",
                 t + h,
-                if st.locked { "locked (stiction)" } else { "released (slipping)" }
+                if st.locked {
+                    "locked (stiction)"
+                } else {
+                    "released (slipping)"
+                }
             ));
         }
         self.inputs.advance(h);

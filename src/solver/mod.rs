@@ -38,7 +38,14 @@ pub struct DynState {
 impl DynState {
     pub fn new(q: Vec<f64>, v: Vec<f64>) -> Self {
         let n = q.len();
-        Self { q, v, a: vec![0.0; n], locked: false, brake_torque: 0.0, applied: None }
+        Self {
+            q,
+            v,
+            a: vec![0.0; n],
+            locked: false,
+            brake_torque: 0.0,
+            applied: None,
+        }
     }
 }
 
@@ -84,7 +91,13 @@ impl Scratch {
 /// previously applied loads (Newmark enforces them at every step end), so only the two loaded DOFs
 /// change: an O(1) update instead of a sweep over all elements. Nonlinear models (backlash, time-
 /// varying stiffness) recompute everything.
-pub fn consistent_acceleration(model: &TorsionalModel, st: &mut DynState, loads: &Loads, static_ratio: f64, s: &mut Scratch) {
+pub fn consistent_acceleration(
+    model: &TorsionalModel,
+    st: &mut DynState,
+    loads: &Loads,
+    static_ratio: f64,
+    s: &mut Scratch,
+) {
     let n = model.dofs();
     let g = model.generator;
     let m = model.mass[g];
@@ -121,7 +134,11 @@ pub(crate) fn brake_at_rest_or_slip(w: f64, net: f64, cap: f64, was_locked: bool
         return (cap * w.signum(), false);
     }
     let hold = if was_locked { cap * static_ratio } else { cap };
-    if net.abs() <= hold { (net, true) } else { (cap * net.signum(), false) }
+    if net.abs() <= hold {
+        (net, true)
+    } else {
+        (cap * net.signum(), false)
+    }
 }
 
 /// Kinetic energy plus elastic energy of every element in contact, J.

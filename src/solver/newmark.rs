@@ -81,7 +81,7 @@ fn padded(n: usize) -> usize {
 /// the binary runs on every x86_64 CPU; elsewhere the same loop is plain Rust.
 fn axpy_columns(blocks: [(&[f64], &[f64]); 3], y: &mut [f64]) {
     let rows = y.len();
-    assert!(rows % LANES == 0);
+    assert!(rows.is_multiple_of(LANES));
     for (a, x) in blocks {
         assert_eq!(a.len(), rows * x.len());
     }
@@ -156,10 +156,10 @@ fn patterns(model: &TorsionalModel, q_contact: &[f64], q_stiff: &[f64]) -> (u64,
         if e.half_backlash > 0.0 && e.contact(e.deflection(q_contact)).1 {
             contact |= 1 << i;
         }
-        if let Some(v) = &e.variation {
-            if v.stiffness(q_stiff[v.dof]) == v.k_double {
-                double |= 1 << i;
-            }
+        if let Some(v) = &e.variation
+            && v.stiffness(q_stiff[v.dof]) == v.k_double
+        {
+            double |= 1 << i;
         }
     }
     (contact, double)
@@ -167,13 +167,30 @@ fn patterns(model: &TorsionalModel, q_contact: &[f64], q_stiff: &[f64]) -> (u64,
 
 impl Newmark {
     pub fn new() -> Self {
-        Self { cache: Vec::new(), last: usize::MAX, work: Work::default(), factorizations: 0, iterations: 0 }
+        Self {
+            cache: Vec::new(),
+            last: usize::MAX,
+            work: Work::default(),
+            factorizations: 0,
+            iterations: 0,
+        }
     }
 
     /// Index of the cached inverse for this step size and pattern, computing it when new.
-    fn factor(&mut self, model: &TorsionalModel, h: f64, contact: u64, double: u64, q_stiff: &[f64]) -> Result<usize, NewmarkError> {
+    fn factor(
+        &mut self,
+        model: &TorsionalModel,
+        h: f64,
+        contact: u64,
+        double: u64,
+        q_stiff: &[f64],
+    ) -> Result<usize, NewmarkError> {
         let key = (contact, double);
-        if self.cache.get(self.last).is_some_and(|f| f.key == key && same_step(f.h, h)) {
+        if self
+            .cache
+            .get(self.last)
+            .is_some_and(|f| f.key == key && same_step(f.h, h))
+        {
             return Ok(self.last);
         }
         if let Some(i) = self.cache.iter().position(|f| f.key == key && same_step(f.h, h)) {
@@ -216,14 +233,28 @@ impl Newmark {
         if self.cache.len() >= CACHE_LIMIT {
             self.cache.clear();
         }
-        self.cache.push(Factor { key, h, inverse, unit_brake, unit_rotor, step_map });
+        self.cache.push(Factor {
+            key,
+            h,
+            inverse,
+            unit_brake,
+            unit_rotor,
+            step_map,
+        });
         self.last = self.cache.len() - 1;
         Ok(self.last)
     }
 
     /// Advances `st` from t to t + h with loads evaluated at t + h.
     /// On error `st` is unchanged.
-    pub fn step(&mut self, model: &TorsionalModel, st: &mut DynState, h: f64, loads: &Loads, static_ratio: f64) -> Result<(), NewmarkError> {
+    pub fn step(
+        &mut self,
+        model: &TorsionalModel,
+        st: &mut DynState,
+        h: f64,
+        loads: &Loads,
+        static_ratio: f64,
+    ) -> Result<(), NewmarkError> {
         let n = model.dofs();
         let g = model.generator;
         if self.work.f.len() != n {

@@ -29,7 +29,15 @@ pub struct Rk4 {
 }
 
 /// Accelerations at (q, v) and the brake torque used (positive opposing rotation).
-fn accelerations(model: &TorsionalModel, q: &[f64], v: &[f64], loads: &Loads, locked: bool, s: &mut Scratch, out: &mut [f64]) -> f64 {
+fn accelerations(
+    model: &TorsionalModel,
+    q: &[f64],
+    v: &[f64],
+    loads: &Loads,
+    locked: bool,
+    s: &mut Scratch,
+    out: &mut [f64],
+) -> f64 {
     let n = model.dofs();
     external_forces(model, loads, &mut s.f);
     internal_forces(model, q, v, q, &mut s.fi);

@@ -7,7 +7,9 @@ use windrive::fmi2::import::{Fmu, Instance};
 /// The packed torsional FMU (scripts/test packs it before running the tests).
 pub fn torsional_fmu_path() -> PathBuf {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let target = std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| root.join("target"));
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root.join("target"));
     let path = target.join("fmu").join("torsional.fmu");
     assert!(
         path.is_file(),

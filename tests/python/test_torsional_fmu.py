@@ -137,6 +137,39 @@ def test_libcosim_steps_it_with_the_same_outputs_as_fmpy(fmu_path):
         scale = np.max(np.abs(ours[name]))
         # libcosim's times are integer nanoseconds and fmpy's accumulate in floating point, so their
         # step sizes differ in the last bits (the FMU treats steps within 1e-12 as equal), and fmpy
-        # interpolates its input table, which can move an input by one ulp. What remains is round-off
-        # amplified by the stiff shafts: observed 2e-12 of a channel's range, bounded here by 1e-11.
-        assert abs(value - reference) <= 1e-11 * scale, (name, value, reference)
+        # interpolates its input table, which moves the rotor torque by one ulp at some steps. Either
+        # reshuffles the round-off of the rigid rotation (the generator turns at 160 rad/s), which sets
+        # a noise floor near 1e-11 of a channel's range (observed 1.3e-11); bounded here by 1e-10.
+        # With identical calls the two tools agree bit for bit (see test_libcosim_equals_fmpy_call_for_call).
+        assert abs(value - reference) <= 1e-10 * scale, (name, value, reference)
+
+
+def test_libcosim_equals_fmpy_call_for_call(fmu_path):
+    """Given the same step sizes and inputs, libcosim and fmpy's FMU2Slave get identical bits."""
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimObserver import CosimObserver
+    from libcosimpy.CosimSlave import CosimLocalSlave
+
+    md = read_model_description(fmu_path)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    fmu = FMU2Slave(guid=md.guid, unzipDirectory=extract(fmu_path), modelIdentifier="torsional", instanceName="same")
+    fmu.instantiate()
+    fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    fmu.setReal([vr["rotor_torque"], vr["generator_torque"]], [T_ROTOR, T_GEN])
+    fmu.exitInitializationMode()
+    for n in range(2000):
+        fmu.doStep(currentCommunicationPoint=n * 1e-3, communicationStepSize=1e-3)
+    theirs = fmu.getReal([vr[c] for c in CHANNELS])
+    fmu.terminate()
+    fmu.freeInstance()
+
+    ex = CosimExecution.from_step_size(step_size=int(1e-3 * 1e9))
+    idx = ex.add_local_slave(CosimLocalSlave(fmu_path=fmu_path, instance_name="torsional"))
+    ex.real_initial_value(idx, vr["rotor_torque"], T_ROTOR)
+    ex.real_initial_value(idx, vr["generator_torque"], T_GEN)
+    obs = CosimObserver.create_last_value()
+    ex.add_observer(obs)
+    assert ex.simulate_until(target_time=int(2e9))
+    cosim = obs.last_real_values(slave_index=idx, variable_references=[vr[c] for c in CHANNELS])
+    assert list(cosim) == list(theirs)
