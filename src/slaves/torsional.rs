@@ -428,10 +428,19 @@ impl Slave for TorsionalSlave {
     }
 
     fn do_step(&mut self, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
+        self.ensure()?;
+        // taken out for the step and put back below: no atomic reference counting per step
+        let built = self.built.take().unwrap();
+        let result = self.step_with(&built, t, h, log);
+        self.built = Some(built);
+        result
+    }
+}
+
+impl TorsionalSlave {
+    fn step_with(&mut self, built: &Built, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
         let static_ratio = self.params.brake_static_ratio;
         let max_step = self.params.max_internal_step;
-        self.ensure()?;
-        let built = Arc::clone(self.built.as_ref().unwrap());
         let substeps = (h / max_step * (1.0 - 1e-12)).ceil().max(1.0);
         let hs = h / substeps;
         if built.integrator == Integrator::Rk4 && hs > built.rk4_step_limit {
@@ -463,7 +472,7 @@ impl Slave for TorsionalSlave {
             match built.integrator {
                 Integrator::Implicit => {
                     let t0 = if i == 0 { 0.0 } else { i as f64 * hs };
-                    implicit_step(&mut self.newmark, &built, st, &inputs, (t0, tau), static_ratio, 0)?;
+                    implicit_step(&mut self.newmark, built, st, &inputs, (t0, tau), static_ratio, 0)?;
                 }
                 Integrator::Rk4 => self.rk4.step(&built.model, st, hs, &loads, static_ratio),
             }
