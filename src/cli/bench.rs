@@ -51,6 +51,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         stop_time: args.stop_time,
         step: args.step,
         step_time: 0.0,
+        pattern: Vec::new(),
     };
     let steps = (args.stop_time / args.step).round();
     println!(

@@ -40,6 +40,9 @@ pub struct StepArgs {
     /// Use this .fmu instead of packing target/fmu/torsional.fmu
     #[arg(long)]
     pub fmu: Option<PathBuf>,
+    /// Cycle through these communication step sizes (s) instead of --step, e.g. 0.5e-3,1e-3,2e-3
+    #[arg(long, value_delimiter = ',')]
+    pub step_pattern: Vec<f64>,
 }
 
 /// Channels recorded by the step response, in CSV order.
@@ -64,6 +67,27 @@ pub struct Scenario {
     pub stop_time: f64,
     pub step: f64,
     pub step_time: f64,
+    /// Step sizes to cycle through; empty = constant `step`.
+    pub pattern: Vec<f64>,
+}
+
+impl Scenario {
+    /// The communication steps (t, h) up to stop_time: constant `step`, or `pattern` cycled, the
+    /// last one shortened to end exactly at stop_time; times accumulate as a master's would.
+    pub fn steps(&self) -> Vec<(f64, f64)> {
+        if self.pattern.is_empty() {
+            let n = (self.stop_time / self.step).round() as usize;
+            return (0..n).map(|i| (i as f64 * self.step, self.step)).collect();
+        }
+        let mut out = Vec::new();
+        let mut t = 0.0;
+        while t < self.stop_time - 1e-12 {
+            let h = self.pattern[out.len() % self.pattern.len()].min(self.stop_time - t);
+            out.push((t, h));
+            t += h;
+        }
+        out
+    }
 }
 
 /// Recorded rows: time followed by CHANNELS.
@@ -102,8 +126,8 @@ pub fn run_fmi(fmu: &Fmu, sc: &Scenario, record: bool) -> anyhow::Result<(Rows, 
     inst.exit_initialization_mode()?;
     let vrs: Vec<u32> = CHANNELS.iter().map(|c| fmu.vr(c)).collect::<Result<_, _>>()?;
     let inputs = [vr::ROTOR_TORQUE, vr::GENERATOR_TORQUE, vr::BRAKE_COMMAND];
-    let n = (sc.stop_time / sc.step).round() as usize;
-    let mut rows = Rows::with_capacity(if record { n + 1 } else { 0 });
+    let steps = sc.steps();
+    let mut rows = Rows::with_capacity(if record { steps.len() + 1 } else { 0 });
     let mut row = [0.0; 1 + CHANNELS.len()];
     let mut hss = [0.0];
     if record {
@@ -111,13 +135,12 @@ pub fn run_fmi(fmu: &Fmu, sc: &Scenario, record: bool) -> anyhow::Result<(Rows, 
         rows.push(row);
     }
     let started = std::time::Instant::now();
-    for i in 0..n {
-        let t = i as f64 * sc.step;
+    for &(t, h) in &steps {
         let on = if t >= sc.step_time { 1.0 } else { 0.0 };
         inst.set_real(&inputs, &[on * t_rotor, on * t_gen, 0.0])?;
-        inst.do_step(t, sc.step).with_context(|| format!("at t = {t} s"))?;
+        inst.do_step(t, h).with_context(|| format!("at t = {t} s"))?;
         if record {
-            row[0] = (i + 1) as f64 * sc.step;
+            row[0] = t + h;
             inst.get_real(&vrs, &mut row[1..])?;
             rows.push(row);
         } else {
@@ -146,16 +169,15 @@ pub fn run_native(sc: &Scenario) -> anyhow::Result<(Vec<f64>, f64)> {
     s.set_real(vr::MAX_INTERNAL_STEP, sc.max_internal_step, &mut Silent)
         .map_err(e)?;
     s.initialize(0.0, &mut Silent).map_err(e)?;
-    let n = (sc.stop_time / sc.step).round() as usize;
-    let mut hss = Vec::with_capacity(n + 1);
+    let steps = sc.steps();
+    let mut hss = Vec::with_capacity(steps.len() + 1);
     hss.push(s.get_real(vr::HSS_TORQUE).map_err(e)?);
     let started = std::time::Instant::now();
-    for i in 0..n {
-        let t = i as f64 * sc.step;
+    for &(t, h) in &steps {
         let on = if t >= sc.step_time { 1.0 } else { 0.0 };
         s.set_real(vr::ROTOR_TORQUE, on * t_rotor, &mut Silent).map_err(e)?;
         s.set_real(vr::GENERATOR_TORQUE, on * t_gen, &mut Silent).map_err(e)?;
-        s.do_step(t, sc.step, &mut Silent).map_err(e)?;
+        s.do_step(t, h, &mut Silent).map_err(e)?;
         hss.push(s.get_real(vr::HSS_TORQUE).map_err(e)?);
     }
     Ok((hss, started.elapsed().as_secs_f64()))
@@ -207,10 +229,11 @@ pub fn run(args: &StepArgs) -> anyhow::Result<()> {
         preset: args.preset.clone(),
         fidelity: args.fidelity.clone(),
         integrator: args.integrator.clone(),
-        max_internal_step: args.step,
+        max_internal_step: args.step_pattern.iter().cloned().fold(args.step, f64::max),
         stop_time: args.stop_time,
         step: args.step,
         step_time: args.step_time,
+        pattern: args.step_pattern.clone(),
     };
     let (rows, wall) = run_fmi(&fmu, &sc, true)?;
     write_csv(&args.out, &rows)?;

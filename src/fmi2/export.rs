@@ -96,6 +96,7 @@ pub struct Instance<S: Slave> {
     stop_time: Option<f64>,
     last_successful_time: f64,
     slave: S,
+    returned_strings: Vec<CString>,
 }
 
 /// A saved FMU state (fmi2GetFMUstate) and the unit of serialisation.
@@ -276,6 +277,7 @@ pub unsafe fn instantiate<S: Slave>(
             stop_time: None,
             last_successful_time: 0.0,
             slave,
+            returned_strings: Vec::new(),
         }))
     }));
     match built {
@@ -538,19 +540,13 @@ getter!(
 );
 
 /// # Safety
-/// As [`get_real`]. The returned strings stay valid until the next call on this instance.
+/// As [`get_real`]. The returned strings stay valid until the next fmi2GetString on this instance.
 pub unsafe fn get_string<S: Slave>(
     c: Fmi2Component,
     vr: *const Fmi2ValueReference,
     n: usize,
     value: *mut Fmi2String,
 ) -> Fmi2Status {
-    thread_local! {
-        // Strings handed out stay alive until the next fmi2GetString on this thread (FMI 2.0 allows
-        // invalidating them at the next call); kept per thread so instances never share mutable state
-        // across threads.
-        static RETURNED: std::cell::RefCell<Vec<CString>> = const { std::cell::RefCell::new(Vec::new()) };
-    }
     unsafe {
         call::<S>(c, "fmi2GetString", READABLE, |inst| {
             let (vrs, out) = arrays_mut(vr, n, value)?;
@@ -563,7 +559,8 @@ pub unsafe fn get_string<S: Slave>(
             for (o, s) in out.iter_mut().zip(&strings) {
                 *o = s.as_ptr();
             }
-            RETURNED.with(|r| *r.borrow_mut() = strings);
+            // kept by the instance until its next fmi2GetString (FMI 2.0 §2.1.7)
+            inst.returned_strings = strings;
             Ok(Fmi2Status::Ok)
         })
     }
