@@ -298,9 +298,10 @@ fn generate(m: &Model, xml: &str, guid: &str) -> String {
         .unwrap();
     }
     writeln!(s, "    let table: &[u16] = match ty {{ VarType::Real => &REAL, VarType::Integer => &INTEGER, VarType::Boolean => &BOOLEAN, VarType::String => &STRING }};").unwrap();
+    // no indexing that could panic: a panic location would embed this file's build-tree path in the FMU
     writeln!(
         s,
-        "    table.get(vr as usize).filter(|i| **i != NONE).map(|i| &VARIABLES[*i as usize])"
+        "    table.get(vr as usize).filter(|i| **i != NONE).and_then(|i| VARIABLES.get(*i as usize))"
     )
     .unwrap();
     writeln!(s, "}}").unwrap();
