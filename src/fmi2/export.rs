@@ -36,6 +36,7 @@ const CATEGORIES: [&str; 4] = ["logEvents", "logStatusWarning", "logStatusError"
 /// Categories on when logging is on and none were named: all but the per-call trace, which only a
 /// host that names "logCalls" gets (libcosim turns logging on for every FMU).
 const DEFAULT_CATEGORIES: [bool; 4] = [true, true, true, false];
+const LOG_CALLS: usize = 3;
 
 /// The host's logger and what it wants to hear.
 pub struct LogSink {
@@ -129,7 +130,9 @@ unsafe fn call<S: Slave>(
     let outcome = catch_unwind(AssertUnwindSafe(|| {
         // SAFETY: non-null component pointers come from fmi2Instantiate and stay valid until freed.
         let inst = unsafe { &mut *ptr };
-        inst.sink.emit(Fmi2Status::Ok, "logCalls", function);
+        if inst.sink.logging_on && inst.sink.enabled[LOG_CALLS] {
+            inst.sink.emit(Fmi2Status::Ok, "logCalls", function);
+        }
         if !allowed.contains(&inst.state) {
             return Err(format!("{function} is not allowed in state {:?}", inst.state));
         }

@@ -67,59 +67,70 @@ struct Work {
     x: Vec<f64>,
 }
 
-/// Rows of the step map are padded to a multiple of this, so its columns split into fixed-size
-/// chunks that compile to SIMD without bounds checks or remainder loops.
-const LANES: usize = 4;
+/// Rows of the step map are padded to a multiple of this (one SSE2 register holds two f64).
+const LANES: usize = 2;
 
 fn padded(n: usize) -> usize {
     n.div_ceil(LANES) * LANES
 }
 
 /// y += Σ A_k·x_k for column-major blocks A_k whose columns have y.len() rows (a multiple of
-/// LANES). Rows are taken LANES at a time and accumulated in registers over every column of every
-/// block (register blocking). On x86_64 the accumulation uses SSE2, part of the x86_64 baseline, so
-/// the binary runs on every x86_64 CPU; elsewhere the same loop is plain Rust.
+/// LANES): every column of every block is accumulated into registers holding all of y at once
+/// (register blocking), so y is loaded and stored once per step. On x86_64 this uses SSE2, part of
+/// the x86_64 baseline, so the FMU still runs on every x86_64 CPU; elsewhere it is plain Rust.
 fn axpy_columns(blocks: [(&[f64], &[f64]); 3], y: &mut [f64]) {
     let rows = y.len();
     assert!(rows.is_multiple_of(LANES));
     for (a, x) in blocks {
         assert_eq!(a.len(), rows * x.len());
     }
-    for start in (0..rows).step_by(LANES) {
-        #[cfg(target_arch = "x86_64")]
-        {
-            use std::arch::x86_64::{_mm_add_pd, _mm_loadu_pd, _mm_mul_pd, _mm_set1_pd, _mm_storeu_pd};
-            // SAFETY: SSE2 is always present on x86_64. Every access reads or writes two f64 at
-            // offsets start, start + 2 (< rows) of a column of `rows` entries, inside slices whose
-            // lengths were asserted above.
-            unsafe {
-                let out = y.as_mut_ptr().add(start);
-                let (mut lo, mut hi) = (_mm_loadu_pd(out), _mm_loadu_pd(out.add(2)));
-                for (a, x) in blocks {
-                    let mut p = a.as_ptr().add(start);
-                    for &s in x {
-                        let sv = _mm_set1_pd(s);
-                        lo = _mm_add_pd(lo, _mm_mul_pd(_mm_loadu_pd(p), sv));
-                        hi = _mm_add_pd(hi, _mm_mul_pd(_mm_loadu_pd(p.add(2)), sv));
-                        p = p.add(rows);
-                    }
-                }
-                _mm_storeu_pd(out, lo);
-                _mm_storeu_pd(out.add(2), hi);
+    #[cfg(target_arch = "x86_64")]
+    {
+        // SAFETY (all arms): the asserts above guarantee every block holds rows × x.len() values and
+        // y holds rows values; the kernel reads and writes exactly those.
+        match rows / 2 {
+            1 => return unsafe { sse2_kernel::<1>(blocks, y) },
+            2 => return unsafe { sse2_kernel::<2>(blocks, y) },
+            3 => return unsafe { sse2_kernel::<3>(blocks, y) },
+            4 => return unsafe { sse2_kernel::<4>(blocks, y) },
+            5 => return unsafe { sse2_kernel::<5>(blocks, y) },
+            6 => return unsafe { sse2_kernel::<6>(blocks, y) },
+            7 => return unsafe { sse2_kernel::<7>(blocks, y) },
+            8 => return unsafe { sse2_kernel::<8>(blocks, y) },
+            _ => {}
+        }
+    }
+    for (a, x) in blocks {
+        for (column, &s) in a.chunks_exact(rows).zip(x) {
+            for (yi, ai) in y.iter_mut().zip(column) {
+                *yi += ai * s;
             }
         }
-        #[cfg(not(target_arch = "x86_64"))]
-        {
-            let mut acc = [0.0; LANES];
-            acc.copy_from_slice(&y[start..start + LANES]);
-            for (a, x) in blocks {
-                for (column, &s) in a.chunks_exact(rows).zip(x) {
-                    for i in 0..LANES {
-                        acc[i] += column[start + i] * s;
-                    }
+    }
+}
+
+/// `axpy_columns` for 2·P rows held in P SSE2 registers.
+///
+/// # Safety
+/// `y` has 2·P entries and every block's matrix has 2·P × x.len() entries.
+#[cfg(target_arch = "x86_64")]
+unsafe fn sse2_kernel<const P: usize>(blocks: [(&[f64], &[f64]); 3], y: &mut [f64]) {
+    use std::arch::x86_64::{__m128d, _mm_add_pd, _mm_loadu_pd, _mm_mul_pd, _mm_set1_pd, _mm_storeu_pd};
+    unsafe {
+        let out = y.as_mut_ptr();
+        let mut acc: [__m128d; P] = std::array::from_fn(|k| _mm_loadu_pd(out.add(2 * k)));
+        for (a, x) in blocks {
+            let mut column = a.as_ptr();
+            for &s in x {
+                let sv = _mm_set1_pd(s);
+                for (k, r) in acc.iter_mut().enumerate() {
+                    *r = _mm_add_pd(*r, _mm_mul_pd(_mm_loadu_pd(column.add(2 * k)), sv));
                 }
+                column = column.add(2 * P);
             }
-            y[start..start + LANES].copy_from_slice(&acc);
+        }
+        for (k, r) in acc.iter().enumerate() {
+            _mm_storeu_pd(out.add(2 * k), *r);
         }
     }
 }
@@ -245,6 +256,79 @@ impl Newmark {
         Ok(self.last)
     }
 
+    /// The step of a linear drivetrain: Δ = W·[x; v; a] + J⁻¹f with the cached step map, then the
+    /// brake, then the Newmark update. Same equations as the general path, none of its generality.
+    fn linear_step(
+        &mut self,
+        model: &TorsionalModel,
+        st: &mut DynState,
+        h: f64,
+        loads: &Loads,
+        static_ratio: f64,
+    ) -> Result<(), NewmarkError> {
+        let n = model.dofs();
+        let np = padded(n);
+        let (g, rotor) = (model.generator, model.rotor);
+        let idx = self.factor(model, h, 0, 0, &st.q)?;
+        self.iterations += 1;
+        let Newmark { cache, work: w, .. } = self;
+        let factor = &cache[idx];
+        let map = factor.step_map.as_deref().ok_or(NewmarkError::Singular)?;
+        let h = factor.h; // equal to the requested h within SAME_STEP
+        let (c1, c2) = (2.0 / h, 4.0 / (h * h));
+        if w.padded.len() != np {
+            w.padded = vec![0.0; np];
+            w.x = vec![0.0; n];
+        }
+        let (q, v, a) = (&mut st.q[..n], &mut st.v[..n], &mut st.a[..n]);
+        let (ratio, x, delta) = (&model.speed_ratio[..n], &mut w.x[..n], &mut w.padded[..np]);
+        let (unit_rotor, unit_brake) = (&factor.unit_rotor[..n], &factor.unit_brake[..n]);
+        // external torques act on the rotor (driving) and the generator (opposing)
+        let (tr, tg) = (loads.rotor_torque, -loads.generator_torque);
+        for i in 0..n {
+            delta[i] = unit_rotor[i] * tr + unit_brake[i] * tg;
+            // K·q = K·(q − r·q_rotor): angles relative to rigid rotation keep the deflections' digits
+            x[i] = q[i] - ratio[i] * q[rotor];
+        }
+        let (mq, rest) = map.split_at(np * n);
+        let (mv, ma) = rest.split_at(np * n);
+        axpy_columns([(mq, x), (mv, v), (ma, a)], delta);
+        let mut torque = 0.0;
+        let mut stuck = false;
+        if loads.brake_capacity > 0.0 {
+            let hold = if st.locked { static_ratio } else { 1.0 } * loads.brake_capacity;
+            let stick = -(c1 * delta[g] - v[g]) / (c1 * unit_brake[g]);
+            if stick.abs() <= hold {
+                torque = stick;
+                stuck = true;
+            } else {
+                torque = loads.brake_capacity * stick.signum();
+            }
+            for i in 0..n {
+                delta[i] += torque * unit_brake[i];
+            }
+            if stuck {
+                // exactly at rest: the trapezoidal position update then adds no creep
+                delta[g] = 0.5 * h * v[g];
+            }
+        }
+        for i in 0..n {
+            let d = delta[i];
+            let v_new = c1 * d - v[i];
+            a[i] = c2 * d - 2.0 * c1 * v[i] - a[i];
+            q[i] += d;
+            v[i] = v_new;
+        }
+        if stuck {
+            v[g] = 0.0;
+            a[g] = 0.0;
+        }
+        st.locked = stuck;
+        st.brake_torque = -torque;
+        st.applied = Some((loads.rotor_torque, loads.generator_torque));
+        Ok(())
+    }
+
     /// Advances `st` from t to t + h with loads evaluated at t + h.
     /// On error `st` is unchanged.
     pub fn step(
@@ -255,6 +339,10 @@ impl Newmark {
         loads: &Loads,
         static_ratio: f64,
     ) -> Result<(), NewmarkError> {
+        let linear = !model.has_backlash() && !model.has_stiffness_variation();
+        if linear {
+            return self.linear_step(model, st, h, loads, static_ratio);
+        }
         let n = model.dofs();
         let g = model.generator;
         if self.work.f.len() != n {
@@ -280,7 +368,6 @@ impl Newmark {
         let (c1, c2) = (2.0 / h, 4.0 / (h * h));
         let mut torque = 0.0;
         let mut stuck = false;
-        let linear = !nonlinear && !model.has_stiffness_variation();
         for iteration in 0.. {
             if iteration == MAX_ITERATIONS {
                 return Err(NewmarkError::NotSettled);
@@ -290,32 +377,12 @@ impl Newmark {
             let Newmark { cache, work: w, .. } = self;
             let factor = &cache[idx];
             // r = −R₀(Δ) = f − F_int(q + Δ, c1·Δ − v) − M a(Δ), a(Δ) = c2·Δ − 2c1·v − a
-            if let Some(map) = factor.step_map.as_ref().filter(|_| linear) {
-                // Δ = W·[q; v; a] + J⁻¹ f (f acts on the rotor and generator only)
-                let (tr, tg) = (w.f[model.rotor], w.f[g]);
-                for ((x, ur), ug) in w.delta.iter_mut().zip(&factor.unit_rotor).zip(&factor.unit_brake) {
-                    *x = ur * tr + ug * tg;
-                }
-                let np = padded(n);
-                w.padded[..n].copy_from_slice(&w.delta);
-                let (mq, rest) = map.split_at(np * n);
-                let (mv, ma) = rest.split_at(np * n);
-                // K·q = K·(q − r·q_rotor): angles relative to rigid rotation keep the digits of the deflections
-                for ((x, q), r) in w.x.iter_mut().zip(&st.q).zip(&model.speed_ratio) {
-                    *x = q - r * st.q[model.rotor];
-                }
-                axpy_columns([(mq, &w.x), (mv, &st.v), (ma, &st.a)], &mut w.padded);
-                w.delta.copy_from_slice(&w.padded[..n]);
-            } else if iteration == 0 {
+            if iteration == 0 {
                 // Δ = 0: the residual needs no trial state
-                if linear {
-                    model.linear_forces(&st.q, &st.v, -1.0, &mut w.fi);
-                } else {
-                    for (v1, v) in w.v1.iter_mut().zip(&st.v) {
-                        *v1 = -v;
-                    }
-                    internal_forces(model, &st.q, &w.v1, &st.q, &mut w.fi);
+                for (v1, v) in w.v1.iter_mut().zip(&st.v) {
+                    *v1 = -v;
                 }
+                internal_forces(model, &st.q, &w.v1, &st.q, &mut w.fi);
                 for d in 0..n {
                     w.r[d] = w.f[d] - w.fi[d] + model.mass[d] * (2.0 * c1 * st.v[d] + st.a[d]);
                 }
@@ -331,11 +398,9 @@ impl Newmark {
                     w.r[d] = w.f[d] - w.fi[d] - model.mass[d] * a1;
                 }
             }
-            if factor.step_map.is_none() || !linear {
-                for (column, r) in factor.inverse.chunks_exact(n).zip(&w.r) {
-                    for (x, a) in w.delta.iter_mut().zip(column) {
-                        *x += a * r;
-                    }
+            for (column, r) in factor.inverse.chunks_exact(n).zip(&w.r) {
+                for (x, a) in w.delta.iter_mut().zip(column) {
+                    *x += a * r;
                 }
             }
             // Brake: generator speed at the end of the step is c1·(Δ_g + T s_g) − v_g.
