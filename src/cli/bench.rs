@@ -1,7 +1,8 @@
 //! `windrive bench torsional`: drivetrain D at full fidelity, a rated-torque step, 30 s at a 1 ms
 //! communication step through the FMI boundary. Baselines measured in the same run: the same model
 //! without FMI (the boundary's overhead), RK4 at 90 % of its stability limit (the explicit
-//! alternative), and a converged reference (implicit, 10 µs internal step) for the accuracy figures.
+//! alternative), and a converged reference (RK4, fourth order, at a quarter of its stability limit,
+//! checked against half the limit) for the accuracy figures.
 
 use super::step::{Scenario, run_fmi, run_native, torsional_fmu};
 use anyhow::bail;
@@ -20,6 +21,9 @@ pub struct BenchArgs {
     /// Use this .fmu instead of packing target/fmu/torsional.fmu
     #[arg(long)]
     pub fmu: Option<PathBuf>,
+    /// Also sweep internal step sizes of both integrators and plot error against CPU time (.png/.svg)
+    #[arg(long)]
+    pub work_precision: Option<PathBuf>,
 }
 
 fn peak(x: &[f64]) -> f64 {
@@ -28,6 +32,11 @@ fn peak(x: &[f64]) -> f64 {
 
 fn rms(x: &[f64]) -> f64 {
     (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
+}
+
+/// Largest deviation along the run, relative to the reference's peak.
+fn trajectory_error(x: &[f64], reference: &[f64]) -> f64 {
+    x.iter().zip(reference).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / peak(reference)
 }
 
 /// Relative errors of peak and RMS against the reference.
@@ -59,20 +68,24 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         args.preset, args.stop_time, args.step
     );
 
-    // accuracy reference: implicit at 10 µs, checked against 20 µs
-    let reference = Scenario {
-        max_internal_step: 1e-5,
+    // Accuracy reference: RK4 (fourth order, independent of the implicit method under test) at a
+    // quarter of its stability limit, checked against half the limit.
+    let limit = {
+        let mut s = <crate::slaves::torsional::TorsionalSlave as crate::fmi2::slave::Slave>::instantiate(None);
+        s.built().map_err(|e| anyhow::anyhow!(e.0))?.rk4_step_limit
+    };
+    let rk4_at = |fraction: f64| Scenario {
+        integrator: "rk4".into(),
+        max_internal_step: fraction * limit,
         ..base.clone()
     };
-    let (hss_ref, _) = run_native(&reference)?;
-    let (hss_half, _) = run_native(&Scenario {
-        max_internal_step: 2e-5,
-        ..base.clone()
-    })?;
-    let (ref_peak, ref_rms) = errors(&hss_half, &hss_ref);
+    let (hss_ref, _) = run_native(&rk4_at(0.25))?;
+    let (hss_half, _) = run_native(&rk4_at(0.5))?;
     println!(
-        "reference (implicit, 10 µs internal step): self-convergence vs 20 µs: peak {:.1e}, RMS {:.1e}",
-        ref_peak, ref_rms
+        "reference: RK4 at {:.1} µs; against RK4 at {:.1} µs it differs by {:.1e} of its peak (trajectory)",
+        0.25 * limit * 1e6,
+        0.5 * limit * 1e6,
+        trajectory_error(&hss_half, &hss_ref)
     );
 
     // A 30 s run takes ~15 ms of wall time, too short for the CPU to leave its low-clock state:
@@ -96,10 +109,6 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let (e_peak, e_rms) = errors(&hss_native, &hss_ref);
 
     // explicit baseline at 90 % of its stability limit
-    let limit = {
-        let mut s = <crate::slaves::torsional::TorsionalSlave as crate::fmi2::slave::Slave>::instantiate(None);
-        s.built().map_err(|e| anyhow::anyhow!(e.0))?.rk4_step_limit
-    };
     let rk4 = Scenario {
         integrator: "rk4".into(),
         max_internal_step: 0.9 * limit,
@@ -156,5 +165,59 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             "NOT met"
         }
     );
+    if let Some(path) = &args.work_precision {
+        work_precision(&base, &hss_ref, limit, path)?;
+    }
+    Ok(())
+}
+
+/// Error of the peak HSS torque against CPU time for a sweep of internal steps of both integrators.
+fn work_precision(base: &Scenario, reference: &[f64], rk4_limit: f64, path: &std::path::Path) -> anyhow::Result<()> {
+    println!();
+    println!("work-precision sweep (bare model, best of 3 per point)");
+    println!(
+        "{:<10} {:>14} {:>12} {:>12}",
+        "integrator", "internal step", "CPU time / s", "max error"
+    );
+    let mut curves = Vec::new();
+    for (integrator, steps) in [
+        ("implicit", vec![1e-3, 5e-4, 2.5e-4, 1e-4, 5e-5]),
+        ("rk4", vec![0.9 * rk4_limit, 0.7 * rk4_limit, 0.5 * rk4_limit]),
+    ] {
+        let mut points = Vec::new();
+        for h in steps {
+            let sc = Scenario {
+                integrator: integrator.into(),
+                max_internal_step: h,
+                ..base.clone()
+            };
+            let (hss, mut wall) = run_native(&sc)?;
+            for _ in 0..2 {
+                wall = wall.min(run_native(&sc)?.1);
+            }
+            let e = trajectory_error(&hss, reference);
+            println!("{integrator:<10} {:>11.1} µs {wall:>12.4} {e:>12.2e}", h * 1e6);
+            points.push((wall.log10(), e.max(1e-16).log10()));
+        }
+        curves.push((integrator.to_string(), points));
+    }
+    let series: Vec<super::plot::Series> = curves
+        .iter()
+        .map(|(label, p)| super::plot::Series {
+            label: label.clone(),
+            points: p,
+        })
+        .collect();
+    match super::plot::lines(
+        path,
+        "Drivetrain D, 30 s rated-torque step: HSS torque error vs CPU time",
+        "log10 CPU time / s",
+        "log10 (max |error| / peak)",
+        &series,
+        &[],
+    ) {
+        Ok(()) => println!("work-precision chart: {}", path.display()),
+        Err(e) => println!("work-precision chart skipped: {e:#}"),
+    }
     Ok(())
 }

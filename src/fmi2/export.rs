@@ -926,35 +926,43 @@ pub unsafe fn cancel_step<S: Slave>(c: Fmi2Component) -> Fmi2Status {
     }
 }
 
-/// # Safety
-/// `c` as [`free_instance`]; `value` writable.
-pub unsafe fn get_status<S: Slave>(c: Fmi2Component, kind: c_int, value: *mut c_int) -> Fmi2Status {
+/// The five status queries share one shape: a null check, then either an answer for the kinds this
+/// FMU knows (fmi2OK) or fmi2Discard, as FMI 2.0 prescribes for unsupported kinds.
+unsafe fn status_query<S: Slave, T>(
+    c: Fmi2Component,
+    function: &str,
+    value: *mut T,
+    answer: impl FnOnce(&Instance<S>) -> Option<T>,
+) -> Fmi2Status {
     unsafe {
-        call::<S>(c, "fmi2GetStatus", ANY, |_| {
+        call::<S>(c, function, ANY, |inst| {
             if value.is_null() {
                 return Err("status pointer is null".into());
             }
-            // Only fmi2DoStepStatus exists for fmi2GetStatus, and only after fmi2Pending, which we never return.
-            let _ = kind;
-            Ok(Fmi2Status::Discard)
+            Ok(match answer(inst) {
+                Some(v) => {
+                    *value = v;
+                    Fmi2Status::Ok
+                }
+                None => Fmi2Status::Discard,
+            })
         })
     }
 }
 
 /// # Safety
 /// `c` as [`free_instance`]; `value` writable.
+pub unsafe fn get_status<S: Slave>(c: Fmi2Component, _kind: c_int, value: *mut c_int) -> Fmi2Status {
+    // Only fmi2DoStepStatus exists here, and only after fmi2Pending, which this FMU never returns.
+    unsafe { status_query::<S, c_int>(c, "fmi2GetStatus", value, |_| None) }
+}
+
+/// # Safety
+/// `c` as [`free_instance`]; `value` writable.
 pub unsafe fn get_real_status<S: Slave>(c: Fmi2Component, kind: c_int, value: *mut f64) -> Fmi2Status {
     unsafe {
-        call::<S>(c, "fmi2GetRealStatus", ANY, |inst| {
-            if value.is_null() {
-                return Err("status pointer is null".into());
-            }
-            if kind == FMI2_LAST_SUCCESSFUL_TIME {
-                *value = inst.last_successful_time;
-                Ok(Fmi2Status::Ok)
-            } else {
-                Ok(Fmi2Status::Discard)
-            }
+        status_query::<S, f64>(c, "fmi2GetRealStatus", value, |inst| {
+            (kind == FMI2_LAST_SUCCESSFUL_TIME).then_some(inst.last_successful_time)
         })
     }
 }
@@ -962,31 +970,16 @@ pub unsafe fn get_real_status<S: Slave>(c: Fmi2Component, kind: c_int, value: *m
 /// # Safety
 /// `c` as [`free_instance`]; `value` writable.
 pub unsafe fn get_integer_status<S: Slave>(c: Fmi2Component, _kind: c_int, value: *mut c_int) -> Fmi2Status {
-    unsafe {
-        call::<S>(c, "fmi2GetIntegerStatus", ANY, |_| {
-            if value.is_null() {
-                return Err("status pointer is null".into());
-            }
-            Ok(Fmi2Status::Discard)
-        })
-    }
+    unsafe { status_query::<S, c_int>(c, "fmi2GetIntegerStatus", value, |_| None) }
 }
 
 /// # Safety
 /// `c` as [`free_instance`]; `value` writable.
 pub unsafe fn get_boolean_status<S: Slave>(c: Fmi2Component, kind: c_int, value: *mut Fmi2Boolean) -> Fmi2Status {
     unsafe {
-        call::<S>(c, "fmi2GetBooleanStatus", ANY, |inst| {
-            if value.is_null() {
-                return Err("status pointer is null".into());
-            }
-            if kind == FMI2_TERMINATED {
-                // A failed step cannot be continued: the master should terminate (or roll back).
-                *value = matches!(inst.state, StepFailed | Error) as Fmi2Boolean;
-                Ok(Fmi2Status::Ok)
-            } else {
-                Ok(Fmi2Status::Discard)
-            }
+        status_query::<S, Fmi2Boolean>(c, "fmi2GetBooleanStatus", value, |inst| {
+            // a failed step cannot be continued: the master should terminate (or roll back)
+            (kind == FMI2_TERMINATED).then_some(matches!(inst.state, StepFailed | Error) as Fmi2Boolean)
         })
     }
 }
@@ -994,14 +987,7 @@ pub unsafe fn get_boolean_status<S: Slave>(c: Fmi2Component, kind: c_int, value:
 /// # Safety
 /// `c` as [`free_instance`]; `value` writable.
 pub unsafe fn get_string_status<S: Slave>(c: Fmi2Component, _kind: c_int, value: *mut Fmi2String) -> Fmi2Status {
-    unsafe {
-        call::<S>(c, "fmi2GetStringStatus", ANY, |_| {
-            if value.is_null() {
-                return Err("status pointer is null".into());
-            }
-            Ok(Fmi2Status::Discard)
-        })
-    }
+    unsafe { status_query::<S, Fmi2String>(c, "fmi2GetStringStatus", value, |_| None) }
 }
 
 #[cfg(test)]

@@ -135,6 +135,18 @@ unsafe fn sse2_kernel<const P: usize>(blocks: [(&[f64], &[f64]); 3], y: &mut [f6
     }
 }
 
+/// Brake torque on the generator DOF for a step whose end speed would be `speed` without the brake
+/// and changes by `per_torque` per unit brake torque: the torque that stops the disk exactly if the
+/// brake can hold `hold` (stick), else the kinetic `capacity` against the motion (slip).
+fn brake_torque(speed: f64, per_torque: f64, hold: f64, capacity: f64) -> (f64, bool) {
+    let stick = -speed / per_torque;
+    if stick.abs() <= hold {
+        (stick, true)
+    } else {
+        (capacity * stick.signum(), false)
+    }
+}
+
 /// Integrator with its cache of inverses and scratch vectors. Cloning gives an empty cache,
 /// refilled on demand with identical inverses, so snapshots stay cheap and bit-identical.
 pub struct Newmark {
@@ -293,17 +305,10 @@ impl Newmark {
         let (mq, rest) = map.split_at(np * n);
         let (mv, ma) = rest.split_at(np * n);
         axpy_columns([(mq, x), (mv, v), (ma, a)], delta);
-        let mut torque = 0.0;
-        let mut stuck = false;
+        let (mut torque, mut stuck) = (0.0, false);
         if loads.brake_capacity > 0.0 {
             let hold = if st.locked { static_ratio } else { 1.0 } * loads.brake_capacity;
-            let stick = -(c1 * delta[g] - v[g]) / (c1 * unit_brake[g]);
-            if stick.abs() <= hold {
-                torque = stick;
-                stuck = true;
-            } else {
-                torque = loads.brake_capacity * stick.signum();
-            }
+            (torque, stuck) = brake_torque(c1 * delta[g] - v[g], c1 * unit_brake[g], hold, loads.brake_capacity);
             for i in 0..n {
                 delta[i] += torque * unit_brake[i];
             }
@@ -404,17 +409,10 @@ impl Newmark {
                 }
             }
             // Brake: generator speed at the end of the step is c1·(Δ_g + T s_g) − v_g.
-            torque = 0.0;
-            stuck = false;
+            (torque, stuck) = (0.0, false);
             if loads.brake_capacity > 0.0 {
-                let s = factor.unit_brake[g];
-                let stick = -(c1 * w.delta[g] - st.v[g]) / (c1 * s);
-                if stick.abs() <= hold {
-                    torque = stick;
-                    stuck = true;
-                } else {
-                    torque = loads.brake_capacity * stick.signum();
-                }
+                let speed = c1 * w.delta[g] - st.v[g];
+                (torque, stuck) = brake_torque(speed, c1 * factor.unit_brake[g], hold, loads.brake_capacity);
                 for (x, u) in w.delta.iter_mut().zip(&factor.unit_brake) {
                     *x += torque * u;
                 }
