@@ -8,6 +8,7 @@
 // Numerical kernels index several arrays by DOF in one loop; an index reads clearer there than zips.
 #![allow(clippy::needless_range_loop)]
 
+pub mod analysis;
 pub mod fmi2;
 pub mod physics;
 pub mod slaves;

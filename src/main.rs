@@ -20,5 +20,7 @@ fn main() -> anyhow::Result<()> {
         Command::Modes(args) => windrive::cli::modes::run(&args),
         Command::StepResponse(args) => windrive::cli::step::run(&args),
         Command::Bench(args) => windrive::cli::bench::run(&args),
+        Command::Rainflow(args) => windrive::cli::fatigue::run_rainflow(&args),
+        Command::Del(args) => windrive::cli::fatigue::run_del(&args),
     }
 }

@@ -1,6 +1,7 @@
 //! The `windrive` command line.
 
 pub mod bench;
+pub mod fatigue;
 pub mod modes;
 pub mod plot;
 pub mod step;
@@ -43,4 +44,8 @@ pub enum Command {
     StepResponse(step::StepArgs),
     /// Benchmarks an FMU through the FMI boundary against named baselines in the same run.
     Bench(bench::BenchArgs),
+    /// Rainflow cycles (ASTM E1049-85) of one CSV channel.
+    Rainflow(fatigue::RainflowArgs),
+    /// Damage-equivalent loads of one CSV channel: DEL = (Σ n_i S_i^m / N_eq)^(1/m), N_eq = feq × duration.
+    Del(fatigue::DelArgs),
 }
