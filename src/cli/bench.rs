@@ -24,6 +24,13 @@ pub struct BenchArgs {
     /// Also sweep internal step sizes of both integrators and plot error against CPU time (.png/.svg)
     #[arg(long)]
     pub work_precision: Option<PathBuf>,
+    /// rainflow: the series as raw little-endian f64 (benches/rainflow.py writes it and compares
+    /// with the Python packages); without it a seeded random walk of --samples points
+    #[arg(long)]
+    pub input: Option<PathBuf>,
+    /// rainflow: length of the generated random walk
+    #[arg(long, default_value_t = 10_000_000)]
+    pub samples: usize,
 }
 
 fn peak(x: &[f64]) -> f64 {
@@ -48,8 +55,10 @@ fn errors(x: &[f64], reference: &[f64]) -> (f64, f64) {
 }
 
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
-    if args.target != "torsional" {
-        bail!("unknown benchmark {:?}: available: torsional", args.target);
+    match args.target.as_str() {
+        "torsional" => {}
+        "rainflow" => return rainflow(args),
+        other => bail!("unknown benchmark {other:?}: available: torsional, rainflow"),
     }
     let fmu = torsional_fmu(args.fmu.as_deref())?;
     let base = Scenario {
@@ -219,5 +228,68 @@ fn work_precision(base: &Scenario, reference: &[f64], rk4_limit: f64, path: &std
         Ok(()) => println!("work-precision chart: {}", path.display()),
         Err(e) => println!("work-precision chart skipped: {e:#}"),
     }
+    Ok(())
+}
+
+/// Rainflow counting plus DELs (m = 3, 6, 9 at 1 Hz over a 1 s sample spacing) of a long series.
+/// Prints one JSON line: seconds (best of 3, counting and DELs only), cycle count and checksums.
+fn rainflow(args: &BenchArgs) -> anyhow::Result<()> {
+    // the DEL formula of analysis::damage, accumulated while counting to keep one pass
+    use crate::analysis::rainflow;
+    let x: Vec<f64> = match &args.input {
+        Some(path) => std::fs::read(path)?
+            .chunks_exact(8)
+            .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
+            .collect(),
+        None => {
+            // xorshift random walk: reproducible without a dependency
+            let mut state = 0x9e37_79b9_7f4a_7c15u64;
+            let mut walk = 0.0;
+            (0..args.samples)
+                .map(|_| {
+                    state ^= state << 13;
+                    state ^= state >> 7;
+                    state ^= state << 17;
+                    walk += (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+                    walk
+                })
+                .collect()
+        }
+    };
+    let mut best = f64::MAX;
+    let mut result = (0usize, 0.0, 0.0, [0.0; 3]);
+    for _ in 0..3 {
+        let started = std::time::Instant::now();
+        let mut n = 0usize;
+        let (mut total, mut count) = (0.0, 0.0);
+        let mut sums = [0.0f64; 3];
+        let mut counter = rainflow::Counter::new();
+        let mut add = |c: rainflow::Cycle| {
+            n += 1;
+            total += c.count * c.range;
+            count += c.count;
+            let r3 = c.range * c.range * c.range;
+            sums[0] += c.count * r3;
+            sums[1] += c.count * r3 * r3;
+            sums[2] += c.count * r3 * r3 * r3;
+        };
+        for &v in &x {
+            counter.push(v, &mut add);
+        }
+        counter.finish(&mut add);
+        let n_eq = (x.len().max(2) - 1) as f64;
+        let dels = [3.0, 6.0, 9.0].map(|m: f64| {
+            let i = (m / 3.0) as usize - 1;
+            (sums[i] / n_eq).powf(1.0 / m)
+        });
+        best = best.min(started.elapsed().as_secs_f64());
+        result = (n, total, count, dels);
+    }
+    let (n, total, count, dels) = result;
+    println!(
+        "{}",
+        serde_json::json!({"samples": x.len(), "seconds": best, "cycles": n, "sum_count_range": total,
+            "sum_count": count, "del": {"3": dels[0], "6": dels[1], "9": dels[2]}})
+    );
     Ok(())
 }
