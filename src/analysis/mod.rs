@@ -1,6 +1,9 @@
-//! Fatigue and vibration analysis of recorded series. So far: rainflow cycle counting and
-//! damage-equivalent loads (issue 4 has the rest: LDD, S-N/Miner, ISO 6336, Hertz, ISO 281, spectra).
+//! Fatigue and vibration analysis of recorded series. So far: rainflow cycle counting,
+//! damage-equivalent loads, S-N curves with Miner's sum, ISO 281 bearing life and Hertz line contact
+//! (issue 4 has the rest: LDD, ISO 6336 stresses, lifetime from wind distributions, spectra, Campbell).
 
 pub mod damage;
+pub mod hertz;
+pub mod life;
 pub mod rainflow;
 pub mod series;
