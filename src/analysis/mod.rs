@@ -1,9 +1,11 @@
 //! Fatigue and vibration analysis of recorded series. So far: rainflow cycle counting,
-//! damage-equivalent loads, S-N curves with Miner's sum, ISO 281 bearing life and Hertz line contact
-//! (issue 4 has the rest: LDD, ISO 6336 stresses, lifetime from wind distributions, spectra, Campbell).
+//! damage-equivalent loads, S-N curves with Miner's sum, ISO 281 bearing life, Hertz line contact and
+//! operating hours from wind distributions (issue 4 has the rest: LDD, ISO 6336 stresses, spectra,
+//! Campbell).
 
 pub mod damage;
 pub mod hertz;
 pub mod life;
 pub mod rainflow;
 pub mod series;
+pub mod wind;
