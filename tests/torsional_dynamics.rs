@@ -249,20 +249,14 @@ fn power(x: &[f64], dt: f64, f: f64) -> f64 {
     re * re + im * im
 }
 
-/// Largest spectral peak by a direct DFT scan (independent of the library's own helper).
+/// Largest spectral peak by a direct DFT scan on a 1 Hz grid (independent of the library's helper).
 fn windrive_dominant(x: &[f64], dt: f64, lo: f64, hi: f64) -> f64 {
-    let mean = x.iter().sum::<f64>() / x.len() as f64;
     let mut best = (0.0, lo);
     let mut f = lo;
     while f < hi {
-        let (mut re, mut im) = (0.0, 0.0);
-        for (i, v) in x.iter().enumerate() {
-            let (s, c) = (std::f64::consts::TAU * f * dt * i as f64).sin_cos();
-            re += (v - mean) * c;
-            im += (v - mean) * s;
-        }
-        if re * re + im * im > best.0 {
-            best = (re * re + im * im, f);
+        let p = power(x, dt, f);
+        if p > best.0 {
+            best = (p, f);
         }
         f += 1.0;
     }

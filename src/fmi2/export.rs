@@ -18,13 +18,13 @@ use std::ffi::{CStr, CString, c_int};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
 
-/// FMI 2.0 §4.2.4 states of a Co-Simulation slave.
+/// FMI 2.0 §4.2.4 states of a Co-Simulation slave. stepFailed and stepCanceled are never entered: a
+/// step that fails answers fmi2Error (state Error), and steps never return fmi2Discard or fmi2Pending.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum ModelState {
     Instantiated,
     InitializationMode,
     StepComplete,
-    StepFailed,
     Terminated,
     Error,
     Fatal,
@@ -172,15 +172,8 @@ unsafe fn call<S: Slave>(
     }
 }
 
-const ANY: &[ModelState] = &[
-    Instantiated,
-    InitializationMode,
-    StepComplete,
-    StepFailed,
-    Terminated,
-    Error,
-];
-const READABLE: &[ModelState] = &[InitializationMode, StepComplete, StepFailed, Terminated, Error];
+const ANY: &[ModelState] = &[Instantiated, InitializationMode, StepComplete, Terminated, Error];
+const READABLE: &[ModelState] = &[InitializationMode, StepComplete, Terminated, Error];
 
 unsafe fn c_str<'a>(p: Fmi2String) -> Option<&'a str> {
     if p.is_null() {
@@ -397,7 +390,7 @@ pub unsafe fn exit_initialization_mode<S: Slave>(c: Fmi2Component) -> Fmi2Status
 /// As [`free_instance`].
 pub unsafe fn terminate<S: Slave>(c: Fmi2Component) -> Fmi2Status {
     unsafe {
-        call::<S>(c, "fmi2Terminate", &[StepComplete, StepFailed, Error], |inst| {
+        call::<S>(c, "fmi2Terminate", &[StepComplete, Error], |inst| {
             inst.state = Terminated;
             Ok(Fmi2Status::Ok)
         })
@@ -691,7 +684,7 @@ pub unsafe fn get_fmu_state<S: Slave>(c: Fmi2Component, state: *mut Fmi2FmuState
         call::<S>(
             c,
             "fmi2GetFMUstate",
-            &[Instantiated, InitializationMode, StepComplete, StepFailed, Terminated],
+            &[Instantiated, InitializationMode, StepComplete, Terminated],
             |inst| {
                 if state.is_null() {
                     return Err("FMUstate pointer is null".into());
@@ -979,7 +972,7 @@ pub unsafe fn get_boolean_status<S: Slave>(c: Fmi2Component, kind: c_int, value:
     unsafe {
         status_query::<S, Fmi2Boolean>(c, "fmi2GetBooleanStatus", value, |inst| {
             // a failed step cannot be continued: the master should terminate (or roll back)
-            (kind == FMI2_TERMINATED).then_some(matches!(inst.state, StepFailed | Error) as Fmi2Boolean)
+            (kind == FMI2_TERMINATED).then_some((inst.state == Error) as Fmi2Boolean)
         })
     }
 }

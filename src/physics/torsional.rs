@@ -212,39 +212,6 @@ pub struct TorsionalModel {
     pub backlash: bool,
     /// Some mesh has time-varying stiffness.
     pub stiffness_variation: bool,
-    /// The elements flattened for the linear fast path (see [`TorsionalModel::linear_forces`]).
-    flat: Flat,
-}
-
-/// Element coefficients in contiguous arrays: element e owns entries start[e]..start[e + 1].
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
-struct Flat {
-    start: Vec<usize>,
-    dof: Vec<usize>,
-    g: Vec<f64>,
-    ratio: Vec<f64>,
-    k: Vec<f64>,
-    c: Vec<f64>,
-}
-
-impl Flat {
-    fn new(elements: &[Element]) -> Self {
-        let mut f = Flat {
-            start: vec![0],
-            ..Default::default()
-        };
-        for e in elements {
-            for (&(d, g), &r) in e.coeffs.iter().zip(&e.ratios) {
-                f.dof.push(d);
-                f.g.push(g);
-                f.ratio.push(r);
-            }
-            f.start.push(f.dof.len());
-            f.k.push(e.stiffness);
-            f.c.push(e.damping);
-        }
-        f
-    }
 }
 
 struct FullBody {
@@ -641,9 +608,7 @@ impl TorsionalModel {
         }
         let backlash = elements.iter().any(|e| e.half_backlash > 0.0);
         let stiffness_variation = elements.iter().any(|e| e.variation.is_some());
-        let flat = Flat::new(&elements);
         Ok(Self {
-            flat,
             backlash,
             stiffness_variation,
             fidelity,
@@ -665,27 +630,6 @@ impl TorsionalModel {
     }
 
     /// True when some element is nonlinear (backlash) so a step needs Newton iterations.
-    /// Σ g (k δ + c·v_sign·δ̇) for a model without backlash or stiffness variation: the same sum
-    /// as the general element sweep, over contiguous arrays and without per-element branches.
-    pub fn linear_forces(&self, q: &[f64], v: &[f64], v_sign: f64, out: &mut [f64]) {
-        debug_assert!(!self.backlash && !self.stiffness_variation);
-        out.iter_mut().for_each(|x| *x = 0.0);
-        let f = &self.flat;
-        for e in 0..f.k.len() {
-            let range = f.start[e]..f.start[e + 1];
-            let (dofs, gs, rs) = (&f.dof[range.clone()], &f.g[range.clone()], &f.ratio[range]);
-            let (mut dq, mut dv) = (0.0, 0.0);
-            for ((&d, &g), &r) in dofs.iter().zip(gs).zip(rs) {
-                dq += g * (q[d] - r * q[0]);
-                dv += g * (v[d] - r * v[0]);
-            }
-            let force = f.k[e] * dq + v_sign * f.c[e] * dv;
-            for (&d, &g) in dofs.iter().zip(gs) {
-                out[d] += g * force;
-            }
-        }
-    }
-
     pub fn has_backlash(&self) -> bool {
         self.backlash
     }
@@ -694,47 +638,42 @@ impl TorsionalModel {
         self.stiffness_variation
     }
 
-    /// Stiffness matrix with every element in contact at its nominal (mean) stiffness.
-    pub fn stiffness_matrix(&self) -> nalgebra::DMatrix<f64> {
-        let n = self.dofs();
-        let mut k = nalgebra::DMatrix::<f64>::zeros(n, n);
-        for e in &self.elements {
+    /// Adds Σ_e w_e · g_e g_eᵀ to `matrix`, with the weight w_e = `weight(index, element)`: the one
+    /// assembly loop behind the stiffness, damping and iteration matrices.
+    pub fn assemble_into(&self, matrix: &mut nalgebra::DMatrix<f64>, weight: impl Fn(usize, &Element) -> f64) {
+        for (index, e) in self.elements.iter().enumerate() {
+            let w = weight(index, e);
+            if w == 0.0 {
+                continue;
+            }
             for &(i, gi) in &e.coeffs {
                 for &(j, gj) in &e.coeffs {
-                    k[(i, j)] += e.stiffness * gi * gj;
+                    matrix[(i, j)] += w * gi * gj;
                 }
             }
         }
-        k
+    }
+
+    fn assemble(&self, weight: impl Fn(usize, &Element) -> f64) -> nalgebra::DMatrix<f64> {
+        let mut m = nalgebra::DMatrix::zeros(self.dofs(), self.dofs());
+        self.assemble_into(&mut m, weight);
+        m
+    }
+
+    /// Stiffness matrix with every element in contact at its nominal (mean) stiffness.
+    pub fn stiffness_matrix(&self) -> nalgebra::DMatrix<f64> {
+        self.assemble(|_, e| e.stiffness)
     }
 
     /// Stiffness and damping matrices with every element in contact at nominal stiffness.
     pub fn stiffness_and_damping(&self) -> (nalgebra::DMatrix<f64>, nalgebra::DMatrix<f64>) {
-        let n = self.dofs();
-        let (mut k, mut c) = (nalgebra::DMatrix::zeros(n, n), nalgebra::DMatrix::zeros(n, n));
-        for e in &self.elements {
-            for &(i, gi) in &e.coeffs {
-                for &(j, gj) in &e.coeffs {
-                    k[(i, j)] += e.stiffness * gi * gj;
-                    c[(i, j)] += e.damping * gi * gj;
-                }
-            }
-        }
-        (k, c)
+        (self.stiffness_matrix(), self.assemble(|_, e| e.damping))
     }
 
     /// Largest undamped natural angular frequency with every mesh at its stiffest, rad/s.
     pub fn max_angular_frequency(&self) -> f64 {
         let n = self.dofs();
-        let mut k = nalgebra::DMatrix::<f64>::zeros(n, n);
-        for e in &self.elements {
-            let ke = e.variation.map_or(e.stiffness, |v| v.k_double.max(v.k_single));
-            for &(i, gi) in &e.coeffs {
-                for &(j, gj) in &e.coeffs {
-                    k[(i, j)] += ke * gi * gj;
-                }
-            }
-        }
+        let k = self.assemble(|_, e| e.variation.map_or(e.stiffness, |v| v.k_double.max(v.k_single)));
         let inv_sqrt: Vec<f64> = self.mass.iter().map(|m| 1.0 / m.sqrt()).collect();
         let a = nalgebra::DMatrix::from_fn(n, n, |i, j| k[(i, j)] * inv_sqrt[i] * inv_sqrt[j]);
         let eig = nalgebra::SymmetricEigen::new(a);

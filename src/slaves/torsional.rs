@@ -59,6 +59,16 @@ impl Inputs {
         std::array::from_fn(|i| self.values[i] + dt * self.derivatives[i][0] + 0.5 * dt * dt * self.derivatives[i][1])
     }
 
+    /// The loads `dt` seconds after the communication point; the brake command is clamped to [0, 1].
+    fn loads(&self, dt: f64, brake_torque_max: f64) -> Loads {
+        let u = self.at(dt);
+        Loads {
+            rotor_torque: u[0],
+            generator_torque: u[1],
+            brake_capacity: u[2].clamp(0.0, 1.0) * brake_torque_max,
+        }
+    }
+
     /// Moves the expansion point forward by `h` so the polynomial continues if nobody sets new values.
     fn advance(&mut self, h: f64) {
         self.values = self.at(h);
@@ -190,14 +200,6 @@ impl TorsionalSlave {
         self.state = None;
     }
 
-    fn loads(&self, inputs: [f64; 3], brake_torque_max: f64) -> Loads {
-        Loads {
-            rotor_torque: inputs[0],
-            generator_torque: inputs[1],
-            brake_capacity: inputs[2].clamp(0.0, 1.0) * brake_torque_max,
-        }
-    }
-
     fn element_output(built: &Built, st: &DynState, out: Option<crate::physics::torsional::ForceOutput>) -> f64 {
         let Some(o) = out else { return 0.0 };
         let e = &built.model.elements[o.element];
@@ -229,12 +231,7 @@ fn implicit_step(
     static_ratio: f64,
     depth: u32,
 ) -> SlaveResult<()> {
-    let u = inputs.at(span.1);
-    let loads = Loads {
-        rotor_torque: u[0],
-        generator_torque: u[1],
-        brake_capacity: u[2].clamp(0.0, 1.0) * built.brake_torque_max,
-    };
+    let loads = inputs.loads(span.1, built.brake_torque_max);
     match newmark.step(&built.model, st, span.1 - span.0, &loads, static_ratio) {
         Ok(()) => Ok(()),
         Err(solver::newmark::NewmarkError::NotSettled) if depth < MAX_SUBDIVISION => {
@@ -456,25 +453,21 @@ impl TorsionalSlave {
         }
         let brake_max = built.brake_torque_max;
         let inputs = self.inputs;
-        let start_loads = self.loads(inputs.at(0.0), brake_max);
+        let start_loads = inputs.loads(0.0, brake_max);
         let st = self.state.as_mut().unwrap();
         let was_locked = st.locked;
         solver::consistent_acceleration(&built.model, st, &start_loads, static_ratio, &mut self.scratch);
         let n = substeps as usize;
         for i in 0..n {
             let tau = if i + 1 == n { h } else { (i + 1) as f64 * hs };
-            let u = inputs.at(tau);
-            let loads = Loads {
-                rotor_torque: u[0],
-                generator_torque: u[1],
-                brake_capacity: u[2].clamp(0.0, 1.0) * brake_max,
-            };
             match built.integrator {
                 Integrator::Implicit => {
                     let t0 = if i == 0 { 0.0 } else { i as f64 * hs };
                     implicit_step(&mut self.newmark, built, st, &inputs, (t0, tau), static_ratio, 0)?;
                 }
-                Integrator::Rk4 => self.rk4.step(&built.model, st, hs, &loads, static_ratio),
+                Integrator::Rk4 => self
+                    .rk4
+                    .step(&built.model, st, hs, &inputs.loads(tau, brake_max), static_ratio),
             }
         }
         if st.q.iter().chain(&st.v).any(|x| !x.is_finite()) {

@@ -222,18 +222,14 @@ impl Newmark {
         }
         let n = model.dofs();
         let mut j = DMatrix::from_diagonal(&DVector::from_iterator(n, model.mass.iter().map(|m| 4.0 / (h * h) * m)));
-        for (i, e) in model.elements.iter().enumerate() {
+        model.assemble_into(&mut j, |i, e| {
             let touching = e.half_backlash == 0.0 || i >= 64 || contact & (1 << i) != 0;
-            if !touching {
-                continue;
+            if touching {
+                e.stiffness_at(q_stiff) + 2.0 / h * e.damping
+            } else {
+                0.0
             }
-            let k = e.stiffness_at(q_stiff) + 2.0 / h * e.damping;
-            for &(a, ga) in &e.coeffs {
-                for &(b, gb) in &e.coeffs {
-                    j[(a, b)] += k * ga * gb;
-                }
-            }
-        }
+        });
         let inv = j.try_inverse().ok_or(NewmarkError::Singular)?;
         let inverse: Vec<f64> = inv.as_slice().to_vec(); // nalgebra stores column-major
         let unit_brake: Vec<f64> = (0..n).map(|i| inv[(i, model.generator)]).collect();
@@ -368,8 +364,8 @@ impl Newmark {
         let (mut contact, double) = patterns(model, &st.q, &st.q);
         let hold = if st.locked { static_ratio } else { 1.0 } * loads.brake_capacity;
         // the step size of the factorisation in use (equal to h within SAME_STEP)
-        let first = self.factor(model, h, contact, double, &st.q)?;
-        let h = self.cache[first].h;
+        let mut idx = self.factor(model, h, contact, double, &st.q)?;
+        let h = self.cache[idx].h;
         let (c1, c2) = (2.0 / h, 4.0 / (h * h));
         let mut torque = 0.0;
         let mut stuck = false;
@@ -378,7 +374,6 @@ impl Newmark {
                 return Err(NewmarkError::NotSettled);
             }
             self.iterations += 1;
-            let idx = self.factor(model, h, contact, double, &st.q)?;
             let Newmark { cache, work: w, .. } = self;
             let factor = &cache[idx];
             // r = −R₀(Δ) = f − F_int(q + Δ, c1·Δ − v) − M a(Δ), a(Δ) = c2·Δ − 2c1·v − a
@@ -430,6 +425,7 @@ impl Newmark {
             // Δ keeps the brake term: the next Newton pass recovers the brake-free solution for the
             // new contact pattern and adds the brake torque again.
             contact = now;
+            idx = self.factor(model, h, contact, double, &st.q)?;
         }
         let delta = &mut self.work.delta;
         if stuck {
