@@ -234,8 +234,7 @@ fn work_precision(base: &Scenario, reference: &[f64], rk4_limit: f64, path: &std
 /// Rainflow counting plus DELs (m = 3, 6, 9 at 1 Hz over a 1 s sample spacing) of a long series.
 /// Prints one JSON line: seconds (best of 3, counting and DELs only), cycle count and checksums.
 fn rainflow(args: &BenchArgs) -> anyhow::Result<()> {
-    // the DEL formula of analysis::damage, accumulated while counting to keep one pass
-    use crate::analysis::rainflow;
+    use crate::analysis::{damage::DamageSums, rainflow};
     let x: Vec<f64> = match &args.input {
         Some(path) => std::fs::read(path)?
             .chunks_exact(8)
@@ -257,31 +256,25 @@ fn rainflow(args: &BenchArgs) -> anyhow::Result<()> {
         }
     };
     let mut best = f64::MAX;
-    let mut result = (0usize, 0.0, 0.0, [0.0; 3]);
+    let mut result = (0usize, 0.0, 0.0, Vec::new());
     for _ in 0..3 {
         let started = std::time::Instant::now();
         let mut n = 0usize;
         let (mut total, mut count) = (0.0, 0.0);
-        let mut sums = [0.0f64; 3];
+        // DELs accumulated while counting: one pass, no cycle list
+        let mut sums = DamageSums::new(&[3.0, 6.0, 9.0]);
         let mut counter = rainflow::Counter::new();
         let mut add = |c: rainflow::Cycle| {
             n += 1;
             total += c.count * c.range;
             count += c.count;
-            let r3 = c.range * c.range * c.range;
-            sums[0] += c.count * r3;
-            sums[1] += c.count * r3 * r3;
-            sums[2] += c.count * r3 * r3 * r3;
+            sums.add(&c);
         };
         for &v in &x {
             counter.push(v, &mut add);
         }
         counter.finish(&mut add);
-        let n_eq = (x.len().max(2) - 1) as f64;
-        let dels = [3.0, 6.0, 9.0].map(|m: f64| {
-            let i = (m / 3.0) as usize - 1;
-            (sums[i] / n_eq).powf(1.0 / m)
-        });
+        let dels = sums.dels((x.len().max(2) - 1) as f64);
         best = best.min(started.elapsed().as_secs_f64());
         result = (n, total, count, dels);
     }

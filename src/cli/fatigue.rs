@@ -76,13 +76,15 @@ pub fn run_del(args: &DelArgs) -> anyhow::Result<()> {
     if let Some(m) = args.m.iter().find(|m| !(m.is_finite() && **m > 0.0)) {
         anyhow::bail!("Wöhler slope --m {m} must be a positive number");
     }
-    let cycles = rainflow::cycles(&x);
+    // every slope in the same streaming pass
+    let mut sums = damage::DamageSums::new(&args.m);
+    let mut counter = rainflow::Counter::new();
+    for &v in &x {
+        counter.push(v, &mut |c| sums.add(&c));
+    }
+    counter.finish(&mut |c| sums.add(&c));
     let n_eq = args.feq * duration;
-    let dels: Vec<(String, f64)> = args
-        .m
-        .iter()
-        .map(|&m| (fmt_m(m), damage::damage_equivalent_load(&cycles, m, n_eq)))
-        .collect();
+    let dels: Vec<(String, f64)> = args.m.iter().map(|&m| fmt_m(m)).zip(sums.dels(n_eq)).collect();
     if args.json {
         let map: serde_json::Map<String, serde_json::Value> = dels.into_iter().map(|(k, v)| (k, v.into())).collect();
         println!("{}", serde_json::json!({ "del": map }));
