@@ -4,6 +4,7 @@ pub mod bench;
 pub mod fatigue;
 pub mod modes;
 pub mod plot;
+pub mod run;
 pub mod step;
 
 use clap::{Parser, Subcommand};
@@ -18,7 +19,8 @@ use clap::{Parser, Subcommand};
         windrive pack                                   build and pack every FMU into target/fmu/\n  \
         windrive modes --preset D --fidelity 2 --generator connected\n  \
         windrive step-response --preset D               rated-torque step through the FMU, modes beside it\n  \
-        windrive bench torsional                        speed and accuracy of the FMU, with baselines"
+        windrive bench torsional                        speed and accuracy of the FMU, with baselines\n  \
+        windrive run scenes/d-step --algorithm jacobi   a scene through the co-simulation master"
 )]
 pub struct Cli {
     #[command(subcommand)]
@@ -46,6 +48,15 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Rainflow cycles (ASTM E1049-85) of one CSV channel.
     Rainflow(fatigue::RainflowArgs),
+    /// Runs an SSP scene (folder, .ssd or .ssp) through the co-simulation master and writes a CSV.
+    ///
+    /// Loads every component's FMU (ours or another tool's), checks the system (names, types,
+    /// unconnected inputs, algebraic loops), applies parameter bindings, propagates initial values,
+    /// then steps with the chosen algorithm. If an FMU fails, every row up to the last good step is
+    /// kept and the FMU, time and status are named.
+    Run(Box<run::RunArgs>),
+    /// Packs a scene folder into an .ssp archive, with our FMUs freshly built into its resources/.
+    PackScene(run::PackSceneArgs),
     /// Damage-equivalent loads of one CSV channel: DEL = (Σ n_i S_i^m / N_eq)^(1/m), N_eq = feq × duration.
     Del(fatigue::DelArgs),
 }

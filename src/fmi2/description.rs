@@ -16,6 +16,30 @@ pub struct ModelDescription {
     pub default_experiment: Option<DefaultExperiment>,
     #[serde(rename = "ModelVariables")]
     pub model_variables: ModelVariables,
+    #[serde(rename = "ModelStructure", default)]
+    pub model_structure: ModelStructure,
+}
+
+#[derive(Debug, Clone, Deserialize, Default)]
+pub struct ModelStructure {
+    #[serde(rename = "Outputs", default)]
+    pub outputs: UnknownList,
+}
+
+#[derive(Debug, Clone, Deserialize, Default)]
+pub struct UnknownList {
+    #[serde(rename = "Unknown", default)]
+    pub unknowns: Vec<Unknown>,
+}
+
+/// One row of ModelStructure: a variable (1-based index into ModelVariables) and what it depends on.
+#[derive(Debug, Clone, Deserialize)]
+pub struct Unknown {
+    #[serde(rename = "@index")]
+    pub index: usize,
+    /// Space-separated 1-based indices; absent means "may depend on every input" (FMI 2.0 §2.2.8).
+    #[serde(rename = "@dependencies")]
+    pub dependencies: Option<String>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -30,6 +54,8 @@ pub struct CoSimulation {
     pub can_get_and_set_fmu_state: bool,
     #[serde(rename = "@canSerializeFMUstate", default)]
     pub can_serialize_fmu_state: bool,
+    #[serde(rename = "@maxOutputDerivativeOrder", default)]
+    pub max_output_derivative_order: u32,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -70,6 +96,8 @@ pub struct ScalarVariable {
     pub initial: Option<String>,
     #[serde(rename = "@description")]
     pub description: Option<String>,
+    #[serde(rename = "@declaredType")]
+    pub declared_type: Option<String>,
     #[serde(rename = "Real")]
     pub real: Option<TypeAttributes>,
     #[serde(rename = "Integer")]
@@ -121,5 +149,27 @@ impl ModelDescription {
 
     pub fn variable(&self, name: &str) -> Option<&ScalarVariable> {
         self.model_variables.variables.iter().find(|v| v.name == name)
+    }
+
+    /// For each output (by name): the inputs it depends on directly, and whether that list was
+    /// declared (`Some`) or left open, which the standard reads as "every input" (`None`).
+    pub fn output_dependencies(&self) -> Vec<(&str, Option<Vec<&str>>)> {
+        let vars = &self.model_variables.variables;
+        let name_of = |i: usize| vars.get(i.wrapping_sub(1)).map(|v| v.name.as_str());
+        self.model_structure
+            .outputs
+            .unknowns
+            .iter()
+            .filter_map(|u| {
+                let out = name_of(u.index)?;
+                let deps = u.dependencies.as_ref().map(|d| {
+                    d.split_whitespace()
+                        .filter_map(|t| t.parse().ok().and_then(name_of))
+                        .filter(|n| self.variable(n).is_some_and(|v| v.causality == "input"))
+                        .collect()
+                });
+                Some((out, deps))
+            })
+            .collect()
     }
 }

@@ -218,7 +218,17 @@ impl Fmu {
         // SAFETY: loading runs the library's initialisers; an FMU binary is trusted code by design.
         let lib = unsafe { Library::new(path) }.map_err(|e| ImportError::Library {
             path: path.to_path_buf(),
-            message: e.to_string(),
+            // the dlerror text (missing library, undefined symbol) is the error's source
+            message: {
+                let why = std::error::Error::source(&e).map(|w| w.to_string()).unwrap_or_default();
+                let hint = if why.contains("undefined symbol: _Py") || why.contains("undefined symbol: Py") {
+                    " (an FMU made by PythonFMU expects the Python runtime in the host process: run with \
+                     LD_PRELOAD=<path>/libpython3.X.so and PYTHONPATH=<site-packages holding pythonfmu>)"
+                } else {
+                    ""
+                };
+                format!("{e}: {why}{hint}")
+            },
         })?;
         // SAFETY: the symbols of an FMI 2.0 binary have the standard signatures.
         unsafe { Api::resolve(lib, path) }
@@ -258,6 +268,9 @@ impl Fmu {
         )
     }
 }
+
+/// Messages kept per instance until drained; later ones are dropped (echo still shows them).
+const MAX_KEPT_LOG_RECORDS: usize = 10_000;
 
 /// One logged message: (status, category, text).
 pub type LogRecord = (Fmi2Status, String, String);
@@ -309,7 +322,10 @@ pub unsafe extern "C" fn windrive_log_sink(
             eprintln!("[{instance}] {} {category}: {message}", status.name());
         }
         if let Ok(mut r) = target.records.lock() {
-            r.push((status, category, message));
+            // a chatty FMU must not grow memory without bound over a long run
+            if r.len() < MAX_KEPT_LOG_RECORDS {
+                r.push((status, category, message));
+            }
         }
     });
 }
@@ -318,6 +334,9 @@ pub unsafe extern "C" fn windrive_log_sink(
 /// [`Instance::free_state`] on the instance that made it.
 #[derive(Debug)]
 pub struct SavedState(Fmi2FmuState);
+
+// SAFETY: a saved state is only handed back to the instance that made it, which is Send.
+unsafe impl Send for SavedState {}
 
 /// A live FMU instance. Freed on drop (terminated first when it was initialised).
 pub struct Instance {
@@ -390,9 +409,11 @@ impl Instance {
             .unwrap_or_default()
     }
 
+    /// Ok and Warning are results (the warning's text stays in the log for the caller to drain);
+    /// Discard, Error, Fatal and Pending are errors carrying the FMU's log.
     fn check(&self, function: &'static str, status: Fmi2Status) -> Result<Fmi2Status, ImportError> {
         match status {
-            Fmi2Status::Ok => Ok(status),
+            Fmi2Status::Ok | Fmi2Status::Warning => Ok(status),
             _ => Err(ImportError::Call {
                 instance: self.name.clone(),
                 function,
@@ -449,6 +470,30 @@ impl Instance {
         let s = unsafe { (self.api.get_real)(self.c, vr.as_ptr(), vr.len(), values.as_mut_ptr()) };
         self.check("fmi2GetReal", s).map(|_| ())
     }
+    pub fn set_integer(&mut self, vr: &[u32], values: &[i32]) -> Result<(), ImportError> {
+        assert_eq!(vr.len(), values.len());
+        let s = unsafe { (self.api.set_integer)(self.c, vr.as_ptr(), vr.len(), values.as_ptr()) };
+        self.check("fmi2SetInteger", s).map(|_| ())
+    }
+    pub fn set_boolean(&mut self, vr: &[u32], values: &[bool]) -> Result<(), ImportError> {
+        assert_eq!(vr.len(), values.len());
+        let raw: Vec<Fmi2Boolean> = values.iter().map(|&b| b as Fmi2Boolean).collect();
+        let s = unsafe { (self.api.set_boolean)(self.c, vr.as_ptr(), vr.len(), raw.as_ptr()) };
+        self.check("fmi2SetBoolean", s).map(|_| ())
+    }
+    /// Sets the `order`-th time derivative of real inputs for the next fmi2DoStep (the FMU must
+    /// declare canInterpolateInputs).
+    pub fn set_real_input_derivatives(&mut self, vr: &[u32], order: i32, values: &[f64]) -> Result<(), ImportError> {
+        assert_eq!(vr.len(), values.len());
+        let orders = vec![order; vr.len()];
+        let s = unsafe {
+            (self.api.set_real_input_derivatives)(self.c, vr.as_ptr(), vr.len(), orders.as_ptr(), values.as_ptr())
+        };
+        self.check("fmi2SetRealInputDerivatives", s).map(|_| ())
+    }
+    pub fn name(&self) -> &str {
+        &self.name
+    }
     pub fn get_integer(&mut self, vr: &[u32], values: &mut [i32]) -> Result<(), ImportError> {
         let s = unsafe { (self.api.get_integer)(self.c, vr.as_ptr(), vr.len(), values.as_mut_ptr()) };
         self.check("fmi2GetInteger", s).map(|_| ())
@@ -475,6 +520,11 @@ impl Instance {
         let mut st: Fmi2FmuState = std::ptr::null_mut();
         let s = unsafe { (self.api.get_fmu_state)(self.c, &mut st) };
         self.check("fmi2GetFMUstate", s).map(|_| SavedState(st))
+    }
+    /// Saves the FMU state into an existing snapshot (FMI 2.0: a non-null state is overwritten).
+    pub fn update_state(&mut self, st: &mut SavedState) -> Result<(), ImportError> {
+        let s = unsafe { (self.api.get_fmu_state)(self.c, &mut st.0) };
+        self.check("fmi2GetFMUstate", s).map(|_| ())
     }
     pub fn set_state(&mut self, st: &SavedState) -> Result<(), ImportError> {
         let s = unsafe { (self.api.set_fmu_state)(self.c, st.0) };

@@ -1,0 +1,270 @@
+//! `windrive run` and `windrive pack-scene`: SSP scenes through the co-simulation master.
+
+use crate::cosim::{Algorithm, Master, Options, Record, Scene, System};
+use anyhow::{Context, anyhow, bail};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+#[derive(clap::Args)]
+pub struct RunArgs {
+    /// Scene: a folder with SystemStructure.ssd, a .ssd file or a .ssp archive
+    pub scene: PathBuf,
+    /// Stop time, s [default: the scene's DefaultExperiment stopTime]
+    #[arg(long)]
+    pub stop_time: Option<f64>,
+    /// Macro (communication) step, s [default: the scene's osp:FixedStepAlgorithm baseStepSize,
+    /// else the smallest DefaultExperiment stepSize of its FMUs]
+    #[arg(long)]
+    pub step: Option<f64>,
+    /// jacobi: all FMUs step from the same inputs (threads allowed); gauss-seidel: in scene order,
+    /// each FMU sees its predecessors' new outputs; iterative: Gauss–Seidel sweeps repeated from a
+    /// saved FMU state until the coupled outputs settle; adaptive: the macro step follows the
+    /// coupling error, rejected steps are rolled back
+    #[arg(long, default_value = "gauss-seidel", value_parser = parse_algorithm)]
+    pub algorithm: Algorithm,
+    /// Input extrapolation order: 0 hold, 1 linear, 2 quadratic (sent as input derivatives to FMUs
+    /// that can interpolate inputs, as the mean over the step to the others)
+    #[arg(long, default_value_t = 0)]
+    pub order: usize,
+    /// Relative coupling tolerance (iterative, adaptive)
+    #[arg(long, default_value_t = 1e-6)]
+    pub tolerance: f64,
+    /// Absolute coupling tolerance (iterative, adaptive)
+    #[arg(long, default_value_t = 1e-9)]
+    pub abs_tolerance: f64,
+    /// Most sweeps per macro step (iterative)
+    #[arg(long, default_value_t = 10)]
+    pub max_iterations: usize,
+    /// Smallest and largest macro step (adaptive) [default: step/1000 and 100×step]
+    #[arg(long)]
+    pub min_step: Option<f64>,
+    #[arg(long)]
+    pub max_step: Option<f64>,
+    /// Worker threads for the jacobi algorithm
+    #[arg(long, default_value_t = 1)]
+    pub threads: usize,
+    /// Results CSV [default: results/<scene name>.csv]
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Record only these variables (component.variable, comma-separated) [default: every output]
+    #[arg(long, value_delimiter = ',')]
+    pub record: Vec<String>,
+    /// Keep every N-th communication point (the last is always kept)
+    #[arg(long, default_value_t = 1)]
+    pub every: u64,
+    /// Set a parameter, e.g. --param torsional.preset=C (repeatable; after the scene's bindings)
+    #[arg(long = "param")]
+    pub params: Vec<String>,
+    /// No progress bar and no summary
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+fn parse_algorithm(s: &str) -> Result<Algorithm, String> {
+    Algorithm::parse(s).ok_or_else(|| format!("unknown algorithm {s:?} (one of {})", Algorithm::NAMES))
+}
+
+#[derive(clap::Args)]
+pub struct PackSceneArgs {
+    /// Scene folder with SystemStructure.ssd
+    pub scene: PathBuf,
+    /// Output archive [default: target/ssp/<folder name>.ssp]
+    #[arg(long, short)]
+    pub out: Option<PathBuf>,
+}
+
+/// Our own FMUs a scene refers to as resources/<name>.fmu are packed from the workspace when the
+/// file is missing (or always, with `refresh`), so a scene folder runs on a fresh clone.
+fn provide_own_fmus(scene: &Scene, refresh: bool) -> anyhow::Result<()> {
+    let Ok(root) = crate::pack::workspace_root() else { return Ok(()) };
+    let ours = crate::pack::fmu_names(&root);
+    for c in &scene.components {
+        let Some(stem) = c.path.file_stem().map(|s| s.to_string_lossy().into_owned()) else { continue };
+        if (refresh || !c.path.exists()) && ours.contains(&stem) && c.path.extension().is_some_and(|e| e == "fmu") {
+            let built = crate::pack::pack(&root, &stem)?;
+            if let Some(dir) = c.path.parent() {
+                std::fs::create_dir_all(dir).with_context(|| dir.display().to_string())?;
+            }
+            std::fs::copy(&built, &c.path).with_context(|| format!("copying {} to {}", built.display(), c.path.display()))?;
+        }
+    }
+    Ok(())
+}
+
+fn parse_params(params: &[String]) -> anyhow::Result<Vec<(String, String, String)>> {
+    params
+        .iter()
+        .map(|p| {
+            let (name, value) = p.split_once('=').ok_or_else(|| anyhow!("--param {p}: expected component.variable=value"))?;
+            let (comp, var) = name.split_once('.').ok_or_else(|| anyhow!("--param {p}: expected component.variable=value"))?;
+            Ok((comp.to_string(), var.to_string(), value.to_string()))
+        })
+        .collect()
+}
+
+pub fn run(args: &RunArgs) -> anyhow::Result<()> {
+    let scene = Scene::open(&args.scene)?;
+    if args.scene.is_dir() {
+        provide_own_fmus(&scene, false)?;
+    }
+    let record = if args.record.is_empty() { Record::Outputs } else { Record::Only(args.record.clone()) };
+    let mut system = System::build(&scene, &parse_params(&args.params)?, &record)?;
+    for w in &system.warnings {
+        eprintln!("warning: {w}");
+    }
+    let fmu_default = |f: fn(&crate::fmi2::description::DefaultExperiment) -> Option<f64>| {
+        system
+            .units
+            .iter()
+            .filter_map(|u| u.fmu.description.default_experiment.as_ref().and_then(f))
+            .fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m| m.min(x))))
+    };
+    let step = args
+        .step
+        .or(scene.experiment.step_size)
+        .or_else(|| fmu_default(|d| d.step_size))
+        .ok_or_else(|| anyhow!("no step size: give --step (the scene and its FMUs declare none)"))?;
+    let stop = args
+        .stop_time
+        .or(scene.experiment.stop_time)
+        .or_else(|| fmu_default(|d| d.stop_time))
+        .ok_or_else(|| anyhow!("no stop time: give --stop-time (the scene and its FMUs declare none)"))?;
+    let mut opts = Options::new(args.algorithm, step, stop);
+    opts.order = args.order;
+    opts.rel_tol = args.tolerance;
+    opts.abs_tol = args.abs_tolerance;
+    opts.max_iterations = args.max_iterations.max(1);
+    opts.min_step = args.min_step.unwrap_or(step * 1e-3);
+    opts.max_step = args.max_step.unwrap_or(step * 100.0);
+    opts.threads = args.threads.max(1);
+
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("results").join(format!("{}.csv", scene.name)));
+    system.initialize(Some(stop))?;
+    let mut recorder = crate::cosim::recorder::Recorder::create(&out, &system, args.every)?;
+    let progress = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
+        let bar = indicatif::ProgressBar::new(1000);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {percent:>3}%  t = {msg}  eta {eta}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
+    });
+    let t0 = system.start_time;
+    let wall = Instant::now();
+    let mut master = Master::new(&mut system, opts.clone())?;
+    let mut last_tick = 0u64;
+    let result = master.run(|t, sys| {
+        recorder.observe(t, sys)?;
+        if let Some(bar) = &progress {
+            let tick = ((t - t0) / (stop - t0) * 1000.0) as u64;
+            if tick != last_tick {
+                last_tick = tick;
+                bar.set_position(tick);
+                bar.set_message(format!("{t:.3} s"));
+            }
+        }
+        Ok(())
+    });
+    let stats = master.stats.clone();
+    let final_time = stats.final_time;
+    let flushed = recorder.finish(final_time, master.system());
+    if let Some(bar) = progress {
+        bar.finish_and_clear();
+    }
+    let elapsed = wall.elapsed().as_secs_f64();
+    system.terminate();
+    if !args.quiet || result.is_err() {
+        let simulated = final_time - t0;
+        eprintln!("scene       {} ({} components)", scene.name, system.units.len());
+        eprintln!(
+            "algorithm   {}, extrapolation order {}, step {} s{}",
+            opts.algorithm.name(),
+            opts.order,
+            step,
+            if opts.threads > 1 { format!(", {} threads", opts.threads) } else { String::new() }
+        );
+        eprintln!(
+            "simulated   {simulated} s of {} s in {elapsed:.3} s wall ({:.1}× real time)",
+            stop - t0,
+            simulated / elapsed.max(1e-12)
+        );
+        eprintln!(
+            "steps       {} accepted, {} rejected, {} sweeps{}{}",
+            stats.steps,
+            stats.rejected,
+            stats.sweeps,
+            if stats.unconverged > 0 { format!(", {} not converged in {} iterations", stats.unconverged, opts.max_iterations) } else { String::new() },
+            if opts.algorithm == Algorithm::Adaptive && stats.steps > 0 {
+                format!(", step {:.3e}–{:.3e} s", stats.min_step_taken, stats.max_step_taken)
+            } else {
+                String::new()
+            }
+        );
+        eprintln!(
+            "results     {} ({} rows × {} columns)",
+            out.display(),
+            recorder.rows,
+            system.recorded.len() + 1
+        );
+        if stats.stopped_early {
+            eprintln!("warning: stopped at t = {final_time} s: the stop time is not a whole number of steps and an FMU cannot shorten its last step");
+        }
+    }
+    flushed.with_context(|| format!("writing {}", out.display()))?;
+    if let Err(e) = result {
+        bail!("{e}\n(results up to t = {final_time} s are in {})", out.display());
+    }
+    Ok(())
+}
+
+pub fn pack_scene(args: &PackSceneArgs) -> anyhow::Result<()> {
+    use std::io::Write;
+    let scene = Scene::open(&args.scene)?;
+    if !args.scene.is_dir() {
+        bail!("{}: pack-scene takes a scene folder", args.scene.display());
+    }
+    provide_own_fmus(&scene, true)?;
+    let name = args
+        .scene
+        .canonicalize()?
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| scene.name.clone());
+    let out = match &args.out {
+        Some(o) => o.clone(),
+        None => crate::pack::target_dir(&crate::pack::workspace_root()?).join("ssp").join(format!("{name}.ssp")),
+    };
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)?;
+    }
+    let mut files = Vec::new();
+    collect_files(&args.scene, &args.scene, &mut files)?;
+    files.sort();
+    let file = std::fs::File::create(&out).with_context(|| out.display().to_string())?;
+    let mut zip = zip::ZipWriter::new(file);
+    let opts = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
+    for (rel, path) in files {
+        zip.start_file(rel, opts)?;
+        zip.write_all(&std::fs::read(&path).with_context(|| path.display().to_string())?)?;
+    }
+    zip.finish()?;
+    println!("packed {}", out.display());
+    Ok(())
+}
+
+fn collect_files(root: &Path, dir: &Path, out: &mut Vec<(String, PathBuf)>) -> anyhow::Result<()> {
+    for entry in std::fs::read_dir(dir).with_context(|| dir.display().to_string())? {
+        let path = entry?.path();
+        if path.is_dir() {
+            collect_files(root, &path, out)?;
+        } else {
+            let rel = path.strip_prefix(root)?.to_string_lossy().replace('\\', "/");
+            out.push((rel, path));
+        }
+    }
+    Ok(())
+}

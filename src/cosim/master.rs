@@ -1,0 +1,498 @@
+//! The co-simulation algorithms: fixed-step Jacobi and Gauss–Seidel with input extrapolation of
+//! order 0–2, iterative coupling with rollback, and an adaptive macro step with rollback.
+//!
+//! Every algorithm is built from one *sweep*: give each unit its inputs over [t, t+h] as a
+//! polynomial a0 + a1·τ + a2·τ²/2, then step it. A source's polynomial is
+//! - extrapolated from its history (order 0, 1, 2) while its value at t+h is unknown,
+//! - interpolated between t and t+h once it is known (a Gauss–Seidel predecessor, or the previous
+//!   iterate of an iterative step); order 0 then holds the end value.
+//!
+//! FMUs that declare canInterpolateInputs receive a0 and the derivatives through
+//! fmi2SetRealInputDerivatives; the others receive the polynomial's mean over the step, which
+//! keeps the exchanged impulse (∫u dt) of the polynomial.
+
+use super::system::{DiscreteInputs, System, Unit};
+use crate::fmi2::import::ImportError;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Algorithm {
+    Jacobi,
+    GaussSeidel,
+    Iterative,
+    Adaptive,
+}
+
+impl Algorithm {
+    pub const NAMES: &'static str = "jacobi, gauss-seidel, iterative, adaptive";
+
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "jacobi" => Some(Self::Jacobi),
+            "gauss-seidel" | "gs" => Some(Self::GaussSeidel),
+            "iterative" => Some(Self::Iterative),
+            "adaptive" => Some(Self::Adaptive),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Jacobi => "jacobi",
+            Self::GaussSeidel => "gauss-seidel",
+            Self::Iterative => "iterative",
+            Self::Adaptive => "adaptive",
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct Options {
+    pub algorithm: Algorithm,
+    /// Macro step (the initial one for the adaptive algorithm), s.
+    pub step: f64,
+    pub stop_time: f64,
+    /// Order of the input polynomial: 0 hold, 1 linear, 2 quadratic.
+    pub order: usize,
+    /// Coupling tolerance of the iterative and adaptive algorithms: |Δy| ≤ abs + rel·|y|.
+    pub rel_tol: f64,
+    pub abs_tol: f64,
+    pub max_iterations: usize,
+    pub min_step: f64,
+    pub max_step: f64,
+    /// Worker threads for the Jacobi sweep (1 = on the calling thread).
+    pub threads: usize,
+}
+
+impl Options {
+    pub fn new(algorithm: Algorithm, step: f64, stop_time: f64) -> Self {
+        Self {
+            algorithm,
+            step,
+            stop_time,
+            order: 0,
+            rel_tol: 1e-6,
+            abs_tol: 1e-9,
+            max_iterations: 10,
+            min_step: step * 1e-3,
+            max_step: step * 100.0,
+            threads: 1,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Default)]
+pub struct Stats {
+    pub steps: u64,
+    pub rejected: u64,
+    /// Sweeps of all units (one per step for the fixed-step algorithms).
+    pub sweeps: u64,
+    /// Iterative steps that hit the iteration cap before the tolerance.
+    pub unconverged: u64,
+    pub final_time: f64,
+    pub min_step_taken: f64,
+    pub max_step_taken: f64,
+    /// Set when the stop time is not a whole number of steps and an FMU cannot shorten its last step.
+    pub stopped_early: bool,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum MasterError {
+    #[error("{component} failed at t = {time} s: {error}")]
+    Step {
+        component: String,
+        time: f64,
+        error: ImportError,
+    },
+    #[error("{component}.{variable} = {value} at t = {time} s (not finite)")]
+    NonFinite {
+        component: String,
+        variable: String,
+        time: f64,
+        value: f64,
+    },
+    #[error("{0}")]
+    Unsupported(String),
+    #[error("writing results: {0}")]
+    Record(#[from] std::io::Error),
+}
+
+/// Everything a master keeps between steps, besides the units' own current values.
+pub struct Master<'s> {
+    sys: &'s mut System,
+    opts: Options,
+    /// Values at the start of the current step, per unit.
+    start: Vec<Vec<f64>>,
+    /// Two earlier communication points (newest first) for extrapolation.
+    hist_t: [f64; 2],
+    hist: [Vec<Vec<f64>>; 2],
+    hist_len: usize,
+    /// Coupled sources (unit, index), where the iterative and adaptive tolerances apply.
+    coupled: Vec<(usize, usize)>,
+    previous_iterate: Vec<f64>,
+    known: Vec<bool>,
+    a: Vec<[f64; 3]>,
+    pool: Option<rayon::ThreadPool>,
+    pub stats: Stats,
+}
+
+fn step_unit(unit: &mut Unit, t: f64, h: f64) -> Result<(), MasterError> {
+    let fail = |error| MasterError::Step {
+        component: unit.name.clone(),
+        time: t,
+        error,
+    };
+    unit.instance.do_step(t, h).map_err(fail)?;
+    unit.fetch().map_err(|error| MasterError::Step {
+        component: unit.name.clone(),
+        time: t + h,
+        error,
+    })?;
+    if let Some(i) = unit.values.iter().position(|v| !v.is_finite()) {
+        return Err(MasterError::NonFinite {
+            component: unit.name.clone(),
+            variable: unit.fetch_names[i].clone(),
+            time: t + h,
+            value: unit.values[i],
+        });
+    }
+    Ok(())
+}
+
+impl<'s> Master<'s> {
+    pub fn new(sys: &'s mut System, opts: Options) -> Result<Self, MasterError> {
+        if !(opts.step.is_finite() && opts.step > 0.0) {
+            return Err(MasterError::Unsupported(format!("step size {} must be positive", opts.step)));
+        }
+        if !(opts.stop_time.is_finite() && opts.stop_time > sys.start_time) {
+            return Err(MasterError::Unsupported(format!(
+                "stop time {} must be after the start time {}",
+                opts.stop_time, sys.start_time
+            )));
+        }
+        if opts.order > 2 {
+            return Err(MasterError::Unsupported(format!("extrapolation order {} (0, 1 or 2)", opts.order)));
+        }
+        let rollback = matches!(opts.algorithm, Algorithm::Iterative | Algorithm::Adaptive);
+        for u in &sys.units {
+            if rollback && !u.can_get_set_state {
+                return Err(MasterError::Unsupported(format!(
+                    "the {} algorithm rolls steps back, but {} ({}) declares canGetAndSetFMUstate=false; use jacobi or gauss-seidel",
+                    opts.algorithm.name(),
+                    u.name,
+                    u.fmu.description.model_name
+                )));
+            }
+            if opts.algorithm == Algorithm::Adaptive && !u.can_vary_step {
+                return Err(MasterError::Unsupported(format!(
+                    "the adaptive algorithm changes the step, but {} declares canHandleVariableCommunicationStepSize=false",
+                    u.name
+                )));
+            }
+        }
+        let mut coupled: Vec<(usize, usize)> = sys
+            .units
+            .iter()
+            .flat_map(|u| u.real_in.links.iter().map(|l| (l.src_unit, l.src)))
+            .collect();
+        coupled.sort_unstable();
+        coupled.dedup();
+        let start: Vec<Vec<f64>> = sys.units.iter().map(|u| u.values.clone()).collect();
+        let pool = if opts.threads > 1 && opts.algorithm == Algorithm::Jacobi {
+            Some(
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(opts.threads)
+                    .build()
+                    .map_err(|e| MasterError::Unsupported(format!("cannot start {} threads: {e}", opts.threads)))?,
+            )
+        } else {
+            None
+        };
+        let n = sys.units.len();
+        let stats = Stats {
+            final_time: sys.start_time,
+            min_step_taken: f64::INFINITY,
+            ..Stats::default()
+        };
+        Ok(Self {
+            sys,
+            hist: [start.clone(), start.clone()],
+            start,
+            hist_t: [0.0; 2],
+            hist_len: 0,
+            previous_iterate: vec![0.0; coupled.len()],
+            coupled,
+            known: vec![false; n],
+            a: Vec::new(),
+            pool,
+            opts,
+            stats,
+        })
+    }
+
+    pub fn system(&self) -> &System {
+        self.sys
+    }
+
+    /// Runs from the start to the stop time, calling `observe(time, system)` after initialization
+    /// and after every accepted step. On an error, everything observed so far stands.
+    pub fn run(&mut self, mut observe: impl FnMut(f64, &System) -> std::io::Result<()>) -> Result<(), MasterError> {
+        let t0 = self.sys.start_time;
+        let stop = self.opts.stop_time;
+        observe(t0, self.sys)?;
+        let can_shorten = self.sys.units.iter().all(|u| u.can_vary_step);
+        let mut t = t0;
+        let mut h = self.opts.step;
+        let mut k: u64 = 0;
+        // a step shorter than this fraction of h at the end is rounding, not a step
+        let eps = 1e-9 * self.opts.step;
+        while stop - t > eps {
+            let taken = match self.opts.algorithm {
+                Algorithm::Jacobi | Algorithm::GaussSeidel => {
+                    // t_k = t0 + k·h: no accumulated round-off over 10⁶ steps
+                    let mut h_k = self.opts.step;
+                    let next = t0 + (k + 1) as f64 * self.opts.step;
+                    if next > stop + eps {
+                        if !can_shorten {
+                            self.stats.stopped_early = true;
+                            break;
+                        }
+                        h_k = stop - t;
+                    }
+                    self.sweep(t, h_k, self.opts.algorithm == Algorithm::GaussSeidel)?;
+                    h_k
+                }
+                Algorithm::Iterative => {
+                    let h_k = self.opts.step.min(stop - t);
+                    self.iterate(t, h_k)?;
+                    h_k
+                }
+                Algorithm::Adaptive => {
+                    let (taken, next) = self.adaptive(t, h.min(stop - t))?;
+                    h = next;
+                    taken
+                }
+            };
+            k += 1;
+            t = if matches!(self.opts.algorithm, Algorithm::Jacobi | Algorithm::GaussSeidel) && taken == self.opts.step {
+                t0 + k as f64 * self.opts.step
+            } else {
+                t + taken
+            };
+            self.accept(t, taken);
+            observe(t, self.sys)?;
+        }
+        Ok(())
+    }
+
+    fn accept(&mut self, t: f64, h: f64) {
+        self.stats.steps += 1;
+        self.stats.final_time = t;
+        self.stats.min_step_taken = self.stats.min_step_taken.min(h);
+        self.stats.max_step_taken = self.stats.max_step_taken.max(h);
+        if self.opts.order > 0 {
+            // shift history: hist[1] <- hist[0] <- start (values at t - h)
+            self.hist.swap(0, 1);
+            std::mem::swap(&mut self.hist[0], &mut self.start);
+            self.hist_t[1] = self.hist_t[0];
+            self.hist_t[0] = t - h;
+            self.hist_len = (self.hist_len + 1).min(2);
+        }
+        for (s, u) in self.start.iter_mut().zip(&self.sys.units) {
+            s.copy_from_slice(&u.values);
+        }
+    }
+
+    /// The input polynomial (a0, a1, a2) of one source over [t, t+h].
+    fn source_polynomial(&self, su: usize, i: usize, t: f64, h: f64) -> [f64; 3] {
+        let y0 = self.start[su][i];
+        if self.known[su] {
+            let end = self.sys.units[su].values[i];
+            return if self.opts.order == 0 { [end, 0.0, 0.0] } else { [y0, (end - y0) / h, 0.0] };
+        }
+        match self.opts.order.min(self.hist_len) {
+            0 => [y0, 0.0, 0.0],
+            1 => {
+                let (t1, y1) = (self.hist_t[0], self.hist[0][su][i]);
+                [y0, (y0 - y1) / (t - t1), 0.0]
+            }
+            _ => {
+                let (t1, y1) = (self.hist_t[0], self.hist[0][su][i]);
+                let (t2, y2) = (self.hist_t[1], self.hist[1][su][i]);
+                let f01 = (y0 - y1) / (t - t1);
+                let f12 = (y1 - y2) / (t1 - t2);
+                let f012 = (f01 - f12) / (t - t2);
+                [y0, f01 + f012 * (t - t1), 2.0 * f012]
+            }
+        }
+    }
+
+    /// Gives unit `u` its inputs for the step [t, t+h].
+    fn set_inputs(&mut self, u: usize, t: f64, h: f64) -> Result<(), MasterError> {
+        let mut a = std::mem::take(&mut self.a);
+        a.clear();
+        for l in &self.sys.units[u].real_in.links {
+            let p = self.source_polynomial(l.src_unit, l.src, t, h);
+            a.push([l.factor * p[0] + l.offset, l.factor * p[1], l.factor * p[2]]);
+        }
+        let order = self.opts.order;
+        let discrete = DiscreteInputs::of(&self.sys.units, u);
+        let unit = &mut self.sys.units[u];
+        let interpolate = unit.can_interpolate_inputs && order > 0;
+        for (k, p) in a.iter().enumerate() {
+            if interpolate {
+                unit.u_real[k] = p[0];
+                unit.du1[k] = p[1];
+                unit.du2[k] = p[2];
+            } else {
+                // mean of the polynomial over the step
+                unit.u_real[k] = p[0] + p[1] * h / 2.0 + p[2] * h * h / 6.0;
+            }
+        }
+        self.a = a;
+        let fail = |unit: &Unit, error| MasterError::Step {
+            component: unit.name.clone(),
+            time: t,
+            error,
+        };
+        if !unit.real_in.vr.is_empty() {
+            let r = unit.instance.set_real(&unit.real_in.vr, &unit.u_real);
+            r.map_err(|e| fail(unit, e))?;
+            if interpolate {
+                let r = unit.instance.set_real_input_derivatives(&unit.real_in.vr, 1, &unit.du1);
+                r.map_err(|e| fail(unit, e))?;
+                if order == 2 {
+                    let r = unit.instance.set_real_input_derivatives(&unit.real_in.vr, 2, &unit.du2);
+                    r.map_err(|e| fail(unit, e))?;
+                }
+            }
+        }
+        discrete.set(unit).map_err(|e| fail(unit, e))
+    }
+
+    /// One pass over all units for [t, t+h]. Jacobi: every unit's inputs from the values at t
+    /// (or the previous iterate), then all steps, on worker threads if asked. Gauss–Seidel: unit by
+    /// unit in the scene's order, each seeing its predecessors' new values.
+    fn sweep(&mut self, t: f64, h: f64, gauss_seidel: bool) -> Result<(), MasterError> {
+        self.stats.sweeps += 1;
+        let n = self.sys.units.len();
+        if gauss_seidel {
+            for u in 0..n {
+                self.set_inputs(u, t, h)?;
+                step_unit(&mut self.sys.units[u], t, h)?;
+                self.known[u] = true;
+            }
+        } else {
+            for u in 0..n {
+                self.set_inputs(u, t, h)?;
+            }
+            match &self.pool {
+                Some(pool) => {
+                    use rayon::prelude::*;
+                    let units = &mut self.sys.units;
+                    pool.install(|| units.par_iter_mut().try_for_each(|unit| step_unit(unit, t, h)))?;
+                }
+                None => {
+                    for unit in &mut self.sys.units {
+                        step_unit(unit, t, h)?;
+                    }
+                }
+            }
+            self.known.fill(true);
+        }
+        Ok(())
+    }
+
+    fn save_all(&mut self, t: f64) -> Result<(), MasterError> {
+        for unit in &mut self.sys.units {
+            unit.save_state().map_err(|error| MasterError::Step {
+                component: unit.name.clone(),
+                time: t,
+                error,
+            })?;
+        }
+        Ok(())
+    }
+
+    fn restore_all(&mut self, t: f64) -> Result<(), MasterError> {
+        for unit in &mut self.sys.units {
+            unit.restore_state().map_err(|error| MasterError::Step {
+                component: unit.name.clone(),
+                time: t,
+                error,
+            })?;
+        }
+        Ok(())
+    }
+
+    /// Largest coupling change relative to the tolerance between `reference` and the current values.
+    fn coupling_error(&self, reference: impl Fn(usize, usize, usize) -> f64) -> f64 {
+        self.coupled
+            .iter()
+            .enumerate()
+            .map(|(k, &(u, i))| {
+                let y = self.sys.units[u].values[i];
+                (y - reference(k, u, i)).abs() / (self.opts.abs_tol + self.opts.rel_tol * y.abs())
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// Iterative coupling: Gauss–Seidel sweeps from the saved state until the coupled outputs at
+    /// t+h change less than the tolerance between two sweeps, at most `max_iterations` sweeps.
+    fn iterate(&mut self, t: f64, h: f64) -> Result<(), MasterError> {
+        self.save_all(t)?;
+        self.known.fill(false);
+        self.sweep(t, h, true)?;
+        for _ in 1..self.opts.max_iterations {
+            for (k, &(u, i)) in self.coupled.iter().enumerate() {
+                self.previous_iterate[k] = self.sys.units[u].values[i];
+            }
+            self.restore_all(t)?;
+            self.known.fill(true);
+            self.sweep(t, h, true)?;
+            if self.coupling_error(|k, _, _| self.previous_iterate[k]) <= 1.0 {
+                self.known.fill(false);
+                return Ok(());
+            }
+        }
+        if self.opts.max_iterations > 1 && !self.coupled.is_empty() {
+            self.stats.unconverged += 1;
+        }
+        self.known.fill(false);
+        Ok(())
+    }
+
+    /// Adaptive macro step: a Gauss–Seidel sweep with extrapolated inputs, then the coupling
+    /// error = the difference between each coupled output at t+h and the polynomial its consumers
+    /// were given. Rejected steps are rolled back and retried shorter; the next step follows the
+    /// error with exponent 1/(order+1), growth at most 2×.
+    fn adaptive(&mut self, t: f64, mut h: f64) -> Result<(f64, f64), MasterError> {
+        let exponent = 1.0 / (self.opts.order as f64 + 1.0);
+        let (min_h, max_h) = (self.opts.min_step, self.opts.max_step);
+        self.save_all(t)?;
+        loop {
+            self.known.fill(false);
+            let predicted: Vec<f64> = self
+                .coupled
+                .iter()
+                .map(|&(u, i)| {
+                    let p = self.source_polynomial(u, i, t, h);
+                    p[0] + p[1] * h + p[2] * h * h / 2.0
+                })
+                .collect();
+            self.sweep(t, h, true)?;
+            self.known.fill(false);
+            let err = self.coupling_error(|k, _, _| predicted[k]);
+            let factor = if err > 0.0 { 0.9 * err.powf(-exponent) } else { 2.0 };
+            if err <= 1.0 || h <= min_h * (1.0 + 1e-12) {
+                let next = (h * factor.clamp(0.2, 2.0)).clamp(min_h, max_h);
+                return Ok((h, next));
+            }
+            self.stats.rejected += 1;
+            self.restore_all(t)?;
+            for (s, u) in self.start.iter().zip(self.sys.units.iter_mut()) {
+                u.values.copy_from_slice(s);
+            }
+            h = (h * factor.clamp(0.2, 0.9)).max(min_h);
+        }
+    }
+}
