@@ -10,7 +10,8 @@ use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct BenchArgs {
-    /// What to benchmark: torsional
+    /// What to benchmark: torsional (the FMU), rainflow (counting and DELs), coupling (every
+    /// co-simulation algorithm on scenes/d-grid-step against its exact solution)
     pub target: String,
     #[arg(long, default_value = "D")]
     pub preset: String,
@@ -58,6 +59,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     match args.target.as_str() {
         "torsional" => {}
         "rainflow" => return rainflow(args),
+        "coupling" => return super::coupling::run(args.stop_time, args.work_precision.as_deref()),
         other => bail!("unknown benchmark {other:?}: available: torsional, rainflow"),
     }
     let fmu = torsional_fmu(args.fmu.as_deref())?;

@@ -1,6 +1,7 @@
 //! The `windrive` command line.
 
 pub mod bench;
+pub mod coupling;
 pub mod fatigue;
 pub mod modes;
 pub mod plot;

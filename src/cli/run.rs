@@ -24,9 +24,10 @@ pub struct RunArgs {
     #[arg(long, default_value = "gauss-seidel", value_parser = parse_algorithm)]
     pub algorithm: Algorithm,
     /// Input extrapolation order: 0 hold, 1 linear, 2 quadratic (sent as input derivatives to FMUs
-    /// that can interpolate inputs, as the mean over the step to the others)
-    #[arg(long, default_value_t = 0)]
-    pub order: usize,
+    /// that can interpolate inputs, as the mean over the step to the others) [default: 0 for jacobi
+    /// and gauss-seidel, 1 for iterative and adaptive]
+    #[arg(long)]
+    pub order: Option<usize>,
     /// Relative coupling tolerance (iterative, adaptive)
     #[arg(long, default_value_t = 1e-6)]
     pub tolerance: f64,
@@ -76,7 +77,7 @@ pub struct PackSceneArgs {
 
 /// Our own FMUs a scene refers to as resources/<name>.fmu are packed from the workspace when the
 /// file is missing (or always, with `refresh`), so a scene folder runs on a fresh clone.
-fn provide_own_fmus(scene: &Scene, refresh: bool) -> anyhow::Result<()> {
+pub fn provide_own_fmus(scene: &Scene, refresh: bool) -> anyhow::Result<()> {
     let Ok(root) = crate::pack::workspace_root() else { return Ok(()) };
     let ours = crate::pack::fmu_names(&root);
     for c in &scene.components {
@@ -131,7 +132,9 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         .or_else(|| fmu_default(|d| d.stop_time))
         .ok_or_else(|| anyhow!("no stop time: give --stop-time (the scene and its FMUs declare none)"))?;
     let mut opts = Options::new(args.algorithm, step, stop);
-    opts.order = args.order;
+    if let Some(order) = args.order {
+        opts.order = order;
+    }
     opts.rel_tol = args.tolerance;
     opts.abs_tol = args.abs_tolerance;
     opts.max_iterations = args.max_iterations.max(1);

@@ -53,7 +53,9 @@ pub struct Options {
     pub stop_time: f64,
     /// Order of the input polynomial: 0 hold, 1 linear, 2 quadratic.
     pub order: usize,
-    /// Coupling tolerance of the iterative and adaptive algorithms: |Δy| ≤ abs + rel·|y|.
+    /// Coupling tolerance of the iterative and adaptive algorithms: |Δy| ≤ abs + rel·max(|y|, peak),
+    /// peak = the largest |y| the variable has had, so a signal passing through zero (or starting
+    /// there) is held to its own scale, not to abs alone.
     pub rel_tol: f64,
     pub abs_tol: f64,
     pub max_iterations: usize,
@@ -69,7 +71,8 @@ impl Options {
             algorithm,
             step,
             stop_time,
-            order: 0,
+            // interpolation between iterates, and the adaptive error estimate, need order 1
+            order: usize::from(matches!(algorithm, Algorithm::Iterative | Algorithm::Adaptive)),
             rel_tol: 1e-6,
             abs_tol: 1e-9,
             max_iterations: 10,
@@ -129,6 +132,8 @@ pub struct Master<'s> {
     /// Coupled sources (unit, index), where the iterative and adaptive tolerances apply.
     coupled: Vec<(usize, usize)>,
     previous_iterate: Vec<f64>,
+    /// Largest |y| of each coupled variable so far (its scale for the tolerance).
+    peak: Vec<f64>,
     known: Vec<bool>,
     a: Vec<[f64; 3]>,
     pool: Option<rayon::ThreadPool>,
@@ -197,6 +202,7 @@ impl<'s> Master<'s> {
         coupled.sort_unstable();
         coupled.dedup();
         let start: Vec<Vec<f64>> = sys.units.iter().map(|u| u.values.clone()).collect();
+        let peak = coupled.iter().map(|&(u, i)| start[u][i].abs()).collect();
         let pool = if opts.threads > 1 && opts.algorithm == Algorithm::Jacobi {
             Some(
                 rayon::ThreadPoolBuilder::new()
@@ -220,6 +226,7 @@ impl<'s> Master<'s> {
             hist_t: [0.0; 2],
             hist_len: 0,
             previous_iterate: vec![0.0; coupled.len()],
+            peak,
             coupled,
             known: vec![false; n],
             a: Vec::new(),
@@ -246,39 +253,32 @@ impl<'s> Master<'s> {
         // a step shorter than this fraction of h at the end is rounding, not a step
         let eps = 1e-9 * self.opts.step;
         while stop - t > eps {
-            let taken = match self.opts.algorithm {
-                Algorithm::Jacobi | Algorithm::GaussSeidel => {
-                    // t_k = t0 + k·h: no accumulated round-off over 10⁶ steps
-                    let mut h_k = self.opts.step;
-                    let next = t0 + (k + 1) as f64 * self.opts.step;
-                    if next > stop + eps {
-                        if !can_shorten {
-                            self.stats.stopped_early = true;
-                            break;
-                        }
-                        h_k = stop - t;
-                    }
-                    self.sweep(t, h_k, self.opts.algorithm == Algorithm::GaussSeidel)?;
-                    h_k
+            let adaptive = self.opts.algorithm == Algorithm::Adaptive;
+            // fixed steps: t_k = t0 + k·h, so 10⁶ steps accumulate no round-off
+            let mut h_k = if adaptive { h.min(stop - t) } else { self.opts.step };
+            if !adaptive && t0 + (k + 1) as f64 * h_k > stop + eps {
+                if !can_shorten {
+                    self.stats.stopped_early = true;
+                    break;
                 }
-                Algorithm::Iterative => {
-                    let h_k = self.opts.step.min(stop - t);
-                    self.iterate(t, h_k)?;
-                    h_k
-                }
+                h_k = stop - t;
+            }
+            match self.opts.algorithm {
+                Algorithm::Jacobi => self.sweep(t, h_k, false, false)?,
+                Algorithm::GaussSeidel => self.sweep(t, h_k, true, false)?,
+                Algorithm::Iterative => self.iterate(t, h_k)?,
                 Algorithm::Adaptive => {
-                    let (taken, next) = self.adaptive(t, h.min(stop - t))?;
+                    let (taken, next) = self.adaptive(t, h_k)?;
+                    h_k = taken;
                     h = next;
-                    taken
                 }
-            };
+            }
             k += 1;
-            t = if matches!(self.opts.algorithm, Algorithm::Jacobi | Algorithm::GaussSeidel) && taken == self.opts.step {
-                t0 + k as f64 * self.opts.step
-            } else {
-                t + taken
-            };
-            self.accept(t, taken);
+            t = if !adaptive && h_k == self.opts.step { t0 + k as f64 * h_k } else { t + h_k };
+            if stop - t <= eps {
+                t = stop;
+            }
+            self.accept(t, h_k);
             observe(t, self.sys)?;
         }
         Ok(())
@@ -299,6 +299,9 @@ impl<'s> Master<'s> {
         }
         for (s, u) in self.start.iter_mut().zip(&self.sys.units) {
             s.copy_from_slice(&u.values);
+        }
+        for (p, &(u, i)) in self.peak.iter_mut().zip(&self.coupled) {
+            *p = p.max(self.sys.units[u].values[i].abs());
         }
     }
 
@@ -372,8 +375,11 @@ impl<'s> Master<'s> {
     /// One pass over all units for [t, t+h]. Jacobi: every unit's inputs from the values at t
     /// (or the previous iterate), then all steps, on worker threads if asked. Gauss–Seidel: unit by
     /// unit in the scene's order, each seeing its predecessors' new values.
-    fn sweep(&mut self, t: f64, h: f64, gauss_seidel: bool) -> Result<(), MasterError> {
+    /// `ends_known`: every unit's values already hold an estimate at t+h (a previous iterate);
+    /// otherwise sources are extrapolated until they step.
+    fn sweep(&mut self, t: f64, h: f64, gauss_seidel: bool, ends_known: bool) -> Result<(), MasterError> {
         self.stats.sweeps += 1;
+        self.known.fill(ends_known);
         let n = self.sys.units.len();
         if gauss_seidel {
             for u in 0..n {
@@ -431,7 +437,8 @@ impl<'s> Master<'s> {
             .enumerate()
             .map(|(k, &(u, i))| {
                 let y = self.sys.units[u].values[i];
-                (y - reference(k, u, i)).abs() / (self.opts.abs_tol + self.opts.rel_tol * y.abs())
+                let scale = y.abs().max(self.peak[k]);
+                (y - reference(k, u, i)).abs() / (self.opts.abs_tol + self.opts.rel_tol * scale)
             })
             .fold(0.0, f64::max)
     }
@@ -440,24 +447,20 @@ impl<'s> Master<'s> {
     /// t+h change less than the tolerance between two sweeps, at most `max_iterations` sweeps.
     fn iterate(&mut self, t: f64, h: f64) -> Result<(), MasterError> {
         self.save_all(t)?;
-        self.known.fill(false);
-        self.sweep(t, h, true)?;
+        self.sweep(t, h, true, false)?;
         for _ in 1..self.opts.max_iterations {
             for (k, &(u, i)) in self.coupled.iter().enumerate() {
                 self.previous_iterate[k] = self.sys.units[u].values[i];
             }
             self.restore_all(t)?;
-            self.known.fill(true);
-            self.sweep(t, h, true)?;
+            self.sweep(t, h, true, true)?;
             if self.coupling_error(|k, _, _| self.previous_iterate[k]) <= 1.0 {
-                self.known.fill(false);
                 return Ok(());
             }
         }
         if self.opts.max_iterations > 1 && !self.coupled.is_empty() {
             self.stats.unconverged += 1;
         }
-        self.known.fill(false);
         Ok(())
     }
 
@@ -479,8 +482,7 @@ impl<'s> Master<'s> {
                     p[0] + p[1] * h + p[2] * h * h / 2.0
                 })
                 .collect();
-            self.sweep(t, h, true)?;
-            self.known.fill(false);
+            self.sweep(t, h, true, false)?;
             let err = self.coupling_error(|k, _, _| predicted[k]);
             let factor = if err > 0.0 { 0.9 * err.powf(-exponent) } else { 2.0 };
             if err <= 1.0 || h <= min_h * (1.0 + 1e-12) {

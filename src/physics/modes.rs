@@ -39,7 +39,9 @@ pub struct Modes {
     pub dominant_dof: Vec<usize>,
 }
 
-pub fn modes(model: &TorsionalModel, boundary: Boundary, k_generator: f64) -> Modes {
+/// M-orthonormal eigenpairs of K x = ω² M x under `boundary`: (the DOFs kept, ω² per pair, and
+/// x as columns over the kept DOFs, in the model's own coordinates).
+fn eigenpairs(model: &TorsionalModel, boundary: Boundary, k_generator: f64) -> (Vec<usize>, Vec<f64>, nalgebra::DMatrix<f64>) {
     let mut k = model.stiffness_matrix();
     let g = model.generator;
     if boundary == Boundary::Connected {
@@ -52,28 +54,66 @@ pub fn modes(model: &TorsionalModel, boundary: Boundary, k_generator: f64) -> Mo
     let inv_sqrt: Vec<f64> = keep.iter().map(|&d| 1.0 / model.mass[d].sqrt()).collect();
     let a = nalgebra::DMatrix::from_fn(n, n, |i, j| k[(keep[i], keep[j])] * inv_sqrt[i] * inv_sqrt[j]);
     let eig = nalgebra::SymmetricEigen::new(a);
+    let x = nalgebra::DMatrix::from_fn(n, n, |i, m| eig.eigenvectors[(i, m)] * inv_sqrt[i]);
+    (keep, eig.eigenvalues.iter().copied().collect(), x)
+}
+
+/// Exact response of the undamped linear model, at rest in its reference state, to a torque
+/// `torque` applied at DOF `dof` from t = 0: q(t) = Σ x_i (x_iᵀF / ω_i²)(1 − cos ω_i t) (modal
+/// superposition). Returns q at each time (every DOF; a locked DOF stays 0). The boundary must hold
+/// the model (Connected or HssLocked): a free–free model has a rigid mode that drifts.
+pub fn undamped_step_response(
+    model: &TorsionalModel,
+    boundary: Boundary,
+    k_generator: f64,
+    dof: usize,
+    torque: f64,
+    times: &[f64],
+) -> Vec<Vec<f64>> {
+    assert!(boundary != Boundary::Disconnected, "a free-free model has no static response");
+    let (keep, lambda, x) = eigenpairs(model, boundary, k_generator);
+    let at = keep.iter().position(|&d| d == dof).expect("the loaded DOF is not held");
+    times
+        .iter()
+        .map(|&t| {
+            let mut q = vec![0.0; model.dofs()];
+            for m in 0..keep.len() {
+                let amplitude = x[(at, m)] * torque / lambda[m];
+                let c = 1.0 - (lambda[m].sqrt() * t).cos();
+                for (i, &d) in keep.iter().enumerate() {
+                    q[d] += x[(i, m)] * amplitude * c;
+                }
+            }
+            q
+        })
+        .collect()
+}
+
+pub fn modes(model: &TorsionalModel, boundary: Boundary, k_generator: f64) -> Modes {
+    let (keep, eigenvalues, x) = eigenpairs(model, boundary, k_generator);
+    let n = keep.len();
     let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&x, &y| eig.eigenvalues[x].total_cmp(&eig.eigenvalues[y]));
-    let scale = eig.eigenvalues.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    order.sort_by(|&a, &b| eigenvalues[a].total_cmp(&eigenvalues[b]));
+    let scale = eigenvalues.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let mut frequencies_hz = Vec::with_capacity(n);
     let mut shapes = Vec::with_capacity(n);
     let mut dominant_dof = Vec::with_capacity(n);
     for &m in &order {
         // the rigid-body eigenvalue comes out as round-off of either sign
-        let lambda = if eig.eigenvalues[m].abs() < 1e-12 * scale {
+        let lambda = if eigenvalues[m].abs() < 1e-12 * scale {
             0.0
         } else {
-            eig.eigenvalues[m].max(0.0)
+            eigenvalues[m].max(0.0)
         };
         frequencies_hz.push(lambda.sqrt() / std::f64::consts::TAU);
         let mut shape = vec![0.0; model.dofs()];
         let mut energy = (0, 0.0);
         for (i, &d) in keep.iter().enumerate() {
-            let x = eig.eigenvectors[(i, m)] * inv_sqrt[i];
-            if model.mass[d] * x * x > energy.1 {
-                energy = (d, model.mass[d] * x * x);
+            let xd = x[(i, m)];
+            if model.mass[d] * xd * xd > energy.1 {
+                energy = (d, model.mass[d] * xd * xd);
             }
-            shape[d] = x / model.speed_ratio[d];
+            shape[d] = xd / model.speed_ratio[d];
         }
         dominant_dof.push(energy.0);
         let peak = shape

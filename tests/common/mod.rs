@@ -4,19 +4,41 @@
 use std::path::PathBuf;
 use windrive::fmi2::import::{Fmu, Instance};
 
-/// The packed torsional FMU (scripts/test packs it before running the tests).
-pub fn torsional_fmu_path() -> PathBuf {
+/// A packed FMU of ours (scripts/test packs them before running the tests).
+pub fn fmu_path(name: &str) -> PathBuf {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let target = std::env::var_os("CARGO_TARGET_DIR")
         .map(PathBuf::from)
         .unwrap_or_else(|| root.join("target"));
-    let path = target.join("fmu").join("torsional.fmu");
+    let path = target.join("fmu").join(format!("{name}.fmu"));
     assert!(
         path.is_file(),
         "{} is missing: run `cargo run --release -- pack` first (scripts/test does)",
         path.display()
     );
     path
+}
+
+pub fn torsional_fmu_path() -> PathBuf {
+    fmu_path("torsional")
+}
+
+/// A copy of the repository's scene folder `scenes/<name>` in a fresh temporary folder, with our
+/// packed FMUs under resources/; returns (guard, scene folder).
+pub fn scene_copy(name: &str) -> (windrive::fmi2::import::TempDir, PathBuf) {
+    let tmp = windrive::fmi2::import::TempDir::new("windrive-test-scene").unwrap();
+    let dir = tmp.path().join(name);
+    let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name);
+    std::fs::create_dir_all(dir.join("resources")).unwrap();
+    for entry in std::fs::read_dir(&src).unwrap().flatten() {
+        if entry.path().is_file() {
+            std::fs::copy(entry.path(), dir.join(entry.file_name())).unwrap();
+        }
+    }
+    for fmu in ["torsional", "generator"] {
+        std::fs::copy(fmu_path(fmu), dir.join("resources").join(format!("{fmu}.fmu"))).unwrap();
+    }
+    (tmp, dir)
 }
 
 pub fn torsional() -> Fmu {

@@ -1,0 +1,165 @@
+//! The d-grid-step scene's exact solution, and `windrive bench coupling`: error against wall time
+//! of every co-simulation algorithm on it (a work–precision chart), with the step where each fails.
+
+use crate::cosim::{Algorithm, Master, Options, Record, Scene, System};
+use crate::physics::modes::{Boundary, undamped_step_response};
+use crate::slaves::torsional::Params;
+use std::path::Path;
+
+/// Rotor torque the scene applies at t = 0, N·m (scenes/d-grid-step/torsional.ssv).
+pub const GRID_STEP_ROTOR_TORQUE: f64 = 385_000.0;
+
+/// Generator torque of the d-grid-step scene from the exact modal solution of the undamped
+/// 2-mass drivetrain D with its generator spring to ground: K_gen · q_generator(t).
+pub fn grid_step_exact_torque(times: &[f64]) -> Vec<f64> {
+    let params = Params {
+        preset: "D".into(),
+        fidelity: "2".into(),
+        integrator: "implicit".into(),
+        damping_scale: 0.0,
+        contact_ratio: 1.6,
+        ..Params::default()
+    };
+    let built = params.build().expect("preset D builds");
+    let (m, k_gen) = (&built.model, built.drivetrain.k_generator);
+    undamped_step_response(m, Boundary::Connected, k_gen, m.rotor, GRID_STEP_ROTOR_TORQUE, times)
+        .iter()
+        .map(|q| k_gen * q[m.generator])
+        .collect()
+}
+
+/// One run of the scene: the largest deviation of the generator torque from the exact solution
+/// relative to its peak (None when the run failed), the wall time and the master's statistics.
+pub struct Outcome {
+    pub error: Option<f64>,
+    pub failure: Option<String>,
+    pub wall_s: f64,
+    pub stats: crate::cosim::Stats,
+}
+
+pub fn run_grid_step(scene_dir: &Path, opts: Options) -> anyhow::Result<Outcome> {
+    let scene = Scene::open(scene_dir)?;
+    let record = Record::Only(vec!["generator.generator_torque".into()]);
+    let mut system = System::build(&scene, &[], &record)?;
+    system.initialize(Some(opts.stop_time))?;
+    let (u, i) = (system.recorded[0].1, system.recorded[0].2);
+    let (mut t, mut y) = (Vec::new(), Vec::new());
+    let wall = std::time::Instant::now();
+    let mut master = Master::new(&mut system, opts)?;
+    let result = master.run(|time, sys| {
+        t.push(time);
+        y.push(sys.units[u].values[i]);
+        Ok(())
+    });
+    let wall_s = wall.elapsed().as_secs_f64();
+    let stats = master.stats.clone();
+    let exact = grid_step_exact_torque(&t);
+    let peak = exact.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let error = y.iter().zip(&exact).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / peak;
+    Ok(match result {
+        Ok(()) => Outcome {
+            error: Some(error),
+            failure: None,
+            wall_s,
+            stats,
+        },
+        Err(e) => Outcome {
+            error: None,
+            failure: Some(e.to_string()),
+            wall_s,
+            stats,
+        },
+    })
+}
+
+/// The fixed-step variants the chart compares: (label, algorithm, input order).
+fn variants() -> Vec<(String, Algorithm, usize)> {
+    vec![
+        ("jacobi p0".into(), Algorithm::Jacobi, 0),
+        ("jacobi p1".into(), Algorithm::Jacobi, 1),
+        ("jacobi p2".into(), Algorithm::Jacobi, 2),
+        ("gauss-seidel p0".into(), Algorithm::GaussSeidel, 0),
+        ("gauss-seidel p1".into(), Algorithm::GaussSeidel, 1),
+        ("iterative p1".into(), Algorithm::Iterative, 1),
+    ]
+}
+
+pub fn run(stop_time: f64, plot: Option<&Path>) -> anyhow::Result<()> {
+    let root = crate::pack::workspace_root()?;
+    let scene_dir = root.join("scenes").join("d-grid-step");
+    super::run::provide_own_fmus(&Scene::open(&scene_dir)?, true)?;
+    let steps = [0.5e-3, 1e-3, 2e-3, 5e-3, 1e-2, 2e-2, 5e-2, 0.1];
+    println!(
+        "d-grid-step: drivetrain D (2-mass, undamped) + generator spring K_gen = 2.81e4 N·m/rad, {} s;\n\
+         error = max |T_gen − exact| / max |exact| (exact: modal solution); stiffest coupled mode 5.89 Hz (ω = 37.0 rad/s)\n",
+        stop_time
+    );
+    println!("{:<17} {:>9} {:>8} {:>12} {:>10} {:>8}", "algorithm", "step [s]", "H·ω", "error", "wall [ms]", "sweeps");
+    let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    let omega = 37.0;
+    for (label, algorithm, order) in variants() {
+        let mut points = Vec::new();
+        for &h in &steps {
+            let mut opts = Options::new(algorithm, h, stop_time);
+            opts.order = order;
+            let o = run_grid_step(&scene_dir, opts)?;
+            let error = match (&o.error, &o.failure) {
+                (Some(e), _) if *e < 1.0 => {
+                    points.push((o.wall_s.log10(), e.log10()));
+                    format!("{e:.3e}")
+                }
+                (Some(e), _) => format!("unstable ({e:.1e})"),
+                (None, Some(f)) => format!("failed: {}", f.chars().take(50).collect::<String>()),
+                _ => unreachable!(),
+            };
+            println!(
+                "{label:<17} {h:>9} {:>8.3} {error:>12} {:>10.2} {:>8}",
+                h * omega,
+                o.wall_s * 1e3,
+                o.stats.sweeps
+            );
+        }
+        series.push((label, points));
+    }
+    for tol in [1e-2, 1e-3, 1e-4, 1e-5] {
+        let mut opts = Options::new(Algorithm::Adaptive, 1e-3, stop_time);
+        opts.rel_tol = tol;
+        let o = run_grid_step(&scene_dir, opts)?;
+        println!(
+            "{:<17} {:>9} {:>8} {:>12} {:>10.2} {:>8}  ({} steps, {} rejected)",
+            format!("adaptive {tol:.0e}"),
+            "-",
+            "-",
+            o.error.map_or("failed".into(), |e| format!("{e:.3e}")),
+            o.wall_s * 1e3,
+            o.stats.sweeps,
+            o.stats.steps,
+            o.stats.rejected
+        );
+        if let Some(e) = o.error {
+            match series.iter_mut().find(|(l, _)| l == "adaptive") {
+                Some((_, p)) => p.push((o.wall_s.log10(), e.log10())),
+                None => series.push(("adaptive".into(), vec![(o.wall_s.log10(), e.log10())])),
+            }
+        }
+    }
+    if let Some(path) = plot {
+        let series: Vec<super::plot::Series> = series
+            .iter()
+            .map(|(label, points)| super::plot::Series {
+                label: label.clone(),
+                points,
+            })
+            .collect();
+        super::plot::lines(
+            path,
+            "d-grid-step (drivetrain D + generator spring): co-simulation error vs wall time",
+            "log10 wall time / s",
+            "log10 (max |error| / peak), stable runs",
+            &series,
+            &[],
+        )?;
+        println!("\nwork-precision chart: {}", path.display());
+    }
+    Ok(())
+}
