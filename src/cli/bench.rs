@@ -11,7 +11,8 @@ use std::path::PathBuf;
 #[derive(clap::Args)]
 pub struct BenchArgs {
     /// What to benchmark: torsional (the FMU), rainflow (counting and DELs), coupling (every
-    /// co-simulation algorithm on scenes/d-grid-step against its exact solution)
+    /// co-simulation algorithm on scenes/d-grid-step against its exact solution), master (our
+    /// master's overhead per FMU-step against the bare FMI calls)
     pub target: String,
     #[arg(long, default_value = "D")]
     pub preset: String,
@@ -29,6 +30,12 @@ pub struct BenchArgs {
     /// with the Python packages); without it a seeded random walk of --samples points
     #[arg(long)]
     pub input: Option<PathBuf>,
+    /// master: the scene [default: scenes/bench-d-grid]
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// master: macro steps per run
+    #[arg(long, default_value_t = 100_000)]
+    pub macro_steps: u64,
     /// rainflow: length of the generated random walk
     #[arg(long, default_value_t = 10_000_000)]
     pub samples: usize,
@@ -60,7 +67,11 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         "torsional" => {}
         "rainflow" => return rainflow(args),
         "coupling" => return super::coupling::run(args.stop_time, args.work_precision.as_deref()),
-        other => bail!("unknown benchmark {other:?}: available: torsional, rainflow"),
+        "master" => {
+            let scene = args.scene.clone().unwrap_or_else(|| std::path::PathBuf::from("scenes/bench-d-grid"));
+            return super::overhead::run(&scene, args.macro_steps);
+        }
+        other => bail!("unknown benchmark {other:?}: available: torsional, rainflow, coupling, master"),
     }
     let fmu = torsional_fmu(args.fmu.as_deref())?;
     let base = Scenario {

@@ -4,6 +4,7 @@ pub mod bench;
 pub mod coupling;
 pub mod fatigue;
 pub mod modes;
+pub mod overhead;
 pub mod plot;
 pub mod run;
 pub mod step;
