@@ -39,21 +39,41 @@ fn assert_contains(message: &str, parts: &[&str]) {
 fn unpack_fmu(dir: &Path, name: &str) -> PathBuf {
     let out = dir.join("resources").join(format!("{name}-dir"));
     windrive::fmi2::import::unzip(&dir.join("resources").join(format!("{name}.fmu")), &out).unwrap();
-    edit(&ssd(dir), &format!("resources/{name}.fmu"), &format!("resources/{name}-dir"));
+    edit(
+        &ssd(dir),
+        &format!("resources/{name}.fmu"),
+        &format!("resources/{name}-dir"),
+    );
     out
 }
 
 #[test]
 fn connection_errors_name_the_connection_and_the_element() {
     let cases: [(&str, &str, &[&str]); 5] = [
-        (r#"endElement="generator""#, r#"endElement="genrator""#, &["unknown component genrator", "torsional, generator"]),
-        (r#"endConnector="generator_speed""#, r#"endConnector="generator_sped""#, &["no variable generator_sped"]),
+        (
+            r#"endElement="generator""#,
+            r#"endElement="genrator""#,
+            &["unknown component genrator", "torsional, generator"],
+        ),
+        (
+            r#"endConnector="generator_speed""#,
+            r#"endConnector="generator_sped""#,
+            &["no variable generator_sped"],
+        ),
         (
             r#"startConnector="generator_speed""#,
             r#"startConnector="brake_locked""#,
-            &["type mismatch", "Boolean output to Real input", "torsional.brake_locked -> generator.generator_speed"],
+            &[
+                "type mismatch",
+                "Boolean output to Real input",
+                "torsional.brake_locked -> generator.generator_speed",
+            ],
         ),
-        (r#"startConnector="generator_speed""#, r#"startConnector="rotor_torque""#, &["torsional.rotor_torque is input, not an output"]),
+        (
+            r#"startConnector="generator_speed""#,
+            r#"startConnector="rotor_torque""#,
+            &["torsional.rotor_torque is input, not an output"],
+        ),
         (
             "</ssd:Connections>",
             r#"<ssd:Connection startElement="torsional" startConnector="rotor_speed" endElement="generator" endConnector="generator_speed"/></ssd:Connections>"#,
@@ -87,7 +107,10 @@ fn file_errors_name_the_file() {
     let (_g4, dir) = common::scene_copy("d-grid-step");
     let unpacked = unpack_fmu(&dir, "generator");
     std::fs::remove_file(unpacked.join("binaries/linux64/generator.so")).unwrap();
-    assert_contains(&build_error(&dir), &["component generator", "generator.so", "file not found"]);
+    assert_contains(
+        &build_error(&dir),
+        &["component generator", "generator.so", "file not found"],
+    );
     // a corrupt .ssp archive
     let (_g5, dir) = common::scene_copy("d-grid-step");
     let ssp = dir.join("corrupt.ssp");
@@ -95,10 +118,18 @@ fn file_errors_name_the_file() {
     assert_contains(&build_error(&ssp), &["corrupt.ssp", "zip"]);
     // a parameter the FMU does not have, and a value of the wrong type
     let (_g6, dir) = common::scene_copy("d-grid-step");
-    edit(&dir.join("torsional.ssv"), r#"name="damping_scale""#, r#"name="damping_scal""#);
+    edit(
+        &dir.join("torsional.ssv"),
+        r#"name="damping_scale""#,
+        r#"name="damping_scal""#,
+    );
     assert_contains(&build_error(&dir), &["torsional.ssv", "no variable damping_scal"]);
     let (_g7, dir) = common::scene_copy("d-grid-step");
-    edit(&dir.join("torsional.ssv"), r#"<ssv:String value="2"/>"#, r#"<ssv:Boolean value="true"/>"#);
+    edit(
+        &dir.join("torsional.ssv"),
+        r#"<ssv:String value="2"/>"#,
+        r#"<ssv:Boolean value="true"/>"#,
+    );
     assert_contains(&build_error(&dir), &["fidelity is String but the value is Boolean"]);
 }
 
@@ -106,14 +137,25 @@ fn file_errors_name_the_file() {
 fn an_unconnected_input_without_start_value_is_refused() {
     let (_guard, dir) = common::scene_copy("d-grid-step");
     let fmu = unpack_fmu(&dir, "generator");
-    edit(&fmu.join("modelDescription.xml"), r#"<Real start="0" unit="rad/s"/>"#, r#"<Real unit="rad/s"/>"#);
+    edit(
+        &fmu.join("modelDescription.xml"),
+        r#"<Real start="0" unit="rad/s"/>"#,
+        r#"<Real unit="rad/s"/>"#,
+    );
     edit(
         &ssd(&dir),
         r#"<ssd:Connection startElement="torsional" startConnector="generator_speed" endElement="generator" endConnector="generator_speed"/>"#,
         "",
     );
-    edit(&ssd(&dir), r#"<ssd:Connector name="generator_speed" kind="input"><ssc:Real/></ssd:Connector>"#, "");
-    assert_contains(&build_error(&dir), &["input generator.generator_speed is not connected and has no start value"]);
+    edit(
+        &ssd(&dir),
+        r#"<ssd:Connector name="generator_speed" kind="input"><ssc:Real/></ssd:Connector>"#,
+        "",
+    );
+    assert_contains(
+        &build_error(&dir),
+        &["input generator.generator_speed is not connected and has no start value"],
+    );
 }
 
 /// The generator's torque feeds through from its speed (declared in its ModelStructure); a torsional
@@ -123,10 +165,17 @@ fn a_declared_algebraic_loop_is_refused_with_its_path() {
     let (_guard, dir) = common::scene_copy("d-grid-step");
     let fmu = unpack_fmu(&dir, "torsional");
     // index 24 = generator_speed (output), index 16 = generator_torque (input)
-    edit(&fmu.join("modelDescription.xml"), r#"<Unknown index="24" dependencies=""/>"#, r#"<Unknown index="24" dependencies="16"/>"#);
+    edit(
+        &fmu.join("modelDescription.xml"),
+        r#"<Unknown index="24" dependencies=""/>"#,
+        r#"<Unknown index="24" dependencies="16"/>"#,
+    );
     assert_contains(
         &build_error(&dir),
-        &["algebraic loop", "torsional.generator_speed -> generator.generator_torque -> torsional.generator_speed"],
+        &[
+            "algebraic loop",
+            "torsional.generator_speed -> generator.generator_torque -> torsional.generator_speed",
+        ],
     );
 }
 
@@ -134,13 +183,23 @@ fn a_declared_algebraic_loop_is_refused_with_its_path() {
 fn rollback_algorithms_refuse_fmus_without_state_saving() {
     let (_guard, dir) = common::scene_copy("d-grid-step");
     let fmu = unpack_fmu(&dir, "generator");
-    edit(&fmu.join("modelDescription.xml"), r#"canGetAndSetFMUstate="true""#, r#"canGetAndSetFMUstate="false""#);
+    edit(
+        &fmu.join("modelDescription.xml"),
+        r#"canGetAndSetFMUstate="true""#,
+        r#"canGetAndSetFMUstate="false""#,
+    );
     let scene = Scene::open(&dir).unwrap();
     for algorithm in [Algorithm::Iterative, Algorithm::Adaptive] {
         let mut system = System::build(&scene, &[], &Record::Outputs).unwrap();
         system.initialize(Some(1.0)).unwrap();
-        let message = Master::new(&mut system, Options::new(algorithm, 1e-3, 1.0)).err().unwrap().to_string();
-        assert_contains(&message, &["rolls steps back", "generator", "canGetAndSetFMUstate=false"]);
+        let message = Master::new(&mut system, Options::new(algorithm, 1e-3, 1.0))
+            .err()
+            .unwrap()
+            .to_string();
+        assert_contains(
+            &message,
+            &["rolls steps back", "generator", "canGetAndSetFMUstate=false"],
+        );
     }
 }
 
@@ -179,7 +238,11 @@ fn a_run_that_blows_up_keeps_its_rows_and_exits_nonzero() {
     // every kept row is finite and the last one is the step before the failure
     let last_time: f64 = rows.last().unwrap().split(',').next().unwrap().parse().unwrap();
     assert!(rows.len() > 10 && last_time < 1000.0);
-    assert!(rows[1..].iter().all(|r| r.split(',').all(|v| v.parse::<f64>().unwrap().is_finite())));
+    assert!(
+        rows[1..]
+            .iter()
+            .all(|r| r.split(',').all(|v| v.parse::<f64>().unwrap().is_finite()))
+    );
     assert!(stderr.contains(&format!("results up to t = {last_time} s")), "{stderr}");
 }
 
@@ -192,7 +255,15 @@ fn folder_and_ssp_archive_run_identically_and_params_override() {
     let packed = windrive(&["pack-scene", dir.to_str().unwrap(), "--out", ssp.to_str().unwrap()]);
     assert!(packed.status.success(), "{}", String::from_utf8_lossy(&packed.stderr));
     let run = |scene: &Path, csv: &Path, extra: &[&str]| {
-        let mut args = vec!["run", scene.to_str().unwrap(), "--stop-time", "0.5", "--out", csv.to_str().unwrap(), "--quiet"];
+        let mut args = vec![
+            "run",
+            scene.to_str().unwrap(),
+            "--stop-time",
+            "0.5",
+            "--out",
+            csv.to_str().unwrap(),
+            "--quiet",
+        ];
         args.extend_from_slice(extra);
         let out = windrive(&args);
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -204,9 +275,18 @@ fn folder_and_ssp_archive_run_identically_and_params_override() {
     let c = run(
         &dir,
         &dir.join("c.csv"),
-        &["--param", "generator.stiffness=1e5", "--record", "generator.stiffness_used,torsional.rotor_torque"],
+        &[
+            "--param",
+            "generator.stiffness=1e5",
+            "--record",
+            "generator.stiffness_used,torsional.rotor_torque",
+        ],
     );
     let row: Vec<&str> = c.lines().nth(1).unwrap().split(',').collect();
     assert_eq!(row[1].parse::<f64>().unwrap(), 1e5);
-    assert_eq!(row[2].parse::<f64>().unwrap(), 385_000.0, "the .ssv binding reaches the input");
+    assert_eq!(
+        row[2].parse::<f64>().unwrap(),
+        385_000.0,
+        "the .ssv binding reaches the input"
+    );
 }

@@ -49,7 +49,10 @@ fn every_algorithm_converges_to_the_modal_solution_at_its_order() {
 #[test]
 fn stability_limits_of_the_coupling_algorithms() {
     let stable = |a, p, h| error(a, p, h, 10.0).is_some();
-    assert!(!stable(Algorithm::Jacobi, 0, 1e-3), "ZOH Jacobi must go unstable without damping");
+    assert!(
+        !stable(Algorithm::Jacobi, 0, 1e-3),
+        "ZOH Jacobi must go unstable without damping"
+    );
     assert!(stable(Algorithm::Jacobi, 1, 5e-3));
     assert!(!stable(Algorithm::Jacobi, 1, 1e-2));
     assert!(stable(Algorithm::GaussSeidel, 0, 5e-2));

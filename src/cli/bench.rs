@@ -68,7 +68,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         "rainflow" => return rainflow(args),
         "coupling" => return super::coupling::run(args.stop_time, args.work_precision.as_deref()),
         "master" => {
-            let scene = args.scene.clone().unwrap_or_else(|| std::path::PathBuf::from("scenes/bench-d-grid"));
+            let scene = args
+                .scene
+                .clone()
+                .unwrap_or_else(|| std::path::PathBuf::from("scenes/bench-d-grid"));
             return super::overhead::run(&scene, args.macro_steps);
         }
         other => bail!("unknown benchmark {other:?}: available: torsional, rainflow, coupling, master"),

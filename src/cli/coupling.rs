@@ -94,7 +94,10 @@ pub fn run(stop_time: f64, plot: Option<&Path>) -> anyhow::Result<()> {
          error = max |T_gen − exact| / max |exact| (exact: modal solution); stiffest coupled mode 5.89 Hz (ω = 37.0 rad/s)\n",
         stop_time
     );
-    println!("{:<17} {:>9} {:>8} {:>12} {:>10} {:>8}", "algorithm", "step [s]", "H·ω", "error", "wall [ms]", "sweeps");
+    println!(
+        "{:<17} {:>9} {:>8} {:>12} {:>10} {:>8}",
+        "algorithm", "step [s]", "H·ω", "error", "wall [ms]", "sweeps"
+    );
     let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     let omega = 37.0;
     for (label, algorithm, order) in variants() {

@@ -78,16 +78,21 @@ pub struct PackSceneArgs {
 /// Our own FMUs a scene refers to as resources/<name>.fmu are packed from the workspace when the
 /// file is missing (or always, with `refresh`), so a scene folder runs on a fresh clone.
 pub fn provide_own_fmus(scene: &Scene, refresh: bool) -> anyhow::Result<()> {
-    let Ok(root) = crate::pack::workspace_root() else { return Ok(()) };
+    let Ok(root) = crate::pack::workspace_root() else {
+        return Ok(());
+    };
     let ours = crate::pack::fmu_names(&root);
     for c in &scene.components {
-        let Some(stem) = c.path.file_stem().map(|s| s.to_string_lossy().into_owned()) else { continue };
+        let Some(stem) = c.path.file_stem().map(|s| s.to_string_lossy().into_owned()) else {
+            continue;
+        };
         if (refresh || !c.path.exists()) && ours.contains(&stem) && c.path.extension().is_some_and(|e| e == "fmu") {
             let built = crate::pack::pack(&root, &stem)?;
             if let Some(dir) = c.path.parent() {
                 std::fs::create_dir_all(dir).with_context(|| dir.display().to_string())?;
             }
-            std::fs::copy(&built, &c.path).with_context(|| format!("copying {} to {}", built.display(), c.path.display()))?;
+            std::fs::copy(&built, &c.path)
+                .with_context(|| format!("copying {} to {}", built.display(), c.path.display()))?;
         }
     }
     Ok(())
@@ -97,8 +102,12 @@ fn parse_params(params: &[String]) -> anyhow::Result<Vec<(String, String, String
     params
         .iter()
         .map(|p| {
-            let (name, value) = p.split_once('=').ok_or_else(|| anyhow!("--param {p}: expected component.variable=value"))?;
-            let (comp, var) = name.split_once('.').ok_or_else(|| anyhow!("--param {p}: expected component.variable=value"))?;
+            let (name, value) = p
+                .split_once('=')
+                .ok_or_else(|| anyhow!("--param {p}: expected component.variable=value"))?;
+            let (comp, var) = name
+                .split_once('.')
+                .ok_or_else(|| anyhow!("--param {p}: expected component.variable=value"))?;
             Ok((comp.to_string(), var.to_string(), value.to_string()))
         })
         .collect()
@@ -109,7 +118,11 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     if args.scene.is_dir() {
         provide_own_fmus(&scene, false)?;
     }
-    let record = if args.record.is_empty() { Record::Outputs } else { Record::Only(args.record.clone()) };
+    let record = if args.record.is_empty() {
+        Record::Outputs
+    } else {
+        Record::Only(args.record.clone())
+    };
     let mut system = System::build(&scene, &parse_params(&args.params)?, &record)?;
     for w in &system.warnings {
         eprintln!("warning: {w}");
@@ -188,7 +201,11 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
             opts.algorithm.name(),
             opts.order,
             step,
-            if opts.threads > 1 { format!(", {} threads", opts.threads) } else { String::new() }
+            if opts.threads > 1 {
+                format!(", {} threads", opts.threads)
+            } else {
+                String::new()
+            }
         );
         eprintln!(
             "simulated   {simulated} s of {} s in {elapsed:.3} s wall ({:.1}× real time)",
@@ -200,7 +217,14 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
             stats.steps,
             stats.rejected,
             stats.sweeps,
-            if stats.unconverged > 0 { format!(", {} not converged in {} iterations", stats.unconverged, opts.max_iterations) } else { String::new() },
+            if stats.unconverged > 0 {
+                format!(
+                    ", {} not converged in {} iterations",
+                    stats.unconverged, opts.max_iterations
+                )
+            } else {
+                String::new()
+            },
             if opts.algorithm == Algorithm::Adaptive && stats.steps > 0 {
                 format!(", step {:.3e}–{:.3e} s", stats.min_step_taken, stats.max_step_taken)
             } else {
@@ -214,7 +238,9 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
             system.recorded.len() + 1
         );
         if stats.stopped_early {
-            eprintln!("warning: stopped at t = {final_time} s: the stop time is not a whole number of steps and an FMU cannot shorten its last step");
+            eprintln!(
+                "warning: stopped at t = {final_time} s: the stop time is not a whole number of steps and an FMU cannot shorten its last step"
+            );
         }
     }
     flushed.with_context(|| format!("writing {}", out.display()))?;
@@ -239,7 +265,9 @@ pub fn pack_scene(args: &PackSceneArgs) -> anyhow::Result<()> {
         .unwrap_or_else(|| scene.name.clone());
     let out = match &args.out {
         Some(o) => o.clone(),
-        None => crate::pack::target_dir(&crate::pack::workspace_root()?).join("ssp").join(format!("{name}.ssp")),
+        None => crate::pack::target_dir(&crate::pack::workspace_root()?)
+            .join("ssp")
+            .join(format!("{name}.ssp")),
     };
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)?;

@@ -11,7 +11,8 @@
 //! fmi2SetRealInputDerivatives; the others receive the polynomial's mean over the step, which
 //! keeps the exchanged impulse (∫u dt) of the polynomial.
 
-use super::system::{DiscreteInputs, System, Unit};
+use super::system::System;
+use super::unit::{DiscreteInputs, Unit};
 use crate::fmi2::import::ImportError;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -166,7 +167,10 @@ fn step_unit(unit: &mut Unit, t: f64, h: f64) -> Result<(), MasterError> {
 impl<'s> Master<'s> {
     pub fn new(sys: &'s mut System, opts: Options) -> Result<Self, MasterError> {
         if !(opts.step.is_finite() && opts.step > 0.0) {
-            return Err(MasterError::Unsupported(format!("step size {} must be positive", opts.step)));
+            return Err(MasterError::Unsupported(format!(
+                "step size {} must be positive",
+                opts.step
+            )));
         }
         if !(opts.stop_time.is_finite() && opts.stop_time > sys.start_time) {
             return Err(MasterError::Unsupported(format!(
@@ -175,7 +179,10 @@ impl<'s> Master<'s> {
             )));
         }
         if opts.order > 2 {
-            return Err(MasterError::Unsupported(format!("extrapolation order {} (0, 1 or 2)", opts.order)));
+            return Err(MasterError::Unsupported(format!(
+                "extrapolation order {} (0, 1 or 2)",
+                opts.order
+            )));
         }
         let rollback = matches!(opts.algorithm, Algorithm::Iterative | Algorithm::Adaptive);
         for u in &sys.units {
@@ -274,7 +281,11 @@ impl<'s> Master<'s> {
                 }
             }
             k += 1;
-            t = if !adaptive && h_k == self.opts.step { t0 + k as f64 * h_k } else { t + h_k };
+            t = if !adaptive && h_k == self.opts.step {
+                t0 + k as f64 * h_k
+            } else {
+                t + h_k
+            };
             if stop - t <= eps {
                 t = stop;
             }
@@ -310,7 +321,11 @@ impl<'s> Master<'s> {
         let y0 = self.start[su][i];
         if self.known[su] {
             let end = self.sys.units[su].values[i];
-            return if self.opts.order == 0 { [end, 0.0, 0.0] } else { [y0, (end - y0) / h, 0.0] };
+            return if self.opts.order == 0 {
+                [end, 0.0, 0.0]
+            } else {
+                [y0, (end - y0) / h, 0.0]
+            };
         }
         match self.opts.order.min(self.hist_len) {
             0 => [y0, 0.0, 0.0],

@@ -1,12 +1,15 @@
 //! The co-simulation master: SSP scenes (`ssp`), made runnable and checked (`system`), stepped by
 //! an algorithm (`master`), recorded to CSV (`recorder`).
 
+mod checks;
 pub mod master;
 pub mod recorder;
 pub mod ssp;
 pub mod system;
+pub mod unit;
 mod xml;
 
 pub use master::{Algorithm, Master, MasterError, Options, Stats};
 pub use ssp::{Scene, SspError, Value};
 pub use system::{Record, System, SystemError};
+pub use unit::{Kind, Link, Unit};

@@ -49,7 +49,7 @@ impl Recorder {
 
     /// Offers one communication point; writes it if decimation keeps it.
     pub fn observe(&mut self, time: f64, system: &System) -> std::io::Result<()> {
-        let keep = self.seen % self.every == 0;
+        let keep = self.seen.is_multiple_of(self.every);
         self.seen += 1;
         if keep { self.write(time, system) } else { Ok(()) }
     }

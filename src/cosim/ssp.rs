@@ -13,7 +13,11 @@ pub enum SspError {
     #[error("{path}: {message}")]
     File { path: PathBuf, message: String },
     #[error("{path}:{line}: {message}")]
-    Content { path: PathBuf, line: usize, message: String },
+    Content {
+        path: PathBuf,
+        line: usize,
+        message: String,
+    },
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -123,9 +127,11 @@ fn content_error(path: &Path, line: usize, message: impl Into<String>) -> SspErr
 fn parse_f64(path: &Path, e: &Element, attr: &str) -> Result<Option<f64>, SspError> {
     match e.attr(attr) {
         None => Ok(None),
-        Some(v) => v.trim().parse::<f64>().map(Some).map_err(|_| {
-            content_error(path, e.line, format!("<{}> {attr}=\"{v}\" is not a number", e.name))
-        }),
+        Some(v) => v
+            .trim()
+            .parse::<f64>()
+            .map(Some)
+            .map_err(|_| content_error(path, e.line, format!("<{}> {attr}=\"{v}\" is not a number", e.name))),
     }
 }
 
@@ -178,7 +184,10 @@ impl Scene {
                 return Err(content_error(
                     &ssd,
                     other.line,
-                    format!("<{}> is not supported: systems must be flat lists of FMU components", other.name),
+                    format!(
+                        "<{}> is not supported: systems must be flat lists of FMU components",
+                        other.name
+                    ),
                 ));
             }
         }
@@ -192,8 +201,16 @@ impl Scene {
                 ),
                 None => (1.0, 0.0),
             };
-            if let Some(other) = c.children.iter().find(|x| x.name.ends_with("Transformation") && x.name != "LinearTransformation") {
-                return Err(content_error(&ssd, other.line, format!("<{}> is not supported", other.name)));
+            if let Some(other) = c
+                .children
+                .iter()
+                .find(|x| x.name.ends_with("Transformation") && x.name != "LinearTransformation")
+            {
+                return Err(content_error(
+                    &ssd,
+                    other.line,
+                    format!("<{}> is not supported", other.name),
+                ));
             }
             // libcosim needs both elements; a system-level connector has no element
             connections.push(Connection {
@@ -231,9 +248,13 @@ impl Scene {
 }
 
 fn find_descendant<'a>(e: &'a Element, name: &str) -> Option<&'a Element> {
-    e.children
-        .iter()
-        .find_map(|c| if c.name == name { Some(c) } else { find_descendant(c, name) })
+    e.children.iter().find_map(|c| {
+        if c.name == name {
+            Some(c)
+        } else {
+            find_descendant(c, name)
+        }
+    })
 }
 
 fn read_component(ssd: &Path, root: &Path, c: &Element) -> Result<Component, SspError> {
@@ -279,7 +300,11 @@ fn read_component(ssd: &Path, root: &Path, c: &Element) -> Result<Component, Ssp
                     .child("ParameterValues")
                     .and_then(|v| v.child("ParameterSet"))
                     .ok_or_else(|| {
-                        content_error(ssd, binding.line, "ParameterBinding has neither source nor ParameterValues")
+                        content_error(
+                            ssd,
+                            binding.line,
+                            "ParameterBinding has neither source nor ParameterValues",
+                        )
                     })?;
                 (ssd.to_path_buf(), set.clone())
             }
@@ -292,7 +317,13 @@ fn read_component(ssd: &Path, root: &Path, c: &Element) -> Result<Component, Ssp
                 .first()
                 .ok_or_else(|| content_error(&file, p.line, format!("parameter {pname} has no value element")))?;
             let raw = required(&file, typed, "value")?;
-            let bad = || content_error(&file, typed.line, format!("parameter {pname}: cannot read {raw:?} as {}", typed.name));
+            let bad = || {
+                content_error(
+                    &file,
+                    typed.line,
+                    format!("parameter {pname}: cannot read {raw:?} as {}", typed.name),
+                )
+            };
             let value = match typed.name.as_str() {
                 "Real" => Value::Real(raw.trim().parse().map_err(|_| bad())?),
                 "Integer" | "Enumeration" => Value::Integer(raw.trim().parse().map_err(|_| bad())?),
@@ -302,7 +333,13 @@ fn read_component(ssd: &Path, root: &Path, c: &Element) -> Result<Component, Ssp
                     _ => return Err(bad()),
                 }),
                 "String" => Value::String(raw.to_string()),
-                other => return Err(content_error(&file, typed.line, format!("parameter {pname}: unknown type {other}"))),
+                other => {
+                    return Err(content_error(
+                        &file,
+                        typed.line,
+                        format!("parameter {pname}: unknown type {other}"),
+                    ));
+                }
             };
             parameters.push(Parameter {
                 name: pname,

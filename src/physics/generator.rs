@@ -26,7 +26,11 @@ pub struct SpringState {
 impl SpringGenerator {
     pub fn initial_state(&self, initial_torque: f64) -> SpringState {
         SpringState {
-            load_angle: if self.stiffness > 0.0 { initial_torque / self.stiffness } else { 0.0 },
+            load_angle: if self.stiffness > 0.0 {
+                initial_torque / self.stiffness
+            } else {
+                0.0
+            },
             connected_fraction: 1.0,
         }
     }
@@ -41,7 +45,11 @@ impl SpringGenerator {
     pub fn advance(&self, st: &mut SpringState, w: [f64; 3], h: f64, connected: bool, trip_time_constant: f64) {
         st.load_angle += (w[0] - self.synchronous_speed) * h + w[1] * h * h / 2.0 + w[2] * h * h * h / 6.0;
         if !connected {
-            st.connected_fraction *= if trip_time_constant > 0.0 { (-h / trip_time_constant).exp() } else { 0.0 };
+            st.connected_fraction *= if trip_time_constant > 0.0 {
+                (-h / trip_time_constant).exp()
+            } else {
+                0.0
+            };
         }
     }
 }
@@ -52,7 +60,11 @@ mod tests {
 
     #[test]
     fn load_angle_integrates_the_speed_polynomial_exactly() {
-        let g = SpringGenerator { stiffness: 2.81e4, damping: 0.0, synchronous_speed: 150.0 };
+        let g = SpringGenerator {
+            stiffness: 2.81e4,
+            damping: 0.0,
+            synchronous_speed: 150.0,
+        };
         let mut st = g.initial_state(0.0);
         // ω(τ) = 151 + 2τ + 3τ²/2 over 0.5 s: ∫(ω − 150) = 0.5 + 0.25 + 0.0625
         g.advance(&mut st, [151.0, 2.0, 3.0], 0.5, true, 0.05);
@@ -62,7 +74,11 @@ mod tests {
 
     #[test]
     fn trip_decays_the_torque_with_its_time_constant() {
-        let g = SpringGenerator { stiffness: 1e4, damping: 0.0, synchronous_speed: 100.0 };
+        let g = SpringGenerator {
+            stiffness: 1e4,
+            damping: 0.0,
+            synchronous_speed: 100.0,
+        };
         let mut st = g.initial_state(5000.0);
         for _ in 0..100 {
             g.advance(&mut st, [100.0, 0.0, 0.0], 1e-3, false, 0.05);

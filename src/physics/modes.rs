@@ -41,7 +41,11 @@ pub struct Modes {
 
 /// M-orthonormal eigenpairs of K x = ω² M x under `boundary`: (the DOFs kept, ω² per pair, and
 /// x as columns over the kept DOFs, in the model's own coordinates).
-fn eigenpairs(model: &TorsionalModel, boundary: Boundary, k_generator: f64) -> (Vec<usize>, Vec<f64>, nalgebra::DMatrix<f64>) {
+fn eigenpairs(
+    model: &TorsionalModel,
+    boundary: Boundary,
+    k_generator: f64,
+) -> (Vec<usize>, Vec<f64>, nalgebra::DMatrix<f64>) {
     let mut k = model.stiffness_matrix();
     let g = model.generator;
     if boundary == Boundary::Connected {
@@ -70,7 +74,10 @@ pub fn undamped_step_response(
     torque: f64,
     times: &[f64],
 ) -> Vec<Vec<f64>> {
-    assert!(boundary != Boundary::Disconnected, "a free-free model has no static response");
+    assert!(
+        boundary != Boundary::Disconnected,
+        "a free-free model has no static response"
+    );
     let (keep, lambda, x) = eigenpairs(model, boundary, k_generator);
     let at = keep.iter().position(|&d| d == dof).expect("the loaded DOF is not held");
     times

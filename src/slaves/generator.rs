@@ -42,12 +42,23 @@ fn err(msg: impl Into<String>) -> SlaveError {
 
 impl Params {
     fn build(&self) -> SlaveResult<(SpringGenerator, SpringState)> {
-        let drivetrain = Drivetrain::preset(&self.preset)
-            .ok_or_else(|| err(format!("parameter preset = {:?}: unknown drivetrain, use A, B, C or D", self.preset)))?;
+        let drivetrain = Drivetrain::preset(&self.preset).ok_or_else(|| {
+            err(format!(
+                "parameter preset = {:?}: unknown drivetrain, use A, B, C or D",
+                self.preset
+            ))
+        })?;
         if self.kind.trim() != "spring" {
-            return Err(err(format!("parameter kind = {:?}: this FMU models kind spring", self.kind)));
+            return Err(err(format!(
+                "parameter kind = {:?}: this FMU models kind spring",
+                self.kind
+            )));
         }
-        let stiffness = if self.stiffness > 0.0 { self.stiffness } else { drivetrain.k_generator };
+        let stiffness = if self.stiffness > 0.0 {
+            self.stiffness
+        } else {
+            drivetrain.k_generator
+        };
         let synchronous_speed = if self.synchronous_speed > 0.0 {
             self.synchronous_speed
         } else {
