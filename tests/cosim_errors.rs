@@ -111,6 +111,11 @@ fn file_errors_name_the_file() {
         &build_error(&dir),
         &["component generator", "generator.so", "file not found"],
     );
+    // an FMU whose modelDescription.xml does not parse
+    let (_g8, dir) = common::scene_copy("d-grid-step");
+    let unpacked = unpack_fmu(&dir, "generator");
+    edit(&unpacked.join("modelDescription.xml"), "</ModelVariables>", "");
+    assert_contains(&build_error(&dir), &["component generator", "modelDescription.xml"]);
     // a corrupt .ssp archive
     let (_g5, dir) = common::scene_copy("d-grid-step");
     let ssp = dir.join("corrupt.ssp");

@@ -423,9 +423,10 @@ impl<'s> Master<'s> {
         Ok(())
     }
 
-    fn save_all(&mut self, t: f64) -> Result<(), MasterError> {
+    /// Runs `f` on every unit, naming the unit and time `t` in an error.
+    fn each_unit(&mut self, t: f64, f: impl Fn(&mut Unit) -> Result<(), ImportError>) -> Result<(), MasterError> {
         for unit in &mut self.sys.units {
-            unit.save_state().map_err(|error| MasterError::Step {
+            f(unit).map_err(|error| MasterError::Step {
                 component: unit.name.clone(),
                 time: t,
                 error,
@@ -434,15 +435,12 @@ impl<'s> Master<'s> {
         Ok(())
     }
 
+    fn save_all(&mut self, t: f64) -> Result<(), MasterError> {
+        self.each_unit(t, Unit::save_state)
+    }
+
     fn restore_all(&mut self, t: f64) -> Result<(), MasterError> {
-        for unit in &mut self.sys.units {
-            unit.restore_state().map_err(|error| MasterError::Step {
-                component: unit.name.clone(),
-                time: t,
-                error,
-            })?;
-        }
-        Ok(())
+        self.each_unit(t, |u| u.restore_state())
     }
 
     /// Largest coupling change relative to the tolerance between `reference` and the current values.

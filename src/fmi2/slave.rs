@@ -63,3 +63,23 @@ pub trait Slave: Sized + Clone + Send + Serialize + DeserializeOwned + 'static {
     /// Advances from `t` to `t + h`; `t` already matches the model's time.
     fn do_step(&mut self, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()>;
 }
+
+/// Applies every start value of the model's XML table to a fresh model (importers do not apply them),
+/// so code and XML cannot disagree. A start value the model refuses is left at its default.
+pub fn apply_start_values<S: Slave>(model: &mut S) {
+    struct Quiet;
+    impl Log for Quiet {
+        fn warning(&mut self, _: &str) {}
+        fn event(&mut self, _: &str) {}
+    }
+    use super::variables::Start;
+    for v in S::VARIABLES {
+        let _ = match v.start {
+            Start::Real(x) => model.set_real(v.vr, x, &mut Quiet),
+            Start::Integer(x) => model.set_integer(v.vr, x, &mut Quiet),
+            Start::Boolean(x) => model.set_boolean(v.vr, x, &mut Quiet),
+            Start::String(x) => model.set_string(v.vr, x, &mut Quiet),
+            Start::None => Ok(()),
+        };
+    }
+}

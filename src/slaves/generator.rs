@@ -2,7 +2,7 @@
 //! [`SpringGenerator`].
 
 use crate::fmi2::slave::{Log, Slave, SlaveError, SlaveResult};
-use crate::fmi2::variables::{Start, VarType, Variable};
+use crate::fmi2::variables::{VarType, Variable};
 use crate::models::generator as xml;
 use crate::models::generator::vr;
 use crate::physics::drivetrain::Drivetrain;
@@ -93,25 +93,12 @@ impl Slave for GeneratorSlave {
     }
 
     fn instantiate(_resources: Option<&Path>) -> Self {
-        struct Quiet;
-        impl Log for Quiet {
-            fn warning(&mut self, _: &str) {}
-            fn event(&mut self, _: &str) {}
-        }
         let mut s = Self {
             params: Params::default(),
             inputs: Inputs::default(),
             model: None,
         };
-        for v in Self::VARIABLES {
-            let _ = match v.start {
-                Start::Real(x) => s.set_real(v.vr, x, &mut Quiet),
-                Start::Integer(x) => s.set_integer(v.vr, x, &mut Quiet),
-                Start::Boolean(x) => s.set_boolean(v.vr, x, &mut Quiet),
-                Start::String(x) => s.set_string(v.vr, x, &mut Quiet),
-                Start::None => Ok(()),
-            };
-        }
+        crate::fmi2::slave::apply_start_values(&mut s);
         s
     }
 

@@ -2,7 +2,7 @@
 //! and the integrators of [`crate::solver`].
 
 use crate::fmi2::slave::{Log, Slave, SlaveError, SlaveResult};
-use crate::fmi2::variables::{Start, VarType, Variable};
+use crate::fmi2::variables::{VarType, Variable};
 use crate::models::torsional as xml;
 use crate::models::torsional::vr;
 use crate::physics::drivetrain::Drivetrain;
@@ -263,22 +263,8 @@ impl Slave for TorsionalSlave {
     }
 
     fn instantiate(_resources: Option<&Path>) -> Self {
-        struct Quiet;
-        impl Log for Quiet {
-            fn warning(&mut self, _: &str) {}
-            fn event(&mut self, _: &str) {}
-        }
         let mut s = Self::blank();
-        for v in Self::VARIABLES {
-            // start values come from the XML table, so code and XML cannot disagree
-            let _ = match v.start {
-                Start::Real(x) => s.set_real(v.vr, x, &mut Quiet),
-                Start::Integer(x) => s.set_integer(v.vr, x, &mut Quiet),
-                Start::Boolean(x) => s.set_boolean(v.vr, x, &mut Quiet),
-                Start::String(x) => s.set_string(v.vr, x, &mut Quiet),
-                Start::None => Ok(()),
-            };
-        }
+        crate::fmi2::slave::apply_start_values(&mut s);
         s
     }
 
