@@ -1,6 +1,9 @@
 //! Pure Rust models: no FFI, no globals. Every test of the physics runs without an FMU.
 
+pub mod aero;
 pub mod drivetrain;
 pub mod generator;
 pub mod modes;
+pub mod rotor;
 pub mod torsional;
+pub mod turbulence;

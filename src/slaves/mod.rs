@@ -2,4 +2,5 @@
 //! [`crate::fmi2::slave::Slave`]. The `fmus/<name>` crates only export them.
 
 pub mod generator;
+pub mod rotor;
 pub mod torsional;

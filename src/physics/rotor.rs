@@ -1,0 +1,256 @@
+//! The rotor as the drivetrain's input: aerodynamic torque from wind (mean + Kaimal turbulence),
+//! an analytic C_p and a PI pitch controller, or a played-back torque series; plus the shutdown
+//! sequence (pitch to feather, generator trip, HSS brake deployment).
+
+use super::aero::{PitchController, PitchState, Rotor};
+use super::turbulence::TurbulenceSeries;
+use serde::{Deserialize, Serialize};
+
+/// A torque series read from a file, already in N·m (per-unit values scaled on loading).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TorqueSeries {
+    pub time: Vec<f64>,
+    pub torque: Vec<f64>,
+    pub pitching_moment: Option<Vec<f64>>,
+    pub cubic: bool,
+}
+
+impl TorqueSeries {
+    /// Values at `t`: held at the first and last sample outside the series; inside it, linear or
+    /// cubic (Catmull–Rom: through every sample, continuous slope) interpolation.
+    pub fn at(&self, t: f64) -> (f64, f64) {
+        let pm = |i: usize| self.pitching_moment.as_ref().map_or(0.0, |p| p[i]);
+        let n = self.time.len();
+        if t <= self.time[0] {
+            return (self.torque[0], pm(0));
+        }
+        if t >= self.time[n - 1] {
+            return (self.torque[n - 1], pm(n - 1));
+        }
+        let i = self.time.partition_point(|&x| x <= t) - 1;
+        let (t0, t1) = (self.time[i], self.time[i + 1]);
+        let w = (t - t0) / (t1 - t0);
+        let interpolate = |y: &dyn Fn(usize) -> f64| -> f64 {
+            if !self.cubic {
+                return y(i) * (1.0 - w) + y(i + 1) * w;
+            }
+            // Catmull–Rom with end slopes from one-sided differences
+            let slope = |k: usize| -> f64 {
+                let (a, b) = (k.saturating_sub(1), (k + 1).min(n - 1));
+                (y(b) - y(a)) / (self.time[b] - self.time[a]) * (t1 - t0)
+            };
+            let (p0, p1, m0, m1) = (y(i), y(i + 1), slope(i), slope(i + 1));
+            let (w2, w3) = (w * w, w * w * w);
+            (2.0 * w3 - 3.0 * w2 + 1.0) * p0 + (w3 - 2.0 * w2 + w) * m0 + (-2.0 * w3 + 3.0 * w2) * p1 + (w3 - w2) * m1
+        };
+        (interpolate(&|k| self.torque[k]), interpolate(&|k| pm(k)))
+    }
+}
+
+/// Shutdown: from `time` on, pitch to feather at `feather_rate`; trip the generator after
+/// `trip_delay`; deploy the HSS brake after `brake_delay`, its command ramping 0 → 1 over
+/// `brake_ramp_time` (as OpenFAST's HSS brake deployment time). Negative `time` = never.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Shutdown {
+    pub time: f64,
+    pub feather_rate: f64,
+    pub trip_delay: f64,
+    pub brake_delay: f64,
+    pub brake_ramp_time: f64,
+}
+
+impl Shutdown {
+    pub fn active(&self, t: f64) -> bool {
+        self.time >= 0.0 && t >= self.time
+    }
+
+    pub fn generator_connected(&self, t: f64) -> bool {
+        !(self.time >= 0.0 && t >= self.time + self.trip_delay)
+    }
+
+    pub fn brake_command(&self, t: f64) -> f64 {
+        if self.time < 0.0 {
+            return 0.0;
+        }
+        let since = t - (self.time + self.brake_delay);
+        if since < 0.0 {
+            0.0
+        } else if self.brake_ramp_time <= 0.0 {
+            1.0
+        } else {
+            (since / self.brake_ramp_time).min(1.0)
+        }
+    }
+}
+
+/// Pitching (tilt) moment at the hub: rotor weight on the overhang plus the thrust's offset under
+/// power-law shear V(z) = V_hub (z/z_hub)^α. With thrust per disc area ∝ V², the thrust acts at
+/// e = ∫∫ V² (z − z_hub) dA / ∫∫ V² dA above the hub, so M = T·e + m_rotor·g·overhang.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TiltModel {
+    /// e, m (computed once from radius, hub height and α).
+    pub thrust_offset: f64,
+    pub weight_moment: f64,
+}
+
+impl TiltModel {
+    pub fn new(radius: f64, hub_height: f64, shear_exponent: f64, rotor_mass: f64, overhang: f64) -> Self {
+        let (nr, npsi) = (40, 72);
+        let (mut num, mut den) = (0.0, 0.0);
+        for i in 0..nr {
+            let r = (i as f64 + 0.5) / nr as f64 * radius;
+            for j in 0..npsi {
+                let psi = (j as f64 + 0.5) / npsi as f64 * std::f64::consts::TAU;
+                let z = r * psi.sin();
+                let v2 = ((hub_height + z).max(0.0) / hub_height).powf(2.0 * shear_exponent);
+                num += v2 * z * r;
+                den += v2 * r;
+            }
+        }
+        Self {
+            thrust_offset: num / den,
+            weight_moment: rotor_mass * 9.81 * overhang,
+        }
+    }
+
+    pub fn moment(&self, thrust: f64) -> f64 {
+        thrust * self.thrust_offset + self.weight_moment
+    }
+}
+
+/// Where the torque comes from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Source {
+    Aero {
+        rotor: Rotor,
+        mean_wind: f64,
+        turbulence: Option<TurbulenceSeries>,
+        pitch: PitchController,
+        tilt: TiltModel,
+        /// generator-side speed over rotor speed, for the pitch controller's error
+        gear_ratio: f64,
+    },
+    Playback(TorqueSeries),
+}
+
+/// Outputs at one communication point.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RotorOutputs {
+    pub torque: f64,
+    pub pitching_moment: f64,
+    pub wind_speed: f64,
+    pub thrust: f64,
+    pub pitch: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RotorModel {
+    pub source: Source,
+    pub shutdown: Shutdown,
+    pub state: PitchState,
+    pub time: f64,
+}
+
+/// Pitch control runs at this rate at most, whatever the communication step.
+const CONTROL_STEP: f64 = 0.01;
+
+impl RotorModel {
+    pub fn wind(&self, t: f64) -> f64 {
+        match &self.source {
+            Source::Aero { mean_wind, turbulence, .. } => (mean_wind + turbulence.as_ref().map_or(0.0, |s| s.at(t))).max(0.0),
+            Source::Playback(_) => 0.0,
+        }
+    }
+
+    pub fn outputs(&self, rotor_speed: f64) -> RotorOutputs {
+        let t = self.time;
+        match &self.source {
+            Source::Aero { rotor, tilt, .. } => {
+                let v = self.wind(t);
+                let pitch_deg = self.state.pitch.to_degrees();
+                let thrust = rotor.thrust(rotor_speed, v, pitch_deg);
+                RotorOutputs {
+                    torque: rotor.torque(rotor_speed, v, pitch_deg),
+                    pitching_moment: tilt.moment(thrust),
+                    wind_speed: v,
+                    thrust,
+                    pitch: self.state.pitch,
+                }
+            }
+            Source::Playback(series) => {
+                let (torque, pitching_moment) = series.at(t);
+                RotorOutputs {
+                    torque,
+                    pitching_moment,
+                    ..RotorOutputs::default()
+                }
+            }
+        }
+    }
+
+    /// Advances the pitch (controller, or feathering once the shutdown began) and the clock.
+    pub fn advance(&mut self, rotor_speed: f64, h: f64) {
+        if let Source::Aero { pitch, gear_ratio, .. } = &self.source {
+            let n = (h / CONTROL_STEP).ceil().max(1.0) as usize;
+            let dt = h / n as f64;
+            for k in 0..n {
+                let t = self.time + k as f64 * dt;
+                if self.shutdown.active(t) {
+                    let max = pitch.max_pitch;
+                    self.state.pitch = (self.state.pitch + self.shutdown.feather_rate * dt).min(max);
+                } else {
+                    pitch.step(&mut self.state, rotor_speed * gear_ratio, dt);
+                }
+            }
+        }
+        self.time += h;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn series_interpolation_and_hold() {
+        let s = TorqueSeries {
+            time: vec![0.0, 1.0, 2.0, 3.0],
+            torque: vec![0.0, 1.0, 4.0, 9.0],
+            pitching_moment: None,
+            cubic: false,
+        };
+        assert_eq!(s.at(-1.0).0, 0.0);
+        assert_eq!(s.at(1.5).0, 2.5);
+        assert_eq!(s.at(5.0).0, 9.0);
+        let c = TorqueSeries { cubic: true, ..s };
+        // through the samples, and smoother than linear between them for t² data
+        assert_eq!(c.at(2.0).0, 4.0);
+        assert!((c.at(1.5).0 - 2.25).abs() < (2.5f64 - 2.25).abs());
+    }
+
+    #[test]
+    fn shutdown_sequence_times() {
+        let s = Shutdown {
+            time: 10.0,
+            feather_rate: 0.14,
+            trip_delay: 0.2,
+            brake_delay: 0.5,
+            brake_ramp_time: 0.6,
+        };
+        assert!(s.generator_connected(10.1) && !s.generator_connected(10.2));
+        assert_eq!(s.brake_command(10.4), 0.0);
+        assert!((s.brake_command(10.8) - 0.5).abs() < 1e-12);
+        assert_eq!(s.brake_command(12.0), 1.0);
+        let never = Shutdown { time: -1.0, ..s };
+        assert!(never.generator_connected(1e9) && never.brake_command(1e9) == 0.0);
+    }
+
+    /// No shear: the thrust acts at the hub. Shear α > 0 lifts it above the hub.
+    #[test]
+    fn tilt_offset_from_shear() {
+        assert!(TiltModel::new(40.0, 80.0, 0.0, 0.0, 0.0).thrust_offset.abs() < 1e-9);
+        let e = TiltModel::new(40.0, 80.0, 0.2, 0.0, 0.0).thrust_offset;
+        // small-shear estimate: e ≈ α R² / (2 z_hub) = 2 m
+        assert!(e > 1.5 && e < 2.5, "{e}");
+    }
+}
