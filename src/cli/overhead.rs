@@ -49,8 +49,8 @@ fn bare_loop(scene: &Scene, step: f64, stop: f64) -> anyhow::Result<f64> {
         }
         for unit in &mut system.units {
             unit.instance.do_step(t, step)?;
-            let nr = unit.fetch_real.len();
-            unit.instance.get_real(&unit.fetch_real, &mut unit.values[..nr])?;
+            let nr = unit.coupled.real.len();
+            unit.instance.get_real(&unit.coupled.real, &mut unit.values[..nr])?;
         }
     }
     Ok(started.elapsed().as_secs_f64())

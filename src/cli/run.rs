@@ -76,24 +76,34 @@ pub struct PackSceneArgs {
 }
 
 /// Our own FMUs a scene refers to as resources/<name>.fmu are packed from the workspace when the
-/// file is missing (or always, with `refresh`), so a scene folder runs on a fresh clone.
+/// file is missing (or always, with `refresh`), and replaced by target/fmu/<name>.fmu when that is
+/// newer, so a scene folder runs on a fresh clone and never with a stale copy.
 pub fn provide_own_fmus(scene: &Scene, refresh: bool) -> anyhow::Result<()> {
     let Ok(root) = crate::pack::workspace_root() else {
         return Ok(());
     };
     let ours = crate::pack::fmu_names(&root);
+    let modified = |p: &std::path::Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
     for c in &scene.components {
         let Some(stem) = c.path.file_stem().map(|s| s.to_string_lossy().into_owned()) else {
             continue;
         };
-        if (refresh || !c.path.exists()) && ours.contains(&stem) && c.path.extension().is_some_and(|e| e == "fmu") {
-            let built = crate::pack::pack(&root, &stem)?;
-            if let Some(dir) = c.path.parent() {
-                std::fs::create_dir_all(dir).with_context(|| dir.display().to_string())?;
-            }
-            std::fs::copy(&built, &c.path)
-                .with_context(|| format!("copying {} to {}", built.display(), c.path.display()))?;
+        if !ours.contains(&stem) || c.path.extension().is_none_or(|e| e != "fmu") {
+            continue;
         }
+        let packed = crate::pack::target_dir(&root).join("fmu").join(format!("{stem}.fmu"));
+        let source = if refresh || !c.path.exists() {
+            crate::pack::pack(&root, &stem)?
+        } else if modified(&packed) > modified(&c.path) {
+            packed
+        } else {
+            continue;
+        };
+        if let Some(dir) = c.path.parent() {
+            std::fs::create_dir_all(dir).with_context(|| dir.display().to_string())?;
+        }
+        std::fs::copy(&source, &c.path)
+            .with_context(|| format!("copying {} to {}", source.display(), c.path.display()))?;
     }
     Ok(())
 }
@@ -187,7 +197,10 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     });
     let stats = master.stats.clone();
     let final_time = stats.final_time;
-    let flushed = recorder.finish(final_time, master.system());
+    let flushed = match &result {
+        Ok(()) => recorder.finish(final_time, &mut system).map_err(anyhow::Error::from),
+        Err(_) => recorder.flush().map_err(anyhow::Error::from),
+    };
     if let Some(bar) = progress {
         bar.finish_and_clear();
     }
@@ -245,7 +258,11 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     }
     flushed.with_context(|| format!("writing {}", out.display()))?;
     if let Err(e) = result {
-        bail!("{e}\n(results up to t = {final_time} s are in {})", out.display());
+        bail!(
+            "{e}\n(results up to t = {} s are in {})",
+            recorder.last_time(),
+            out.display()
+        );
     }
     Ok(())
 }

@@ -164,6 +164,31 @@ fn step_unit(unit: &mut Unit, t: f64, h: f64) -> Result<(), MasterError> {
     Ok(())
 }
 
+/// Reads every unit's recorder-only variables at `time` (a kept row), refusing non-finite ones.
+pub fn read_recorded(sys: &mut System, time: f64) -> Result<(), MasterError> {
+    for unit in &mut sys.units {
+        if unit.recorded_only.is_empty() {
+            continue;
+        }
+        unit.fetch_recorded().map_err(|error| MasterError::Step {
+            component: unit.name.clone(),
+            time,
+            error,
+        })?;
+        let range = unit.recorded_only.offset..unit.values.len();
+        if let Some(i) = unit.values[range.clone()].iter().position(|v| !v.is_finite()) {
+            let i = range.start + i;
+            return Err(MasterError::NonFinite {
+                component: unit.name.clone(),
+                variable: unit.fetch_names[i].clone(),
+                time,
+                value: unit.values[i],
+            });
+        }
+    }
+    Ok(())
+}
+
 impl<'s> Master<'s> {
     pub fn new(sys: &'s mut System, opts: Options) -> Result<Self, MasterError> {
         if !(opts.step.is_finite() && opts.step > 0.0) {
@@ -248,8 +273,12 @@ impl<'s> Master<'s> {
     }
 
     /// Runs from the start to the stop time, calling `observe(time, system)` after initialization
-    /// and after every accepted step. On an error, everything observed so far stands.
-    pub fn run(&mut self, mut observe: impl FnMut(f64, &System) -> std::io::Result<()>) -> Result<(), MasterError> {
+    /// and after every accepted step (call [`read_recorded`] there before reading variables that
+    /// only the recorder uses). On an error, everything observed so far stands.
+    pub fn run(
+        &mut self,
+        mut observe: impl FnMut(f64, &mut System) -> Result<(), MasterError>,
+    ) -> Result<(), MasterError> {
         let t0 = self.sys.start_time;
         let stop = self.opts.stop_time;
         observe(t0, self.sys)?;

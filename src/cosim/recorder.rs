@@ -2,6 +2,7 @@
 //! communication point. Rows are written as they come (buffered, flushed on finish and on drop),
 //! so a run that fails keeps every row up to its last good step.
 
+use super::master::{MasterError, read_recorded};
 use super::system::System;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -43,15 +44,25 @@ impl Recorder {
         })
     }
 
+    /// Time of the last row written (NaN before any).
+    pub fn last_time(&self) -> f64 {
+        self.last_time
+    }
+
     pub fn path(&self) -> &Path {
         &self.path
     }
 
-    /// Offers one communication point; writes it if decimation keeps it.
-    pub fn observe(&mut self, time: f64, system: &System) -> std::io::Result<()> {
+    /// Offers one communication point; reads the recorder-only variables and writes the row if
+    /// decimation keeps it.
+    pub fn observe(&mut self, time: f64, system: &mut System) -> Result<(), MasterError> {
         let keep = self.seen.is_multiple_of(self.every);
         self.seen += 1;
-        if keep { self.write(time, system) } else { Ok(()) }
+        if keep {
+            read_recorded(system, time)?;
+            self.write(time, system)?;
+        }
+        Ok(())
     }
 
     fn write(&mut self, time: f64, system: &System) -> std::io::Result<()> {
@@ -70,11 +81,18 @@ impl Recorder {
         Ok(())
     }
 
-    /// Writes the final point if decimation skipped it, and flushes.
-    pub fn finish(&mut self, time: f64, system: &System) -> std::io::Result<()> {
+    /// After a complete run: writes the final point if decimation skipped it, and flushes.
+    pub fn finish(&mut self, time: f64, system: &mut System) -> Result<(), MasterError> {
         if self.seen > 0 && self.last_time != time {
+            read_recorded(system, time)?;
             self.write(time, system)?;
         }
+        Ok(self.out.flush()?)
+    }
+
+    /// After a failed run: flushes the rows written so far. The units may hold values from the
+    /// failed step, so no final row is added.
+    pub fn flush(&mut self) -> std::io::Result<()> {
         self.out.flush()
     }
 }

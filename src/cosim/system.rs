@@ -7,7 +7,7 @@ use super::checks::{
     typed_overrides, variable,
 };
 use super::ssp::{Scene, Value};
-use super::unit::{DiscreteInputs, Inputs, Kind, Link, Unit, kind_of};
+use super::unit::{DiscreteInputs, Inputs, Kind, Link, Unit, VarGroup, kind_of};
 use crate::fmi2::description::ScalarVariable;
 use crate::fmi2::import::{Fmu, ImportError};
 use std::collections::HashMap;
@@ -213,6 +213,8 @@ impl System {
             edges.push(((su, sv.name.clone()), (du, dv.name.clone())));
         }
 
+        // slots so far are read by other units; the recorder's own come after
+        let coupled_count: Vec<usize> = fetch.iter().map(Vec::len).collect();
         let overrides = &typed_overrides(scene, &fmus, overrides)?;
         // unconnected inputs need a start value
         for (u, fmu) in fmus.iter().enumerate() {
@@ -287,23 +289,38 @@ impl System {
                 component: name.clone(),
                 error,
             })?;
+            // coupled before recorder-only, and by kind inside each: two groups of `values`
+            let rank = |i: usize| {
+                let kind = match fetch[u][i].0 {
+                    Kind::Real => 0,
+                    Kind::Integer => 1,
+                    Kind::Boolean => 2,
+                };
+                (usize::from(i >= coupled_count[u]), kind)
+            };
             let mut order: Vec<usize> = (0..fetch[u].len()).collect();
-            order.sort_by_key(|&i| match fetch[u][i].0 {
-                Kind::Real => 0,
-                Kind::Integer => 1,
-                Kind::Boolean => 2,
-            });
+            order.sort_by_key(|&i| rank(i));
             let mut remap = vec![0; order.len()];
             for (new, &old) in order.iter().enumerate() {
                 remap[old] = new;
             }
-            let pick = |kind: Kind| -> Vec<u32> {
-                order
-                    .iter()
-                    .filter(|&&i| fetch[u][i].0 == kind)
-                    .map(|&i| fetch[u][i].1)
-                    .collect()
+            let group = |extra: bool, offset: usize| {
+                let pick = |kind: Kind| -> Vec<u32> {
+                    order
+                        .iter()
+                        .filter(|&&i| (i >= coupled_count[u]) == extra && fetch[u][i].0 == kind)
+                        .map(|&i| fetch[u][i].1)
+                        .collect()
+                };
+                VarGroup {
+                    real: pick(Kind::Real),
+                    integer: pick(Kind::Integer),
+                    boolean: pick(Kind::Boolean),
+                    offset,
+                }
             };
+            let coupled = group(false, 0);
+            let recorded_only = group(true, coupled.len());
             let cs = fmu.description.co_simulation.as_ref().expect("checked on open");
             units.push(Unit {
                 name,
@@ -312,9 +329,8 @@ impl System {
                 can_interpolate_inputs: cs.can_interpolate_inputs,
                 can_get_set_state: cs.can_get_and_set_fmu_state,
                 can_vary_step: cs.can_handle_variable_step,
-                fetch_real: pick(Kind::Real),
-                fetch_integer: pick(Kind::Integer),
-                fetch_boolean: pick(Kind::Boolean),
+                coupled,
+                recorded_only,
                 fetch_names: order.iter().map(|&i| fetch[u][i].2.clone()).collect(),
                 values: vec![0.0; order.len()],
                 real_in: Inputs::default(),
@@ -437,6 +453,8 @@ impl System {
             let r = self.units[u].instance.exit_initialization_mode();
             self.call(u, r)?;
             let r = self.units[u].fetch();
+            self.call(u, r)?;
+            let r = self.units[u].fetch_recorded();
             self.call(u, r)?;
         }
         Ok(())

@@ -39,6 +39,56 @@ pub struct Inputs {
     pub links: Vec<Link>,
 }
 
+/// Variables read together into a slice of `Unit::values`: Real first, then Integer, then Boolean.
+#[derive(Debug, Default)]
+pub struct VarGroup {
+    pub real: Vec<u32>,
+    pub integer: Vec<u32>,
+    pub boolean: Vec<u32>,
+    /// Where the group starts in `Unit::values`.
+    pub offset: usize,
+}
+
+impl VarGroup {
+    pub fn len(&self) -> usize {
+        self.real.len() + self.integer.len() + self.boolean.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Reads the group into `values[offset..offset + len]`.
+    fn read(
+        &self,
+        instance: &mut Instance,
+        values: &mut [f64],
+        ints: &mut Vec<i32>,
+        bools: &mut Vec<bool>,
+    ) -> Result<(), ImportError> {
+        let (nr, ni) = (self.real.len(), self.integer.len());
+        let out = &mut values[self.offset..self.offset + self.len()];
+        if nr > 0 {
+            instance.get_real(&self.real, &mut out[..nr])?;
+        }
+        if ni > 0 {
+            ints.resize(ni, 0);
+            instance.get_integer(&self.integer, ints)?;
+            for (v, i) in out[nr..nr + ni].iter_mut().zip(ints.iter()) {
+                *v = f64::from(*i);
+            }
+        }
+        if !self.boolean.is_empty() {
+            bools.resize(self.boolean.len(), false);
+            instance.get_boolean(&self.boolean, bools)?;
+            for (v, b) in out[nr + ni..].iter_mut().zip(bools.iter()) {
+                *v = f64::from(u8::from(*b));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// One instantiated component.
 pub struct Unit {
     pub name: String,
@@ -47,11 +97,11 @@ pub struct Unit {
     pub can_interpolate_inputs: bool,
     pub can_get_set_state: bool,
     pub can_vary_step: bool,
-    /// Variables read after every step, Real first, then Integer, then Boolean: `values` holds
-    /// them in that order.
-    pub fetch_real: Vec<u32>,
-    pub fetch_integer: Vec<u32>,
-    pub fetch_boolean: Vec<u32>,
+    /// Outputs other units read: fetched after every step.
+    pub coupled: VarGroup,
+    /// Variables only the recorder reads: fetched when it keeps a row (after `coupled` in `values`).
+    pub recorded_only: VarGroup,
+    /// Name of every entry of `values`.
     pub fetch_names: Vec<String>,
     pub values: Vec<f64>,
     pub real_in: Inputs,
@@ -75,28 +125,24 @@ impl Drop for Unit {
 }
 
 impl Unit {
-    /// Reads every fetched variable into `values`.
+    /// Reads the coupled outputs into `values`.
     pub fn fetch(&mut self) -> Result<(), ImportError> {
-        let nr = self.fetch_real.len();
-        let ni = self.fetch_integer.len();
-        if nr > 0 {
-            self.instance.get_real(&self.fetch_real, &mut self.values[..nr])?;
-        }
-        if ni > 0 {
-            self.scratch_int.resize(ni, 0);
-            self.instance.get_integer(&self.fetch_integer, &mut self.scratch_int)?;
-            for (v, i) in self.values[nr..nr + ni].iter_mut().zip(&self.scratch_int) {
-                *v = f64::from(*i);
-            }
-        }
-        if !self.fetch_boolean.is_empty() {
-            self.scratch_bool.resize(self.fetch_boolean.len(), false);
-            self.instance.get_boolean(&self.fetch_boolean, &mut self.scratch_bool)?;
-            for (v, b) in self.values[nr + ni..].iter_mut().zip(&self.scratch_bool) {
-                *v = f64::from(u8::from(*b));
-            }
-        }
-        Ok(())
+        self.coupled.read(
+            &mut self.instance,
+            &mut self.values,
+            &mut self.scratch_int,
+            &mut self.scratch_bool,
+        )
+    }
+
+    /// Reads the variables only the recorder needs.
+    pub fn fetch_recorded(&mut self) -> Result<(), ImportError> {
+        self.recorded_only.read(
+            &mut self.instance,
+            &mut self.values,
+            &mut self.scratch_int,
+            &mut self.scratch_bool,
+        )
     }
 
     /// Saves the FMU state, reusing the previous snapshot's memory.

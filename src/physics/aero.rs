@@ -1,38 +1,50 @@
 //! Rotor aerodynamics from an analytic power coefficient, and the gain-scheduled PI pitch control.
 //!
-//! C_p(λ, β) (Heier; the MathWorks Wind Turbine block): C_p = 0.5176 (116/λ_i − 0.4β − 5) e^(−21/λ_i)
-//! + 0.0068 λ, 1/λ_i = 1/(λ + 0.08β) − 0.035/(β³ + 1), β in degrees; C_p,max = 0.480 at λ = 8.1.
+//! Power coefficient (Heier; the MathWorks Wind Turbine block), β in degrees:
+//! C_p = 0.5176 (116/λ_i − 0.4β − 5) exp(−21/λ_i) + 0.0068 λ, with
+//! 1/λ_i = 1/(λ + 0.08β) − 0.035/(β³ + 1); C_p,max = 0.480 at λ = 8.1.
+//!
 //! Torque T = ½ρπR³V²·C_p/λ. Thrust from momentum theory at the axial induction a that gives this
-//! C_p = 4a(1 − a)²: C_T = 4a(1 − a) (a ≤ 1/3, the branch below the Betz optimum).
+//! C_p = 4a(1 − a)², then C_T = 4a(1 − a) (a ≤ 1/3, the branch below the Betz optimum).
 
 use serde::{Deserialize, Serialize};
 
 pub const AIR_DENSITY: f64 = 1.225;
 
-/// Heier's power coefficient, never negative below a small floor (the formula's negative tail at
-/// very low λ is a fit artefact; a real rotor there produces little torque either way).
+/// Heier's power coefficient. Its negative values (a feathered rotor braking) are floored at −0.1
+/// (the fit extrapolates wildly at large pitch) and faded out as λ² below λ = 4: divided by a small
+/// λ they would otherwise give a standing rotor a large reverse torque it cannot have.
 pub fn power_coefficient(lambda: f64, pitch_deg: f64) -> f64 {
     let inv = 1.0 / (lambda + 0.08 * pitch_deg) - 0.035 / (pitch_deg.powi(3) + 1.0);
     let cp = 0.5176 * (116.0 * inv - 0.4 * pitch_deg - 5.0) * (-21.0 * inv).exp() + 0.0068 * lambda;
-    cp.max(-0.05)
+    if cp < 0.0 {
+        cp.max(-0.1) * (lambda / 4.0).min(1.0).powi(2)
+    } else {
+        cp
+    }
 }
 
-/// C_T from C_p through momentum theory (a on the branch a ≤ 1/3, found by bisection).
+/// C_T from C_p through momentum theory: the root a ≤ 1/3 of C_p = 4a(1 − a)² (Newton from the
+/// small-a guess, which converges monotonically on this concave branch), then C_T = 4a(1 − a).
 pub fn thrust_coefficient(cp: f64) -> f64 {
     if cp <= 0.0 {
         return 0.0;
     }
     let cp = cp.min(16.0 / 27.0);
-    let (mut lo, mut hi) = (0.0f64, 1.0 / 3.0);
-    for _ in 0..60 {
-        let mid = 0.5 * (lo + hi);
-        if 4.0 * mid * (1.0 - mid).powi(2) < cp {
-            lo = mid;
-        } else {
-            hi = mid;
+    let mut a = cp / 4.0;
+    for _ in 0..30 {
+        let f = 4.0 * a * (1.0 - a).powi(2) - cp;
+        let df = 4.0 * (1.0 - a) * (1.0 - 3.0 * a);
+        if df <= 1e-12 {
+            break;
         }
+        let next = (a - f / df).min(1.0 / 3.0);
+        if (next - a).abs() < 1e-15 {
+            a = next;
+            break;
+        }
+        a = next;
     }
-    let a = 0.5 * (lo + hi);
     4.0 * a * (1.0 - a)
 }
 
@@ -45,7 +57,11 @@ pub struct Rotor {
 
 impl Rotor {
     pub fn tip_speed_ratio(&self, omega: f64, wind: f64) -> f64 {
-        if wind <= 0.0 { f64::INFINITY } else { (omega * self.radius / wind).max(self.lambda_min) }
+        if wind <= 0.0 {
+            f64::INFINITY
+        } else {
+            (omega * self.radius / wind).max(self.lambda_min)
+        }
     }
 
     /// Aerodynamic torque on the rotor, N·m, positive driving.
@@ -125,7 +141,10 @@ mod tests {
                 (best, at) = (cp, l);
             }
         }
-        assert!((best - 0.4800).abs() < 5e-4 && (at - 8.10).abs() < 0.02, "{best} at {at}");
+        assert!(
+            (best - 0.4800).abs() < 5e-4 && (at - 8.10).abs() < 0.02,
+            "{best} at {at}"
+        );
         // pitching to feather kills the power
         assert!(power_coefficient(8.1, 30.0) < 0.05);
     }

@@ -157,7 +157,9 @@ const CONTROL_STEP: f64 = 0.01;
 impl RotorModel {
     pub fn wind(&self, t: f64) -> f64 {
         match &self.source {
-            Source::Aero { mean_wind, turbulence, .. } => (mean_wind + turbulence.as_ref().map_or(0.0, |s| s.at(t))).max(0.0),
+            Source::Aero {
+                mean_wind, turbulence, ..
+            } => (mean_wind + turbulence.as_ref().map_or(0.0, |s| s.at(t))).max(0.0),
             Source::Playback(_) => 0.0,
         }
     }

@@ -6,7 +6,7 @@ use crate::models::rotor as xml;
 use crate::models::rotor::vr;
 use crate::physics::aero::{PitchController, PitchState, Rotor};
 use crate::physics::drivetrain::Drivetrain;
-use crate::physics::rotor::{RotorModel, Shutdown, Source, TiltModel, TorqueSeries};
+use crate::physics::rotor::{RotorModel, RotorOutputs, Shutdown, Source, TiltModel, TorqueSeries};
 use crate::physics::turbulence::{TurbulenceModel, TurbulenceSeries, iec_sigma, kaimal_length};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -66,7 +66,10 @@ const RADIUS_C: f64 = 40.0;
 /// for the presets whose rotor the sources do not give.
 fn design_tip_speed_ratio() -> f64 {
     let c = Drivetrain::preset("C").expect("preset C");
-    let rotor = Rotor { radius: RADIUS_C, lambda_min: 0.5 };
+    let rotor = Rotor {
+        radius: RADIUS_C,
+        lambda_min: 0.5,
+    };
     let v = rated_wind_speed(&rotor, c.rated_power, c.rated_rotor_speed).expect("C reaches rated power");
     c.rated_rotor_speed * RADIUS_C / v
 }
@@ -138,14 +141,25 @@ fn read_series(path: &Path, scale: f64, cubic: bool) -> SlaveResult<TorqueSeries
         match nums {
             Ok(v) if v.len() >= 2 && v.iter().all(|x| x.is_finite()) => {
                 if time.last().is_some_and(|&t: &f64| v[0] <= t) {
-                    return Err(err(format!("series {} line {}: time {} does not increase", path.display(), n + 1, v[0])));
+                    return Err(err(format!(
+                        "series {} line {}: time {} does not increase",
+                        path.display(),
+                        n + 1,
+                        v[0]
+                    )));
                 }
                 time.push(v[0]);
                 torque.push(v[1] * scale);
                 pm.push(v.get(2).copied().unwrap_or(0.0));
             }
             _ if time.is_empty() && n == 0 => continue, // header
-            _ => return Err(err(format!("series {} line {}: expected time,torque[,pitching moment] numbers", path.display(), n + 1))),
+            _ => {
+                return Err(err(format!(
+                    "series {} line {}: expected time,torque[,pitching moment] numbers",
+                    path.display(),
+                    n + 1
+                )));
+            }
         }
     }
     if time.len() < 2 {
@@ -163,13 +177,19 @@ fn read_series(path: &Path, scale: f64, cubic: bool) -> SlaveResult<TorqueSeries
 impl Params {
     fn build(&self, resources: Option<&Path>) -> SlaveResult<Built> {
         let preset = self.string(vr::PRESET);
-        let drivetrain = Drivetrain::preset(preset)
-            .ok_or_else(|| err(format!("parameter preset = {preset:?}: unknown drivetrain, use A, B, C or D")))?;
+        let drivetrain = Drivetrain::preset(preset).ok_or_else(|| {
+            err(format!(
+                "parameter preset = {preset:?}: unknown drivetrain, use A, B, C or D"
+            ))
+        })?;
         let (r0, h0) = preset_rotor(&drivetrain, preset);
         let pick = |x: f64, default: f64| if x > 0.0 { x } else { default };
         let radius = pick(self.real(vr::RADIUS), r0);
         let hub_height = pick(self.real(vr::HUB_HEIGHT), h0);
-        let rotor = Rotor { radius, lambda_min: 0.5 };
+        let rotor = Rotor {
+            radius,
+            lambda_min: 0.5,
+        };
         let rated_speed = drivetrain.rated_rotor_speed;
         let rated_torque = drivetrain.rated_rotor_torque();
         let rated_wind = rated_wind_speed(&rotor, drivetrain.rated_power, rated_speed)?;
@@ -205,7 +225,14 @@ impl Params {
                 };
                 let turbulence = (sigma > 0.0).then(|| {
                     // 0.05 s spacing (content to 10 Hz), 2^16 samples: periodic over 3277 s
-                    TurbulenceSeries::kaimal(sigma, kaimal_length(hub_height), mean_wind, 0.05, 1 << 16, self.seed as u32 as u64)
+                    TurbulenceSeries::kaimal(
+                        sigma,
+                        kaimal_length(hub_height),
+                        mean_wind,
+                        0.05,
+                        1 << 16,
+                        self.seed as u32 as u64,
+                    )
                 });
                 let gear_ratio = drivetrain.gear_ratio();
                 Source::Aero {
@@ -221,14 +248,22 @@ impl Params {
                         max_rate: self.real(vr::PITCH_MAX_RATE),
                         speed_setpoint: pick(self.real(vr::SPEED_SETPOINT), rated_speed * gear_ratio),
                     },
-                    tilt: TiltModel::new(radius, hub_height, self.real(vr::SHEAR_EXPONENT), self.real(vr::ROTOR_MASS), self.real(vr::OVERHANG)),
+                    tilt: TiltModel::new(
+                        radius,
+                        hub_height,
+                        self.real(vr::SHEAR_EXPONENT),
+                        self.real(vr::ROTOR_MASS),
+                        self.real(vr::OVERHANG),
+                    ),
                     gear_ratio,
                 }
             }
             "playback" => {
                 let name = self.string(vr::SERIES).trim();
                 if name.is_empty() {
-                    return Err(err("mode = playback needs the parameter series (a CSV file of time, torque)"));
+                    return Err(err(
+                        "mode = playback needs the parameter series (a CSV file of time, torque)",
+                    ));
                 }
                 let mut path = PathBuf::from(name);
                 if path.is_relative()
@@ -242,7 +277,11 @@ impl Params {
                     other => return Err(err(format!("parameter series_unit = {other:?}: use pu or N.m"))),
                 };
                 let d_source = self.real(vr::SOURCE_ROTOR_DIAMETER);
-                let diameter_scale = if d_source > 0.0 { (2.0 * radius / d_source).powi(3) } else { 1.0 };
+                let diameter_scale = if d_source > 0.0 {
+                    (2.0 * radius / d_source).powi(3)
+                } else {
+                    1.0
+                };
                 let cubic = match self.string(vr::INTERPOLATION).trim() {
                     "linear" => false,
                     "cubic" => true,
@@ -275,6 +314,9 @@ pub struct RotorSlave {
     resources: Option<PathBuf>,
     built: Option<Built>,
     start_time: f64,
+    /// Outputs at (time, rotor speed) last computed: a master reads several per step.
+    #[serde(skip)]
+    cache: Option<(f64, f64, RotorOutputs)>,
 }
 
 impl RotorSlave {
@@ -309,6 +351,7 @@ impl Slave for RotorSlave {
             resources: resources.map(Path::to_path_buf),
             built: None,
             start_time: 0.0,
+            cache: None,
         };
         crate::fmi2::slave::apply_start_values(&mut s);
         s
@@ -322,9 +365,14 @@ impl Slave for RotorSlave {
             return Ok(self.speed[0]);
         }
         let omega = self.speed[0];
+        let cache = self.cache;
         let b = self.ensure()?;
-        let out = b.model.outputs(omega);
-        Ok(match r {
+        let out = match cache {
+            Some((t, w, out)) if t == b.model.time && w == omega => out,
+            _ => b.model.outputs(omega),
+        };
+        let time = b.model.time;
+        let value = match r {
             vr::RATED_WIND_SPEED => b.rated_wind_speed,
             vr::RADIUS_USED => b.radius,
             vr::RATED_ROTOR_TORQUE => b.rated_rotor_torque,
@@ -337,7 +385,9 @@ impl Slave for RotorSlave {
             vr::THRUST => out.thrust,
             vr::AERODYNAMIC_POWER => out.torque * omega,
             _ => return Err(err(format!("Real value reference {r} has no getter"))),
-        })
+        };
+        self.cache = Some((time, omega, out));
+        Ok(value)
     }
 
     fn set_real(&mut self, r: u32, value: f64, _: &mut dyn Log) -> SlaveResult<()> {
@@ -351,6 +401,7 @@ impl Slave for RotorSlave {
             .ok_or_else(|| err(format!("Real value reference {r} cannot be set")))?;
         self.params.reals[i] = value;
         self.built = None;
+        self.cache = None;
         Ok(())
     }
 
@@ -366,6 +417,7 @@ impl Slave for RotorSlave {
             vr::SEED => {
                 self.params.seed = value;
                 self.built = None;
+                self.cache = None;
                 Ok(())
             }
             _ => Err(err(format!("Integer value reference {r} cannot be set"))),
@@ -401,12 +453,14 @@ impl Slave for RotorSlave {
             .ok_or_else(|| err(format!("String value reference {r} cannot be set")))?;
         self.params.strings[i] = value.to_string();
         self.built = None;
+        self.cache = None;
         Ok(())
     }
 
     fn initialize(&mut self, start_time: f64, _log: &mut dyn Log) -> SlaveResult<()> {
         self.start_time = start_time;
         self.built = None;
+        self.cache = None;
         self.ensure().map(|_| ())
     }
 
