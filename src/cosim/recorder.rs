@@ -66,13 +66,14 @@ impl Recorder {
     }
 
     fn write(&mut self, time: f64, system: &System) -> std::io::Result<()> {
-        use std::fmt::Write as _;
+        // ryu: the shortest text that reads back to the same bits (exponent form for very small
+        // and large magnitudes), much faster than core::fmt
+        let mut buf = ryu::Buffer::new();
         self.line.clear();
-        // Debug of f64 is the shortest text that reads back to the same bits, with an exponent
-        // for very small and large magnitudes (Display would spell out 1e-11 in full)
-        let _ = write!(self.line, "{time:?}");
+        self.line.push_str(buf.format(time));
         for (_, u, i) in &system.recorded {
-            let _ = write!(self.line, ",{:?}", system.units[*u].values[*i]);
+            self.line.push(',');
+            self.line.push_str(buf.format(system.units[*u].values[*i]));
         }
         self.line.push('\n');
         self.out.write_all(self.line.as_bytes())?;
