@@ -84,9 +84,11 @@ impl Rotor {
     }
 }
 
-/// Gain-scheduled PI pitch control on the generator-side speed error (the NREL/OpenFAST form the
-/// paper uses): GK = 1/(1 + β/β_K), β = GK·(K_P·e + K_I·∫e), the integral clamped so β stays in
-/// [β_min, β_max] (anti-windup), the pitch rate limited.
+/// Gain-scheduled PI pitch control (the NREL/OpenFAST form the paper uses): GK = 1/(1 + β/β_K),
+/// β = GK·(K_P·e + K_I·∫e), the integral clamped so β stays in [β_min, β_max] (anti-windup), the
+/// pitch rate limited. The error e is the caller's: the generator-side speed error (rad/s) for a
+/// variable-speed turbine, or the per-unit power error for a fixed-speed one, whose speed the grid
+/// holds.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PitchController {
     pub kp: f64,
@@ -97,7 +99,6 @@ pub struct PitchController {
     pub max_pitch: f64,
     /// rad/s
     pub max_rate: f64,
-    pub speed_setpoint: f64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
@@ -108,9 +109,8 @@ pub struct PitchState {
 }
 
 impl PitchController {
-    /// Advances the controller by `h` with generator-side speed `speed`; returns the new pitch (rad).
-    pub fn step(&self, st: &mut PitchState, speed: f64, h: f64) -> f64 {
-        let e = speed - self.speed_setpoint;
+    /// Advances the controller by `h` with error `e` (positive: pitch more); returns the pitch (rad).
+    pub fn step(&self, st: &mut PitchState, e: f64, h: f64) -> f64 {
         let gk = 1.0 / (1.0 + st.pitch / self.gain_halving_pitch);
         st.integral += e * h;
         // anti-windup: the integral alone may not command beyond the pitch limits
@@ -167,17 +167,16 @@ mod tests {
             min_pitch: 0.0,
             max_pitch: 1.5,
             max_rate: 0.14,
-            speed_setpoint: 100.0,
         };
         let mut st = PitchState::default();
         // far over speed for 1 s at 10 ms: the rate limit binds
         for _ in 0..100 {
-            c.step(&mut st, 200.0, 0.01);
+            c.step(&mut st, 100.0, 0.01);
         }
         assert!((st.pitch - 0.14).abs() < 1e-9);
         // under speed: back to the minimum pitch, never below
         for _ in 0..10_000 {
-            c.step(&mut st, 50.0, 0.01);
+            c.step(&mut st, -50.0, 0.01);
         }
         assert_eq!(st.pitch, 0.0);
     }

@@ -118,6 +118,15 @@ impl TiltModel {
     }
 }
 
+/// What the pitch controller regulates.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum PitchTarget {
+    /// Generator-side speed (rad/s): variable-speed turbines.
+    Speed(f64),
+    /// Aerodynamic power (W), in per unit of it: fixed-speed turbines.
+    Power(f64),
+}
+
 /// Where the torque comes from.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum Source {
@@ -126,6 +135,7 @@ pub enum Source {
         mean_wind: f64,
         turbulence: Option<TurbulenceSeries>,
         pitch: PitchController,
+        target: PitchTarget,
         tilt: TiltModel,
         /// generator-side speed over rotor speed, for the pitch controller's error
         gear_ratio: f64,
@@ -192,7 +202,14 @@ impl RotorModel {
 
     /// Advances the pitch (controller, or feathering once the shutdown began) and the clock.
     pub fn advance(&mut self, rotor_speed: f64, h: f64) {
-        if let Source::Aero { pitch, gear_ratio, .. } = &self.source {
+        if let Source::Aero {
+            rotor,
+            pitch,
+            target,
+            gear_ratio,
+            ..
+        } = &self.source
+        {
             let n = (h / CONTROL_STEP).ceil().max(1.0) as usize;
             let dt = h / n as f64;
             for k in 0..n {
@@ -201,7 +218,14 @@ impl RotorModel {
                     let max = pitch.max_pitch;
                     self.state.pitch = (self.state.pitch + self.shutdown.feather_rate * dt).min(max);
                 } else {
-                    pitch.step(&mut self.state, rotor_speed * gear_ratio, dt);
+                    let e = match *target {
+                        PitchTarget::Speed(setpoint) => rotor_speed * gear_ratio - setpoint,
+                        PitchTarget::Power(rated) => {
+                            let torque = rotor.torque(rotor_speed, self.wind(t), self.state.pitch.to_degrees());
+                            torque * rotor_speed / rated - 1.0
+                        }
+                    };
+                    pitch.step(&mut self.state, e, dt);
                 }
             }
         }

@@ -6,13 +6,13 @@ use crate::models::rotor as xml;
 use crate::models::rotor::vr;
 use crate::physics::aero::{PitchController, PitchState, Rotor};
 use crate::physics::drivetrain::Drivetrain;
-use crate::physics::rotor::{RotorModel, RotorOutputs, Shutdown, Source, TiltModel, TorqueSeries};
+use crate::physics::rotor::{PitchTarget, RotorModel, RotorOutputs, Shutdown, Source, TiltModel, TorqueSeries};
 use crate::physics::turbulence::{TurbulenceModel, TurbulenceSeries, iec_sigma, kaimal_length};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// The Real parameters, in the order `Params::reals` stores them.
-const REAL_PARAMS: [u32; 19] = [
+const REAL_PARAMS: [u32; 21] = [
     vr::WIND_SPEED,
     vr::TURBULENCE_INTENSITY,
     vr::RADIUS,
@@ -32,8 +32,10 @@ const REAL_PARAMS: [u32; 19] = [
     vr::TRIP_DELAY,
     vr::BRAKE_DELAY,
     vr::BRAKE_RAMP_TIME,
+    vr::POWER_KP,
+    vr::POWER_KI,
 ];
-const STRING_PARAMS: [u32; 7] = [
+const STRING_PARAMS: [u32; 8] = [
     vr::PRESET,
     vr::MODE,
     vr::TURBULENCE,
@@ -41,6 +43,7 @@ const STRING_PARAMS: [u32; 7] = [
     vr::SERIES,
     vr::SERIES_UNIT,
     vr::INTERPOLATION,
+    vr::PITCH_CONTROL,
 ];
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
@@ -235,19 +238,32 @@ impl Params {
                     )
                 });
                 let gear_ratio = drivetrain.gear_ratio();
+                let (target, kp, ki) = match self.string(vr::PITCH_CONTROL).trim() {
+                    "speed" => (
+                        PitchTarget::Speed(pick(self.real(vr::SPEED_SETPOINT), rated_speed * gear_ratio)),
+                        self.real(vr::PITCH_KP),
+                        self.real(vr::PITCH_KI),
+                    ),
+                    "power" => (
+                        PitchTarget::Power(drivetrain.rated_power),
+                        self.real(vr::POWER_KP),
+                        self.real(vr::POWER_KI),
+                    ),
+                    other => return Err(err(format!("parameter pitch_control = {other:?}: use speed or power"))),
+                };
                 Source::Aero {
                     rotor,
                     mean_wind,
                     turbulence,
                     pitch: PitchController {
-                        kp: self.real(vr::PITCH_KP),
-                        ki: self.real(vr::PITCH_KI),
+                        kp,
+                        ki,
                         gain_halving_pitch: self.real(vr::PITCH_GAIN_HALVING),
                         min_pitch: 0.0,
                         max_pitch: self.real(vr::PITCH_MAX),
                         max_rate: self.real(vr::PITCH_MAX_RATE),
-                        speed_setpoint: pick(self.real(vr::SPEED_SETPOINT), rated_speed * gear_ratio),
                     },
+                    target,
                     tilt: TiltModel::new(
                         radius,
                         hub_height,

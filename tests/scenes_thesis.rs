@@ -1,7 +1,10 @@
-//! The thesis's shutdown scene for drivetrains C and D (scenes/{c,d}-shutdown: synthetic rotor in
-//! rated NTM wind, full-fidelity torsional drivetrain, fixed-speed generator spring; shutdown at 5 s)
-//! through the master, checked against what the thesis reports and against the modal analysis:
-//! - no mesh-force reversal in normal operation, a reversal after the generator trips;
+//! The thesis's scenes for drivetrains C and D (scenes/{c,d}-{normal,shutdown}: synthetic rotor in
+//! above-rated NTM wind with power-regulating pitch, full-fidelity torsional drivetrain, fixed-speed
+//! generator spring; shutdown at 5 s) through the master, checked against what the thesis reports and
+//! against the modal analysis:
+//! - normal operation: mean HSS torque within 2 % of rated, electrical power within 3 %, no mesh-force
+//!   reversal;
+//! - shutdown: no reversal before it, a reversal after the generator trips;
 //! - while the brake slips the HSS torque rings at the lowest non-zero free–free mode, and once the
 //!   brake holds at the lowest HSS-locked mode (each within 10 %, measured within 0.4 %);
 //! - the brake locks and stays locked; the generator angle does not creep.
@@ -14,6 +17,8 @@ use windrive::slaves::torsional::Params;
 
 struct Run {
     t: Vec<f64>,
+    power: Vec<f64>,
+    gear_pinion: Vec<f64>,
     hss: Vec<f64>,
     sun_planet: Vec<f64>,
     locked: Vec<f64>,
@@ -28,12 +33,16 @@ fn run(scene: &str) -> Run {
         "mesh_force_sun_planet_1",
         "brake_locked",
         "angle_generator",
+        "mesh_force_gear_pinion_2",
     ];
-    let record = Record::Only(names.iter().map(|n| format!("torsional.{n}")).collect());
+    let mut channels: Vec<String> = names.iter().map(|n| format!("torsional.{n}")).collect();
+    channels.push("generator.electrical_power".into());
+    let record = Record::Only(channels);
     let mut system = System::build(&scene, &[], &record).unwrap();
-    system.initialize(Some(30.0)).unwrap();
-    let mut cols: Vec<Vec<f64>> = vec![Vec::new(); 5];
-    let mut master = Master::new(&mut system, Options::new(Algorithm::GaussSeidel, 1e-3, 30.0)).unwrap();
+    let stop = scene.experiment.stop_time.unwrap();
+    system.initialize(Some(stop)).unwrap();
+    let mut cols: Vec<Vec<f64>> = vec![Vec::new(); 7];
+    let mut master = Master::new(&mut system, Options::new(Algorithm::GaussSeidel, 1e-3, stop)).unwrap();
     master
         .run(|time, sys| {
             windrive::cosim::master::read_recorded(sys, time)?;
@@ -51,6 +60,8 @@ fn run(scene: &str) -> Run {
         sun_planet: c.next().unwrap(),
         locked: c.next().unwrap(),
         generator_angle: c.next().unwrap(),
+        gear_pinion: c.next().unwrap(),
+        power: c.next().unwrap(),
     }
 }
 
@@ -154,4 +165,40 @@ fn drivetrain_d_shutdown() {
 #[test]
 fn drivetrain_c_shutdown() {
     check("c-shutdown", "C");
+}
+
+fn range(x: &[f64]) -> f64 {
+    x.iter().cloned().fold(f64::MIN, f64::max) - x.iter().cloned().fold(f64::MAX, f64::min)
+}
+
+/// Normal operation, then the shutdown's HSS torque range against it (thesis: 5–6.5× for shafts).
+#[test]
+fn normal_operation_c_and_d() {
+    for (scene, shutdown, rated_power, rated_hss) in [
+        ("c-normal", "c-shutdown", 2.0e6, 12_994.1),
+        ("d-normal", "d-shutdown", 0.75e6, 4_725.1),
+    ] {
+        let r = run(scene);
+        let mean = |x: &[f64]| x.iter().sum::<f64>() / x.len() as f64;
+        let torque = mean(&r.hss) / rated_hss;
+        let power = mean(&r.power) / rated_power;
+        assert!(
+            (torque - 1.0).abs() < 0.02,
+            "{scene}: mean HSS torque {torque} of rated"
+        );
+        assert!(
+            (power - 1.0).abs() < 0.03,
+            "{scene}: mean electrical power {power} of rated"
+        );
+        assert!(
+            r.sun_planet.iter().chain(&r.gear_pinion).all(|&f| f > 0.0),
+            "{scene}: mesh-force reversal"
+        );
+        let s = run(shutdown);
+        let ratio = range(&s.hss) / range(&r.hss);
+        println!(
+            "{scene}: mean HSS torque {torque:.4}, power {power:.4} of rated; HSS torque range shutdown/normal {ratio:.2}"
+        );
+        assert!(ratio > 1.5, "{shutdown}: HSS range only {ratio}x normal");
+    }
 }
