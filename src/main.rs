@@ -24,5 +24,6 @@ fn main() -> anyhow::Result<()> {
         Command::Del(args) => windrive::cli::fatigue::run_del(&args),
         Command::Run(args) => windrive::cli::run::run(&args),
         Command::PackScene(args) => windrive::cli::run::pack_scene(&args),
+        Command::Shutdown(args) => windrive::cli::shutdown::run(&args),
     }
 }

@@ -8,4 +8,5 @@ pub mod hertz;
 pub mod life;
 pub mod rainflow;
 pub mod series;
+pub mod spectrum;
 pub mod wind;

@@ -7,6 +7,7 @@ pub mod modes;
 pub mod overhead;
 pub mod plot;
 pub mod run;
+pub mod shutdown;
 pub mod step;
 
 use clap::{Parser, Subcommand};
@@ -57,6 +58,10 @@ pub enum Command {
     /// then steps with the chosen algorithm. If an FMU fails, every row up to the last good step is
     /// kept and the FMU, time and status are named.
     Run(Box<run::RunArgs>),
+    /// The thesis's normal operation and shutdown of drivetrain C or D through the master: CSVs,
+    /// plots (shaft torques, speeds, mesh forces, HSS spectrum with the modes, rainflow cloud) and
+    /// the summary (torque ratios against the 1.35 design factor, ranges, braking frequencies).
+    Shutdown(shutdown::ShutdownArgs),
     /// Packs a scene folder into an .ssp archive, with our FMUs freshly built into its resources/.
     PackScene(run::PackSceneArgs),
     /// Damage-equivalent loads of one CSV channel: DEL = (Σ n_i S_i^m / N_eq)^(1/m), N_eq = feq × duration.

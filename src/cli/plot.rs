@@ -191,3 +191,91 @@ pub fn mode_shapes(path: &Path, title: &str, m: &Modes) -> anyhow::Result<()> {
     )
     .context("mode-shape plot")
 }
+
+/// A scatter plot of point clouds, one colour each (e.g. rainflow range against mean).
+pub fn scatter(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    clouds: &[(String, Vec<(f64, f64)>)],
+) -> anyhow::Result<()> {
+    register_font()?;
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase()
+        .as_str()
+    {
+        "png" => draw_scatter(
+            BitMapBackend::new(path, (1000, 600)).into_drawing_area(),
+            title,
+            x_label,
+            y_label,
+            clouds,
+        ),
+        "svg" => draw_scatter(
+            SVGBackend::new(path, (1000, 600)).into_drawing_area(),
+            title,
+            x_label,
+            y_label,
+            clouds,
+        ),
+        _ => Err(anyhow!("{}: plot format must be .png or .svg", path.display())),
+    }
+}
+
+fn draw_scatter<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    clouds: &[(String, Vec<(f64, f64)>)],
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("plot: {e:?}");
+    root.fill(&WHITE).map_err(err)?;
+    let all = clouds.iter().flat_map(|(_, p)| p.iter());
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, 0.0f64, f64::MIN);
+    for &(x, y) in all {
+        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+    }
+    if x0 >= x1 {
+        (x0, x1) = (x0 - 1.0, x0 + 1.0);
+    }
+    if y1 <= y0 {
+        y1 = y0 + 1.0;
+    }
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 22))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(80)
+        .build_cartesian_2d(x0..x1, y0..y1 * 1.05)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .draw()
+        .map_err(err)?;
+    for (i, (label, pts)) in clouds.iter().enumerate() {
+        let color = Palette99::pick(i).to_rgba();
+        chart
+            .draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))
+            .map_err(err)?
+            .label(label.clone())
+            .legend(move |(x, y)| Circle::new((x + 9, y), 4, color.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(err)?;
+    root.present().map_err(err)?;
+    Ok(())
+}
