@@ -11,6 +11,25 @@ pub mod description;
 #[cfg(feature = "cli")]
 pub mod import;
 
+/// The interface items of a [`slave::Slave`] impl, taken from the generated `models::<name>` module
+/// the invoking file imports as `xml` (identifier, GUID, XML text, variable table and lookup).
+#[macro_export]
+macro_rules! slave_interface_from_xml {
+    () => {
+        const MODEL_IDENTIFIER: &'static str = xml::MODEL_IDENTIFIER;
+        const GUID: &'static str = xml::GUID;
+        const MODEL_DESCRIPTION_XML: &'static str = xml::MODEL_DESCRIPTION_XML;
+        const VARIABLES: &'static [$crate::fmi2::variables::Variable] = xml::VARIABLES;
+
+        fn variable(
+            ty: $crate::fmi2::variables::VarType,
+            r: u32,
+        ) -> Option<&'static $crate::fmi2::variables::Variable> {
+            xml::variable(ty, r)
+        }
+    };
+}
+
 /// Emits the 34 `fmi2*` symbols of a Co-Simulation FMU for a [`slave::Slave`] type, plus
 /// `windrive_model_description`, which returns the exact modelDescription.xml (with this build's
 /// GUID) so `windrive pack` ships the XML the binary was built from.

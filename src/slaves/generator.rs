@@ -2,7 +2,6 @@
 //! [`SpringGenerator`].
 
 use crate::fmi2::slave::{Log, Slave, SlaveError, SlaveResult};
-use crate::fmi2::variables::{VarType, Variable};
 use crate::models::generator as xml;
 use crate::models::generator::vr;
 use crate::physics::drivetrain::Drivetrain;
@@ -83,14 +82,7 @@ impl GeneratorSlave {
 }
 
 impl Slave for GeneratorSlave {
-    const MODEL_IDENTIFIER: &'static str = xml::MODEL_IDENTIFIER;
-    const GUID: &'static str = xml::GUID;
-    const MODEL_DESCRIPTION_XML: &'static str = xml::MODEL_DESCRIPTION_XML;
-    const VARIABLES: &'static [Variable] = xml::VARIABLES;
-
-    fn variable(ty: VarType, r: u32) -> Option<&'static Variable> {
-        xml::variable(ty, r)
-    }
+    crate::slave_interface_from_xml!();
 
     fn instantiate(_resources: Option<&Path>) -> Self {
         let mut s = Self {

@@ -1,7 +1,6 @@
 //! The `rotor` FMU: variables of modelDescription/rotor.xml mapped onto [`RotorModel`].
 
 use crate::fmi2::slave::{Log, Slave, SlaveError, SlaveResult};
-use crate::fmi2::variables::{VarType, Variable};
 use crate::models::rotor as xml;
 use crate::models::rotor::vr;
 use crate::physics::aero::{PitchController, PitchState, Rotor};
@@ -347,14 +346,7 @@ impl RotorSlave {
 }
 
 impl Slave for RotorSlave {
-    const MODEL_IDENTIFIER: &'static str = xml::MODEL_IDENTIFIER;
-    const GUID: &'static str = xml::GUID;
-    const MODEL_DESCRIPTION_XML: &'static str = xml::MODEL_DESCRIPTION_XML;
-    const VARIABLES: &'static [Variable] = xml::VARIABLES;
-
-    fn variable(ty: VarType, r: u32) -> Option<&'static Variable> {
-        xml::variable(ty, r)
-    }
+    crate::slave_interface_from_xml!();
 
     fn instantiate(resources: Option<&Path>) -> Self {
         let mut s = Self {

@@ -2,7 +2,6 @@
 //! and the integrators of [`crate::solver`].
 
 use crate::fmi2::slave::{Log, Slave, SlaveError, SlaveResult};
-use crate::fmi2::variables::{VarType, Variable};
 use crate::models::torsional as xml;
 use crate::models::torsional::vr;
 use crate::physics::drivetrain::Drivetrain;
@@ -253,14 +252,7 @@ const BODY_COUNT: u32 = crate::physics::torsional::BODY_SLOTS.len() as u32;
 const MESH_COUNT: u32 = crate::physics::torsional::MESH_SLOTS.len() as u32;
 
 impl Slave for TorsionalSlave {
-    const MODEL_IDENTIFIER: &'static str = xml::MODEL_IDENTIFIER;
-    const GUID: &'static str = xml::GUID;
-    const MODEL_DESCRIPTION_XML: &'static str = xml::MODEL_DESCRIPTION_XML;
-    const VARIABLES: &'static [Variable] = xml::VARIABLES;
-
-    fn variable(ty: VarType, r: u32) -> Option<&'static Variable> {
-        xml::variable(ty, r)
-    }
+    crate::slave_interface_from_xml!();
 
     fn instantiate(_resources: Option<&Path>) -> Self {
         let mut s = Self::blank();
