@@ -154,7 +154,7 @@ fn read_series(path: &Path, scale: f64, cubic: bool) -> SlaveResult<TorqueSeries
                 torque.push(v[1] * scale);
                 pm.push(v.get(2).copied().unwrap_or(0.0));
             }
-            _ if time.is_empty() && n == 0 => continue, // header
+            _ if time.is_empty() => continue, // header lines before the data
             _ => {
                 return Err(err(format!(
                     "series {} line {}: expected time,torque[,pitching moment] numbers",
@@ -286,12 +286,19 @@ impl Params {
                 {
                     path = dir.join(name);
                 }
-                let unit_scale = match self.string(vr::SERIES_UNIT).trim() {
-                    "pu" => rated_torque,
-                    "N.m" | "Nm" => 1.0,
+                let per_unit = match self.string(vr::SERIES_UNIT).trim() {
+                    "pu" => true,
+                    "N.m" | "Nm" => false,
                     other => return Err(err(format!("parameter series_unit = {other:?}: use pu or N.m"))),
                 };
+                let unit_scale = if per_unit { rated_torque } else { 1.0 };
                 let d_source = self.real(vr::SOURCE_ROTOR_DIAMETER);
+                if d_source > 0.0 && per_unit {
+                    return Err(err(
+                        "source_rotor_diameter scales an absolute series (series_unit = N.m); a per-unit series \
+                         is already scaled by the preset's rated rotor torque",
+                    ));
+                }
                 let diameter_scale = if d_source > 0.0 {
                     (2.0 * radius / d_source).powi(3)
                 } else {

@@ -38,3 +38,23 @@ def test_fmpy_runs_it_alone_with_its_defaults(fmu):
     assert len(result) > 100
     for name in result.dtype.names:
         assert np.all(np.isfinite(result[name].astype(float))), name
+
+
+def test_rotor_plays_back_its_shipped_synthetic_series(windrive):
+    """The rotor FMU finds a series under its resources/ by name and scales per-unit torque by the
+    preset's rated rotor torque (C's here, A's for preset A: equal loading)."""
+    path = ROOT / "target" / "fmu" / "rotor.fmu"
+    if not path.is_file():
+        subprocess.run([windrive, "pack", "rotor"], check=True, cwd=ROOT)
+    rows = np.genfromtxt(ROOT / "fmus" / "rotor" / "resources" / "c-shutdown-pu.csv", delimiter=",", skip_header=2)
+    start = {"preset": "C", "mode": "playback", "series": "c-shutdown-pu.csv"}
+    r = simulate_fmu(str(path), stop_time=10.0, output_interval=0.01, start_values=start,
+                     output=["rotor_torque", "pitching_moment", "rated_rotor_torque"])
+    rated = r["rated_rotor_torque"][0]
+    assert rated == pytest.approx(2e6 / (16 * np.pi / 30), rel=1e-9)
+    for k in (0, 100, 500, 731, 1000):
+        assert r["rotor_torque"][k] == pytest.approx(rows[k, 1] * rated, rel=1e-9, abs=1e-6)
+        assert r["pitching_moment"][k] == pytest.approx(rows[k, 2], rel=1e-9)
+    other = simulate_fmu(str(path), stop_time=1.0, output_interval=0.01, output=["rotor_torque", "rated_rotor_torque"],
+                         start_values={**start, "preset": "A"})
+    assert other["rotor_torque"][50] == pytest.approx(rows[50, 1] * other["rated_rotor_torque"][0], rel=1e-9)
