@@ -11,9 +11,9 @@
 
 mod common;
 
+use windrive::cli::shutdown::{dominant, lowest_mode, range};
 use windrive::cosim::{Algorithm, Master, Options, Record, Scene, System};
-use windrive::physics::modes::{Boundary, modes};
-use windrive::slaves::torsional::Params;
+use windrive::physics::modes::Boundary;
 
 struct Run {
     t: Vec<f64>,
@@ -65,62 +65,6 @@ fn run(scene: &str) -> Run {
     }
 }
 
-/// Frequency of the largest peak above 0.3 Hz of the detrended, Hann-windowed signal over [a, b),
-/// by a direct DFT scan at 1 mHz resolution on every 10th sample (100 Hz).
-fn dominant_frequency(t: &[f64], x: &[f64], a: f64, b: f64) -> f64 {
-    let pts: Vec<(f64, f64)> = t
-        .iter()
-        .zip(x)
-        .filter(|(t, _)| **t >= a && **t < b)
-        .step_by(10)
-        .map(|(t, x)| (*t, *x))
-        .collect();
-    let n = pts.len() as f64;
-    let (mt, mx) = (
-        pts.iter().map(|p| p.0).sum::<f64>() / n,
-        pts.iter().map(|p| p.1).sum::<f64>() / n,
-    );
-    let slope =
-        pts.iter().map(|p| (p.0 - mt) * (p.1 - mx)).sum::<f64>() / pts.iter().map(|p| (p.0 - mt).powi(2)).sum::<f64>();
-    let y: Vec<(f64, f64)> = pts
-        .iter()
-        .enumerate()
-        .map(|(k, p)| {
-            let w = 0.5 - 0.5 * (std::f64::consts::TAU * k as f64 / (n - 1.0)).cos();
-            (p.0, w * (p.1 - mx - slope * (p.0 - mt)))
-        })
-        .collect();
-    let power = |f: f64| {
-        let (mut re, mut im) = (0.0, 0.0);
-        for (t, v) in &y {
-            let ph = std::f64::consts::TAU * f * t;
-            re += v * ph.cos();
-            im += v * ph.sin();
-        }
-        re * re + im * im
-    };
-    (300..10_000)
-        .map(|k| k as f64 * 1e-3)
-        .max_by(|a, b| power(*a).total_cmp(&power(*b)))
-        .unwrap()
-}
-
-fn lowest_mode(preset: &str, boundary: Boundary) -> f64 {
-    let params = Params {
-        preset: preset.into(),
-        fidelity: "full".into(),
-        integrator: "implicit".into(),
-        damping_scale: 1.0,
-        contact_ratio: 1.6,
-        shaft_damping_ratio: 0.006,
-        mesh_damping_ratio: 0.1,
-        ..Params::default()
-    };
-    let built = params.build().unwrap();
-    let m = modes(&built.model, boundary, built.drivetrain.k_generator);
-    m.frequencies_hz.into_iter().find(|f| *f > 1e-6).unwrap()
-}
-
 fn check(scene: &str, preset: &str) {
     let r = run(scene);
     let before = r.t.iter().position(|&t| t >= 5.0).unwrap();
@@ -140,10 +84,10 @@ fn check(scene: &str, preset: &str) {
         "{scene}: the generator creeps"
     );
     let t_lock = r.t[lock];
-    let slipping = dominant_frequency(&r.t, &r.hss, 6.2, t_lock - 0.1);
-    let held_f = dominant_frequency(&r.t, &r.hss, t_lock + 0.5, 30.0);
-    let free = lowest_mode(preset, Boundary::Disconnected);
-    let locked = lowest_mode(preset, Boundary::HssLocked);
+    let slipping = dominant(&r.t, &r.hss, 6.2, t_lock - 0.1).unwrap().0;
+    let held_f = dominant(&r.t, &r.hss, t_lock + 0.5, 30.0).unwrap().0;
+    let free = lowest_mode(preset, Boundary::Disconnected).unwrap();
+    let locked = lowest_mode(preset, Boundary::HssLocked).unwrap();
     println!(
         "{scene}: brake locks at {t_lock:.2} s; slipping {slipping:.3} Hz (free-free {free:.3}); held {held_f:.3} Hz (HSS locked {locked:.3})"
     );
@@ -165,10 +109,6 @@ fn drivetrain_d_shutdown() {
 #[test]
 fn drivetrain_c_shutdown() {
     check("c-shutdown", "C");
-}
-
-fn range(x: &[f64]) -> f64 {
-    x.iter().cloned().fold(f64::MIN, f64::max) - x.iter().cloned().fold(f64::MAX, f64::min)
 }
 
 /// Normal operation, then the shutdown's HSS torque range against it (thesis: 5–6.5× for shafts).

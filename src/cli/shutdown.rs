@@ -57,11 +57,13 @@ impl Channels {
     }
 }
 
-fn range(x: &[f64]) -> f64 {
+/// Largest minus smallest value.
+pub fn range(x: &[f64]) -> f64 {
     x.iter().cloned().fold(f64::MIN, f64::max) - x.iter().cloned().fold(f64::MAX, f64::min)
 }
 
-fn lowest_mode(preset: &str, boundary: Boundary) -> anyhow::Result<f64> {
+/// Lowest non-zero natural frequency of a preset at full fidelity under `boundary`, Hz.
+pub fn lowest_mode(preset: &str, boundary: Boundary) -> anyhow::Result<f64> {
     let params = crate::slaves::torsional::Params {
         preset: preset.into(),
         fidelity: "full".into(),
@@ -78,8 +80,8 @@ fn lowest_mode(preset: &str, boundary: Boundary) -> anyhow::Result<f64> {
         .context("no non-zero mode")
 }
 
-/// Dominant HSS-torque frequency over [a, b).
-fn dominant(t: &[f64], x: &[f64], a: f64, b: f64) -> Option<(f64, Vec<f64>, Vec<f64>)> {
+/// Dominant frequency (above 0.3 Hz) of `x` over [a, b), with the spectrum it came from.
+pub fn dominant(t: &[f64], x: &[f64], a: f64, b: f64) -> Option<(f64, Vec<f64>, Vec<f64>)> {
     let i0 = t.partition_point(|&v| v < a);
     let i1 = t.partition_point(|&v| v < b);
     if i1 <= i0 + 16 {

@@ -6,6 +6,7 @@ use crate::models::generator as xml;
 use crate::models::generator::vr;
 use crate::physics::drivetrain::Drivetrain;
 use crate::physics::generator::{SpringGenerator, SpringState};
+use crate::slaves::InputPolynomial;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -23,7 +24,7 @@ pub struct Params {
 /// The speed input with its time derivatives (orders 1 and 2), and the grid connection.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
 pub struct Inputs {
-    pub speed: [f64; 3],
+    pub speed: InputPolynomial,
     pub connected: bool,
 }
 
@@ -102,13 +103,13 @@ impl Slave for GeneratorSlave {
             vr::SYNCHRONOUS_SPEED => Some(p.synchronous_speed),
             vr::INITIAL_TORQUE => Some(p.initial_torque),
             vr::TRIP_TIME_CONSTANT => Some(p.trip_time_constant),
-            vr::GENERATOR_SPEED => Some(self.inputs.speed[0]),
+            vr::GENERATOR_SPEED => Some(self.inputs.speed.value()),
             _ => None,
         };
         if let Some(v) = direct {
             return Ok(v);
         }
-        let omega = self.inputs.speed[0];
+        let omega = self.inputs.speed.value();
         let (g, st) = *self.ensure()?;
         Ok(match r {
             vr::STIFFNESS_USED => g.stiffness,
@@ -122,7 +123,7 @@ impl Slave for GeneratorSlave {
 
     fn set_real(&mut self, r: u32, value: f64, _: &mut dyn Log) -> SlaveResult<()> {
         if r == vr::GENERATOR_SPEED {
-            self.inputs.speed = [value, 0.0, 0.0];
+            self.inputs.speed.set(value);
             return Ok(());
         }
         let p = &mut self.params;
@@ -203,22 +204,16 @@ impl Slave for GeneratorSlave {
         if r != vr::GENERATOR_SPEED {
             return Err(err(format!("value reference {r} is not a Real input")));
         }
-        match order {
-            1 | 2 => {
-                self.inputs.speed[order as usize] = value;
-                Ok(())
-            }
-            _ => Err(err(format!("derivative order {order} not supported (1 or 2)"))),
-        }
+        self.inputs.speed.set_derivative(order, value)
     }
 
     fn do_step(&mut self, _t: f64, h: f64, _log: &mut dyn Log) -> SlaveResult<()> {
         let Inputs { speed: w, connected } = self.inputs;
         let tau = self.params.trip_time_constant;
         let (g, st) = self.ensure()?;
-        g.advance(st, w, h, connected, tau);
+        g.advance(st, w.0, h, connected, tau);
         // the input polynomial continues from the new communication point
-        self.inputs.speed = [w[0] + w[1] * h + w[2] * h * h / 2.0, w[1] + w[2] * h, w[2]];
+        self.inputs.speed.advance(h);
         Ok(())
     }
 }

@@ -7,6 +7,7 @@ use crate::physics::aero::{PitchController, PitchState, Rotor};
 use crate::physics::drivetrain::Drivetrain;
 use crate::physics::rotor::{PitchTarget, RotorModel, RotorOutputs, Shutdown, Source, TiltModel, TorqueSeries};
 use crate::physics::turbulence::{TurbulenceModel, TurbulenceSeries, iec_sigma, kaimal_length};
+use crate::slaves::InputPolynomial;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -332,7 +333,7 @@ impl Params {
 pub struct RotorSlave {
     pub params: Params,
     /// Rotor speed and its time derivatives (canInterpolateInputs; used at the step's midpoint).
-    pub speed: [f64; 3],
+    pub speed: InputPolynomial,
     resources: Option<PathBuf>,
     built: Option<Built>,
     start_time: f64,
@@ -362,7 +363,7 @@ impl Slave for RotorSlave {
                 strings: vec![String::new(); STRING_PARAMS.len()],
                 seed: 1,
             },
-            speed: [0.0; 3],
+            speed: InputPolynomial::default(),
             resources: resources.map(Path::to_path_buf),
             built: None,
             start_time: 0.0,
@@ -377,9 +378,9 @@ impl Slave for RotorSlave {
             return Ok(self.params.reals[i]);
         }
         if r == vr::ROTOR_SPEED {
-            return Ok(self.speed[0]);
+            return Ok(self.speed.value());
         }
-        let omega = self.speed[0];
+        let omega = self.speed.value();
         let cache = self.cache;
         let b = self.ensure()?;
         let out = match cache {
@@ -407,7 +408,7 @@ impl Slave for RotorSlave {
 
     fn set_real(&mut self, r: u32, value: f64, _: &mut dyn Log) -> SlaveResult<()> {
         if r == vr::ROTOR_SPEED {
-            self.speed = [value, 0.0, 0.0];
+            self.speed.set(value);
             return Ok(());
         }
         let i = REAL_PARAMS
@@ -483,13 +484,7 @@ impl Slave for RotorSlave {
         if r != vr::ROTOR_SPEED {
             return Err(err(format!("value reference {r} is not a Real input")));
         }
-        match order {
-            1 | 2 => {
-                self.speed[order as usize] = value;
-                Ok(())
-            }
-            _ => Err(err(format!("derivative order {order} not supported (1 or 2)"))),
-        }
+        self.speed.set_derivative(order, value)
     }
 
     fn do_step(&mut self, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
@@ -510,9 +505,8 @@ impl Slave for RotorSlave {
             }
         }
         // the controller sees the speed at the middle of the step (second order in h)
-        let mid = w[0] + w[1] * h / 2.0 + w[2] * h * h / 8.0;
-        b.model.advance(mid, h);
-        self.speed = [w[0] + w[1] * h + w[2] * h * h / 2.0, w[1] + w[2] * h, w[2]];
+        b.model.advance(w.at(h / 2.0), h);
+        self.speed.advance(h);
         Ok(())
     }
 }
