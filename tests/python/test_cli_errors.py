@@ -34,3 +34,77 @@ def test_bad_wohler_slope_is_named(windrive, tmp_path):
     path.write_text("time,x\n0,1\n1,3\n2,0\n")
     out = subprocess.run([windrive, "del", str(path), "--channel", "x", "--m", "3,-1"], capture_output=True, text=True)
     assert out.returncode != 0 and "-1" in out.stderr
+
+
+ROOT = __import__("pathlib").Path(__file__).resolve().parents[2]
+GRID_STEP = str(ROOT / "scenes" / "d-grid-step")
+
+
+@pytest.mark.parametrize("args,words", [
+    (["run", "/nonexistent/scene"], ["/nonexistent/scene", "no such file"]),
+    (["run", GRID_STEP, "--algorithm", "explicit"], ["explicit", "jacobi, gauss-seidel, iterative, adaptive"]),
+    (["run", GRID_STEP, "--order", "3", "--stop-time", "0.1"], ["extrapolation order 3"]),
+    (["run", GRID_STEP, "--step=-0.001", "--stop-time", "0.1"], ["step size -0.001"]),
+    (["run", GRID_STEP, "--param", "torsional.fidelity"], ["torsional.fidelity", "component.variable=value"]),
+    (["run", GRID_STEP, "--param", "torsional.damping_scale=soft"], ["damping_scale", "not a number"]),
+    (["run", GRID_STEP, "--record", "generator.nosuch"], ["generator.nosuch", "no variable nosuch"]),
+    (["pack-scene", GRID_STEP + "/SystemStructure.ssd"], ["SystemStructure.ssd", "scene folder"]),
+    (["shutdown", "--preset", "Z"], ["Z", "C or D"]),
+    (["shutdown", "--preset", "A"], ["a-normal", "scenes exist for C and D"]),
+])
+def test_bad_master_arguments_are_named(windrive, tmp_path, args, words):
+    out_csv = ["--out", str(tmp_path / "x.csv")] if args[0] == "run" else []
+    out = subprocess.run([windrive, *args, *out_csv], capture_output=True, text=True, cwd=ROOT,
+                         env={**__import__("os").environ, "RUST_BACKTRACE": "0"})
+    assert out.returncode != 0
+    for w in words:
+        assert w in out.stderr, out.stderr
+
+
+def one_fmu_scene(tmp_path, name):
+    import shutil
+    (tmp_path / "resources").mkdir()
+    shutil.copy(ROOT / "target" / "fmu" / f"{name}.fmu", tmp_path / "resources" / f"{name}.fmu")
+    (tmp_path / "SystemStructure.ssd").write_text(f"""<?xml version="1.0" encoding="UTF-8"?>
+<ssd:SystemStructureDescription xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription" version="1.0" name="one">
+<ssd:System name="s"><ssd:Elements><ssd:Component name="{name}" source="resources/{name}.fmu"/></ssd:Elements></ssd:System>
+</ssd:SystemStructureDescription>""")
+    return str(tmp_path)
+
+
+@pytest.mark.parametrize("fmu,params,words", [
+    ("rotor", ["mode=wind"], ["mode", "wind", "aero or playback"]),
+    ("rotor", ["turbulence=gusty"], ["turbulence", "gusty", "none, ntm or etm"]),
+    ("rotor", ["mode=playback"], ["needs the parameter series"]),
+    ("rotor", ["mode=playback", "series=/nonexistent/torque.csv"], ["/nonexistent/torque.csv"]),
+    ("rotor", ["mode=playback", "series=c-shutdown-pu.csv", "source_rotor_diameter=80"], ["source_rotor_diameter", "absolute series"]),
+    ("rotor", ["radius=5", "preset=C"], ["radius 5 m", "never reaches rated power"]),
+    ("generator", ["kind=dfig"], ["kind", "dfig", "spring"]),
+    ("generator", ["preset=Z"], ["preset", "A, B, C or D"]),
+])
+def test_bad_fmu_parameters_are_named(windrive, tmp_path, fmu, params, words):
+    scene = one_fmu_scene(tmp_path, fmu)
+    args = [a for p in params for a in ("--param", f"{fmu}.{p}")]
+    out = subprocess.run([windrive, "run", scene, "--step", "0.01", "--stop-time", "0.1", "--out", str(tmp_path / "x.csv"), *args],
+                         capture_output=True, text=True, cwd=ROOT, env={**__import__("os").environ, "RUST_BACKTRACE": "0"})
+    assert out.returncode != 0
+    for w in words:
+        assert w in out.stderr, out.stderr
+
+
+@pytest.mark.parametrize("content,words", [
+    ("time,torque\n0,1\n0,2\n", ["line 3", "time 0 does not increase"]),
+    ("time,torque\n0,1\n1,x\n", ["line 3", "expected time,torque"]),
+    ("time,torque\n0,1\n", ["fewer than two samples"]),
+])
+def test_bad_rotor_series_is_named(windrive, tmp_path, content, words):
+    series = tmp_path / "torque.csv"
+    series.write_text(content)
+    scene = one_fmu_scene(tmp_path, "rotor")
+    out = subprocess.run([windrive, "run", scene, "--step", "0.01", "--stop-time", "0.1", "--out", str(tmp_path / "x.csv"),
+                          "--param", "rotor.mode=playback", "--param", f"rotor.series={series}"],
+                         capture_output=True, text=True, cwd=ROOT, env={**__import__("os").environ, "RUST_BACKTRACE": "0"})
+    assert out.returncode != 0
+    assert str(series) in out.stderr, out.stderr
+    for w in words:
+        assert w in out.stderr, out.stderr
