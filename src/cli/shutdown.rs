@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct ShutdownArgs {
-    /// Drivetrain: C or D (the scenes under scenes/<preset>-normal and scenes/<preset>-shutdown)
+    /// Drivetrain: A, B, C or D (the scenes under scenes/<preset>-normal and scenes/<preset>-shutdown)
     #[arg(long, default_value = "C")]
     pub preset: String,
     /// Output folder [default: results/<preset>-shutdown]
@@ -93,7 +93,7 @@ pub fn dominant(t: &[f64], x: &[f64], a: f64, b: f64) -> Option<(f64, Vec<f64>, 
 
 pub fn run(args: &ShutdownArgs) -> anyhow::Result<()> {
     let preset = args.preset.trim().to_ascii_uppercase();
-    let drivetrain = Drivetrain::preset(&preset).with_context(|| format!("unknown preset {preset:?}: use C or D"))?;
+    let drivetrain = Drivetrain::preset(&preset).with_context(|| format!("unknown preset {preset:?}: use A, B, C or D"))?;
     let root = crate::pack::workspace_root()?;
     let lower = preset.to_ascii_lowercase();
     let (normal_dir, shutdown_dir) = (
@@ -102,7 +102,7 @@ pub fn run(args: &ShutdownArgs) -> anyhow::Result<()> {
     );
     if !shutdown_dir.is_dir() || !normal_dir.is_dir() {
         bail!(
-            "no scenes {} and {} (scenes exist for C and D)",
+            "no scenes {} and {} (scenes exist for A, B, C and D)",
             normal_dir.display(),
             shutdown_dir.display()
         );

@@ -48,6 +48,23 @@ pub fn thrust_coefficient(cp: f64) -> f64 {
     4.0 * a * (1.0 - a)
 }
 
+/// Tip-speed ratio and C_p at the maximum of C_p(λ, β) over λ (golden-section search on [2, 15],
+/// where the curve is unimodal): (8.10, 0.480) at β = 0.
+pub fn optimum(pitch_deg: f64) -> (f64, f64) {
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut a, mut b) = (2.0, 15.0);
+    for _ in 0..80 {
+        let (c, d) = (b - g * (b - a), a + g * (b - a));
+        if power_coefficient(c, pitch_deg) > power_coefficient(d, pitch_deg) {
+            b = d;
+        } else {
+            a = c;
+        }
+    }
+    let l = 0.5 * (a + b);
+    (l, power_coefficient(l, pitch_deg))
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Rotor {
     pub radius: f64,
@@ -145,6 +162,8 @@ mod tests {
             (best - 0.4800).abs() < 5e-4 && (at - 8.10).abs() < 0.02,
             "{best} at {at}"
         );
+        let (l, cp) = optimum(0.0);
+        assert!((l - at).abs() < 0.01 && (cp - best).abs() < 1e-6, "{l} {cp}");
         // pitching to feather kills the power
         assert!(power_coefficient(8.1, 30.0) < 0.05);
     }

@@ -2,7 +2,8 @@
 //! an analytic C_p and a PI pitch controller, or a played-back torque series; plus the shutdown
 //! sequence (pitch to feather, generator trip, HSS brake deployment).
 
-use super::aero::{PitchController, PitchState, Rotor};
+use super::aero::{AIR_DENSITY, PitchController, PitchState, Rotor, power_coefficient};
+use super::drivetrain::Drivetrain;
 use super::turbulence::TurbulenceSeries;
 use serde::{Deserialize, Serialize};
 
@@ -231,6 +232,62 @@ impl RotorModel {
         }
         self.time += h;
     }
+}
+
+/// Radius of drivetrain C's rotor, the only one the sources give (thesis Table 3.1: 80 m).
+const RADIUS_C: f64 = 40.0;
+
+/// Tip-speed ratio of C's rotor at rated power and speed under the analytic C_p: the design rule
+/// for the presets whose rotor the sources do not give.
+fn design_tip_speed_ratio() -> f64 {
+    let c = Drivetrain::preset("C").expect("preset C");
+    let rotor = Rotor {
+        radius: RADIUS_C,
+        lambda_min: 0.5,
+    };
+    let v = rated_wind_speed(&rotor, c.rated_power, c.rated_rotor_speed).expect("C reaches rated power");
+    c.rated_rotor_speed * RADIUS_C / v
+}
+
+/// Preset rotor (radius, hub height), m. C: the thesis's 80 m rotor. A, B, D: the radius at which the
+/// analytic C_p gives rated power at rated speed at C's rated tip-speed ratio (4.77). D's real NM48
+/// rotor is 48.2 m but stall-regulated, which this C_p does not describe. Hub heights are estimates.
+pub fn preset_rotor(d: &Drivetrain, name: &str) -> (f64, f64) {
+    let hub = match name.trim().to_ascii_uppercase().as_str() {
+        "A" | "B" => 90.0,
+        "C" => 80.0,
+        _ => 55.0,
+    };
+    if name.trim().eq_ignore_ascii_case("C") {
+        return (RADIUS_C, hub);
+    }
+    // P = ½ρπR²V³C_p with V = ωR/λ  ⇒  R⁵ = 2P / (ρπ C_p (ω/λ)³)
+    let lambda = design_tip_speed_ratio();
+    let cp = power_coefficient(lambda, 0.0);
+    let k = AIR_DENSITY * std::f64::consts::PI * cp * (d.rated_rotor_speed / lambda).powi(3);
+    ((2.0 * d.rated_power / k).powf(0.2), hub)
+}
+
+/// Wind speed at which the rotor gives rated power at rated rotor speed and zero pitch: the lowest
+/// root of P(V) = P_rated (P rises with V until λ falls past C_p's useful range).
+pub fn rated_wind_speed(rotor: &Rotor, rated_power: f64, rated_speed: f64) -> Result<f64, String> {
+    let power = |v: f64| rotor.torque(rated_speed, v, 0.0) * rated_speed;
+    let mut v = 2.0;
+    while power(v) < rated_power {
+        v += 0.25;
+        if v > 40.0 {
+            return Err(format!(
+                "a rotor of radius {} m at {rated_speed:.3} rad/s never reaches rated power {rated_power} W: give wind_speed or a larger radius",
+                rotor.radius
+            ));
+        }
+    }
+    let (mut lo, mut hi) = (v - 0.25, v);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if power(mid) < rated_power { lo = mid } else { hi = mid }
+    }
+    Ok(0.5 * (lo + hi))
 }
 
 #[cfg(test)]

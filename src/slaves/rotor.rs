@@ -5,7 +5,7 @@ use crate::models::rotor as xml;
 use crate::models::rotor::vr;
 use crate::physics::aero::{PitchController, PitchState, Rotor};
 use crate::physics::drivetrain::Drivetrain;
-use crate::physics::rotor::{PitchTarget, RotorModel, RotorOutputs, Shutdown, Source, TiltModel, TorqueSeries};
+use crate::physics::rotor::{preset_rotor, rated_wind_speed, PitchTarget, RotorModel, RotorOutputs, Shutdown, Source, TiltModel, TorqueSeries};
 use crate::physics::turbulence::{TurbulenceModel, TurbulenceSeries, iec_sigma, kaimal_length};
 use crate::slaves::InputPolynomial;
 use serde::{Deserialize, Serialize};
@@ -35,8 +35,9 @@ const REAL_PARAMS: [u32; 21] = [
     vr::POWER_KP,
     vr::POWER_KI,
 ];
-const STRING_PARAMS: [u32; 8] = [
+const STRING_PARAMS: [u32; 9] = [
     vr::PRESET,
+    vr::SOURCE_PRESET,
     vr::MODE,
     vr::TURBULENCE,
     vr::TURBULENCE_CLASS,
@@ -60,62 +61,6 @@ impl Params {
     fn string(&self, r: u32) -> &str {
         &self.strings[STRING_PARAMS.iter().position(|&x| x == r).expect("a String parameter")]
     }
-}
-
-/// Radius of drivetrain C's rotor, the only one the sources give (thesis Table 3.1: 80 m).
-const RADIUS_C: f64 = 40.0;
-
-/// Tip-speed ratio of C's rotor at rated power and speed under the analytic C_p: the design rule
-/// for the presets whose rotor the sources do not give.
-fn design_tip_speed_ratio() -> f64 {
-    let c = Drivetrain::preset("C").expect("preset C");
-    let rotor = Rotor {
-        radius: RADIUS_C,
-        lambda_min: 0.5,
-    };
-    let v = rated_wind_speed(&rotor, c.rated_power, c.rated_rotor_speed).expect("C reaches rated power");
-    c.rated_rotor_speed * RADIUS_C / v
-}
-
-/// Preset rotor (radius, hub height), m. C: the thesis's 80 m rotor. A, B, D: the radius at which the
-/// analytic C_p gives rated power at rated speed at C's rated tip-speed ratio (4.77). D's real NM48
-/// rotor is 48.2 m but stall-regulated, which this C_p does not describe. Hub heights are estimates.
-fn preset_rotor(d: &Drivetrain, name: &str) -> (f64, f64) {
-    let hub = match name.trim().to_ascii_uppercase().as_str() {
-        "A" | "B" => 90.0,
-        "C" => 80.0,
-        _ => 55.0,
-    };
-    if name.trim().eq_ignore_ascii_case("C") {
-        return (RADIUS_C, hub);
-    }
-    // P = ½ρπR²V³C_p with V = ωR/λ  ⇒  R⁵ = 2P / (ρπ C_p (ω/λ)³)
-    let lambda = design_tip_speed_ratio();
-    let cp = crate::physics::aero::power_coefficient(lambda, 0.0);
-    let k = crate::physics::aero::AIR_DENSITY * std::f64::consts::PI * cp * (d.rated_rotor_speed / lambda).powi(3);
-    ((2.0 * d.rated_power / k).powf(0.2), hub)
-}
-
-/// Wind speed at which the rotor gives rated power at rated rotor speed and zero pitch: the lowest
-/// root of P(V) = P_rated (P rises with V until λ falls past C_p's useful range).
-fn rated_wind_speed(rotor: &Rotor, rated_power: f64, rated_speed: f64) -> SlaveResult<f64> {
-    let power = |v: f64| rotor.torque(rated_speed, v, 0.0) * rated_speed;
-    let mut v = 2.0;
-    while power(v) < rated_power {
-        v += 0.25;
-        if v > 40.0 {
-            return Err(err(format!(
-                "a rotor of radius {} m at {rated_speed:.3} rad/s never reaches rated power {rated_power} W: give wind_speed or a larger radius",
-                rotor.radius
-            )));
-        }
-    }
-    let (mut lo, mut hi) = (v - 0.25, v);
-    for _ in 0..60 {
-        let mid = 0.5 * (lo + hi);
-        if power(mid) < rated_power { lo = mid } else { hi = mid }
-    }
-    Ok(0.5 * (lo + hi))
 }
 
 /// What a set of parameters builds, with the numbers the calculated parameters report.
@@ -195,7 +140,7 @@ impl Params {
         };
         let rated_speed = drivetrain.rated_rotor_speed;
         let rated_torque = drivetrain.rated_rotor_torque();
-        let rated_wind = rated_wind_speed(&rotor, drivetrain.rated_power, rated_speed)?;
+        let rated_wind = rated_wind_speed(&rotor, drivetrain.rated_power, rated_speed).map_err(err)?;
         let shutdown = Shutdown {
             time: self.real(vr::SHUTDOWN_TIME),
             feather_rate: self.real(vr::FEATHER_RATE),
@@ -292,14 +237,30 @@ impl Params {
                     "N.m" | "Nm" => false,
                     other => return Err(err(format!("parameter series_unit = {other:?}: use pu or N.m"))),
                 };
-                let unit_scale = if per_unit { rated_torque } else { 1.0 };
                 let d_source = self.real(vr::SOURCE_ROTOR_DIAMETER);
-                if d_source > 0.0 && per_unit {
-                    return Err(err(
-                        "source_rotor_diameter scales an absolute series (series_unit = N.m); a per-unit series \
-                         is already scaled by the preset's rated rotor torque",
-                    ));
-                }
+                let source_preset = self.string(vr::SOURCE_PRESET).trim();
+                // (torque per unit, rotor diameter) of the turbine the series was recorded on
+                let (unit_scale, d_source) = if source_preset.is_empty() {
+                    if d_source > 0.0 && per_unit {
+                        return Err(err(
+                            "source_rotor_diameter scales an absolute series (series_unit = N.m); a per-unit series \
+                             is already scaled by the preset's rated rotor torque (or give source_preset)",
+                        ));
+                    }
+                    (if per_unit { rated_torque } else { 1.0 }, d_source)
+                } else {
+                    if d_source > 0.0 {
+                        return Err(err("give source_preset or source_rotor_diameter, not both"));
+                    }
+                    let source = Drivetrain::preset(source_preset).ok_or_else(|| {
+                        err(format!("parameter source_preset = {source_preset:?}: use A, B, C or D (or leave it empty)"))
+                    })?;
+                    let (r_source, _) = preset_rotor(&source, source_preset);
+                    (
+                        if per_unit { source.rated_rotor_torque() } else { 1.0 },
+                        2.0 * r_source,
+                    )
+                };
                 let diameter_scale = if d_source > 0.0 {
                     (2.0 * radius / d_source).powi(3)
                 } else {

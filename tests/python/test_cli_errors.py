@@ -50,7 +50,6 @@ GRID_STEP = str(ROOT / "scenes" / "d-grid-step")
     (["run", GRID_STEP, "--record", "generator.nosuch"], ["generator.nosuch", "no variable nosuch"]),
     (["pack-scene", GRID_STEP + "/SystemStructure.ssd"], ["SystemStructure.ssd", "scene folder"]),
     (["shutdown", "--preset", "Z"], ["Z", "C or D"]),
-    (["shutdown", "--preset", "A"], ["a-normal", "scenes exist for C and D"]),
 ])
 def test_bad_master_arguments_are_named(windrive, tmp_path, args, words):
     out_csv = ["--out", str(tmp_path / "x.csv")] if args[0] == "run" else []
@@ -79,7 +78,13 @@ def one_fmu_scene(tmp_path, name):
     ("rotor", ["mode=playback", "series=/nonexistent/torque.csv"], ["/nonexistent/torque.csv"]),
     ("rotor", ["mode=playback", "series=c-shutdown-pu.csv", "source_rotor_diameter=80"], ["source_rotor_diameter", "absolute series"]),
     ("rotor", ["radius=5", "preset=C"], ["radius 5 m", "never reaches rated power"]),
-    ("generator", ["kind=dfig"], ["kind", "dfig", "spring"]),
+    ("generator", ["kind=squirrel"], ["kind", "squirrel", "spring, fixed, dfig or pmg"]),
+    ("generator", ["kind=dfig", "torque_control=pid"], ["torque_control", "pid", "law or speed"]),
+    ("generator", ["kind=dfig", "current_bandwidth=-5"], ["current_bandwidth = -5", "below its minimum 0"]),
+    ("generator", ["kind=dfig", "current_bandwidth=0"], ["current_bandwidth = 0", "positive"]),
+    ("generator", ["kind=pmg", "poles=7"], ["poles = 7", "even"]),
+    ("rotor", ["mode=playback", "series=c-shutdown-pu.csv", "source_preset=Q"], ["source_preset", "Q", "A, B, C or D"]),
+    ("rotor", ["mode=playback", "series=c-shutdown-pu.csv", "source_preset=C", "source_rotor_diameter=80"], ["source_preset or source_rotor_diameter"]),
     ("generator", ["preset=Z"], ["preset", "A, B, C or D"]),
 ])
 def test_bad_fmu_parameters_are_named(windrive, tmp_path, fmu, params, words):

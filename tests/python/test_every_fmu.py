@@ -58,3 +58,32 @@ def test_rotor_plays_back_its_shipped_synthetic_series(windrive):
     other = simulate_fmu(str(path), stop_time=1.0, output_interval=0.01, output=["rotor_torque", "rated_rotor_torque"],
                          start_values={**start, "preset": "A"})
     assert other["rotor_torque"][50] == pytest.approx(rows[50, 1] * other["rated_rotor_torque"][0], rel=1e-9)
+    # the thesis's scaling (Eq. 4.40): C's torque on A is T_C · (D_A / D_C)³
+    scaled = simulate_fmu(str(path), stop_time=1.0, output_interval=0.01, output=["rotor_torque", "radius_used"],
+                          start_values={**start, "preset": "A", "source_preset": "C"})
+    factor = (scaled["radius_used"][0] / 40.0) ** 3
+    assert scaled["rotor_torque"][50] == pytest.approx(rows[50, 1] * rated * factor, rel=1e-9)
+
+
+@pytest.mark.parametrize("preset,kind", [("A", "pmg"), ("B", "dfig"), ("C", "dfig"), ("D", "fixed"), ("D", "spring")])
+def test_generator_kinds_run_alone_in_fmpy(windrive, preset, kind):
+    """Every kind starts in electrical equilibrium at the speed it is given and holds it there:
+    the controlled kinds deliver the law's region-3 torque (rated) at rated speed, the spring its
+    initial torque, the cage machine a constant torque at its slip."""
+    path = ROOT / "target" / "fmu" / "generator.fmu"
+    if not path.is_file():
+        subprocess.run([windrive, "pack", "generator"], check=True, cwd=ROOT)
+    probe = simulate_fmu(str(path), stop_time=0.001, step_size=0.001, start_values={"preset": preset, "kind": "spring"},
+                         output=["synchronous_speed_used", "rated_torque"])
+    rated_speed, rated_torque = probe["synchronous_speed_used"][0], probe["rated_torque"][0]
+    speed = rated_speed * (1.01 if kind == "fixed" else 1.0)
+    r = simulate_fmu(str(path), stop_time=2.0, step_size=0.001, output_interval=0.01,
+                     start_values={"preset": preset, "kind": kind, "generator_speed": speed, "initial_torque": rated_torque},
+                     output=["generator_torque", "electrical_power", "stator_current", "equivalent_stiffness"])
+    torque = r["generator_torque"]
+    assert np.all(np.isfinite(torque))
+    assert np.ptp(torque) < 1e-6 * abs(torque[0]), f"{preset} {kind} drifts: {torque.min()} .. {torque.max()}"
+    if kind != "fixed":
+        assert torque[0] == pytest.approx(rated_torque, rel=1e-6)
+    # copper losses only: electrical power within 3 % of the shaft power
+    assert r["electrical_power"][-1] == pytest.approx(torque[-1] * speed, rel=0.03)
