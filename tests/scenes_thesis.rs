@@ -53,11 +53,18 @@ fn run(scene: &str) -> Run {
 
 /// Time and the given channels of a scene run through the master (Gauss–Seidel, 1 ms), with
 /// parameter overrides (component, variable, value) and optionally another stop time.
-fn run_channels(scene: &str, overrides: &[(&str, &str, &str)], channels: &[String], stop: Option<f64>) -> Vec<Vec<f64>> {
+fn run_channels(
+    scene: &str,
+    overrides: &[(&str, &str, &str)],
+    channels: &[String],
+    stop: Option<f64>,
+) -> Vec<Vec<f64>> {
     let (_guard, dir) = common::scene_copy(scene);
     let scene = Scene::open(&dir).unwrap();
-    let overrides: Vec<(String, String, String)> =
-        overrides.iter().map(|(c, v, x)| (c.to_string(), v.to_string(), x.to_string())).collect();
+    let overrides: Vec<(String, String, String)> = overrides
+        .iter()
+        .map(|(c, v, x)| (c.to_string(), v.to_string(), x.to_string()))
+        .collect();
     let record = Record::Only(channels.to_vec());
     let mut system = System::build(&scene, &overrides, &record).unwrap();
     let stop = stop.unwrap_or(scene.experiment.stop_time.unwrap());
@@ -151,7 +158,10 @@ fn region_2_law_holds_the_optimal_tip_speed_ratio() {
             ("torsional", "fidelity", "2"),
             ("torsional", "initial_speed_ratio", ratio.as_str()),
         ];
-        let channels = ["torsional.rotor_speed".to_string(), "rotor.aerodynamic_power".to_string()];
+        let channels = [
+            "torsional.rotor_speed".to_string(),
+            "rotor.aerodynamic_power".to_string(),
+        ];
         let c = run_channels(scene, &overrides, &channels, Some(60.0));
         let (w, p) = (c[1][c[1].len() - 1], c[2][c[2].len() - 1]);
         let lambda = w * radius / wind;

@@ -136,7 +136,9 @@ where
             .label(s.label.clone())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
     }
-    for (x, label) in markers {
+    for (k, (x, label)) in markers.iter().enumerate() {
+        // labels of close markers would overprint: every other one a line lower
+        let y_text = y1 - (k % 2) as f64 * 0.06 * (y1 - y0 + 2.0 * pad);
         chart
             .draw_series(std::iter::once(PathElement::new(
                 vec![(*x, y0 - pad), (*x, y1 + pad)],
@@ -144,7 +146,11 @@ where
             )))
             .map_err(err)?;
         chart
-            .draw_series(std::iter::once(Text::new(label.clone(), (*x, y1), ("sans-serif", 14))))
+            .draw_series(std::iter::once(Text::new(
+                label.clone(),
+                (*x, y_text),
+                ("sans-serif", 14),
+            )))
             .map_err(err)?;
     }
     if series.len() > 1 {

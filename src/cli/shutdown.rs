@@ -91,9 +91,21 @@ pub fn dominant(t: &[f64], x: &[f64], a: f64, b: f64) -> Option<(f64, Vec<f64>, 
     spectrum::dominant_frequency(&f, &amp, 0.3).map(|d| (d, f, amp))
 }
 
+/// The first mesh of the last stage, as a torsional output name and a label: the last parallel
+/// stage's gear–pinion mesh, or the second planetary stage's sun–planet 1 (drivetrain A).
+fn last_stage_mesh(dt: &Drivetrain) -> (String, &'static str) {
+    use crate::physics::drivetrain::Stage;
+    let parallel = dt.stages.iter().filter(|s| matches!(s, Stage::Parallel(_))).count();
+    match dt.stages.last() {
+        Some(Stage::Parallel(_)) => (format!("mesh_force_gear_pinion_{parallel}"), "last gear-pinion"),
+        _ => ("mesh_force_sun_planet2_1".into(), "2nd-stage sun-planet"),
+    }
+}
+
 pub fn run(args: &ShutdownArgs) -> anyhow::Result<()> {
     let preset = args.preset.trim().to_ascii_uppercase();
-    let drivetrain = Drivetrain::preset(&preset).with_context(|| format!("unknown preset {preset:?}: use A, B, C or D"))?;
+    let drivetrain =
+        Drivetrain::preset(&preset).with_context(|| format!("unknown preset {preset:?}: use A, B, C or D"))?;
     let root = crate::pack::workspace_root()?;
     let lower = preset.to_ascii_lowercase();
     let (normal_dir, shutdown_dir) = (
@@ -181,13 +193,14 @@ pub fn run(args: &ShutdownArgs) -> anyhow::Result<()> {
         held.as_ref().map_or("-".into(), |d| format!("{:.3} Hz", d.0))
     ));
     let sp = s.get("torsional.mesh_force_sun_planet_1")?;
-    let gp = s.get("torsional.mesh_force_gear_pinion_2")?;
+    let (last_mesh, last_label) = last_stage_mesh(&drivetrain);
+    let gp = s.get(&format!("torsional.{last_mesh}"))?;
     summary.push_str(&format!(
-        "mesh-force reversal: sun-planet min {:.1} kN, last gear-pinion min {:.1} kN (normal operation min {:.1} / {:.1} kN)\n",
+        "mesh-force reversal: sun-planet min {:.1} kN, {last_label} min {:.1} kN (normal operation min {:.1} / {:.1} kN)\n",
         sp.iter().cloned().fold(f64::MAX, f64::min) / 1e3,
         gp.iter().cloned().fold(f64::MAX, f64::min) / 1e3,
         n.get("torsional.mesh_force_sun_planet_1")?.iter().cloned().fold(f64::MAX, f64::min) / 1e3,
-        n.get("torsional.mesh_force_gear_pinion_2")?.iter().cloned().fold(f64::MAX, f64::min) / 1e3,
+        n.get(&format!("torsional.{last_mesh}"))?.iter().cloned().fold(f64::MAX, f64::min) / 1e3,
     ));
     print!("\n{summary}");
     std::fs::write(out.join("summary.txt"), &summary)?;
@@ -256,7 +269,7 @@ pub fn run(args: &ShutdownArgs) -> anyhow::Result<()> {
                 points: &p_sp,
             },
             Series {
-                label: "gear-pinion (last stage)".into(),
+                label: last_label.into(),
                 points: &p_gp,
             },
         ],

@@ -5,7 +5,9 @@ use crate::models::rotor as xml;
 use crate::models::rotor::vr;
 use crate::physics::aero::{PitchController, PitchState, Rotor};
 use crate::physics::drivetrain::Drivetrain;
-use crate::physics::rotor::{preset_rotor, rated_wind_speed, PitchTarget, RotorModel, RotorOutputs, Shutdown, Source, TiltModel, TorqueSeries};
+use crate::physics::rotor::{
+    PitchTarget, RotorModel, RotorOutputs, Shutdown, Source, TiltModel, TorqueSeries, preset_rotor, rated_wind_speed,
+};
 use crate::physics::turbulence::{TurbulenceModel, TurbulenceSeries, iec_sigma, kaimal_length};
 use crate::slaves::InputPolynomial;
 use serde::{Deserialize, Serialize};
@@ -253,13 +255,12 @@ impl Params {
                         return Err(err("give source_preset or source_rotor_diameter, not both"));
                     }
                     let source = Drivetrain::preset(source_preset).ok_or_else(|| {
-                        err(format!("parameter source_preset = {source_preset:?}: use A, B, C or D (or leave it empty)"))
+                        err(format!(
+                            "parameter source_preset = {source_preset:?}: use A, B, C or D (or leave it empty)"
+                        ))
                     })?;
                     let (r_source, _) = preset_rotor(&source, source_preset);
-                    (
-                        if per_unit { source.rated_rotor_torque() } else { 1.0 },
-                        2.0 * r_source,
-                    )
+                    (if per_unit { source.rated_rotor_torque() } else { 1.0 }, 2.0 * r_source)
                 };
                 let diameter_scale = if d_source > 0.0 {
                     (2.0 * radius / d_source).powi(3)

@@ -108,9 +108,7 @@ impl TorqueControl {
     pub fn demand(&self, w_filtered: f64, integral: f64) -> f64 {
         match self {
             TorqueControl::Law(l) => l.torque(w_filtered),
-            TorqueControl::Speed(r) => {
-                (r.kp * (w_filtered - r.reference) + integral).clamp(0.0, r.max_torque)
-            }
+            TorqueControl::Speed(r) => (r.kp * (w_filtered - r.reference) + integral).clamp(0.0, r.max_torque),
         }
     }
 
@@ -151,7 +149,11 @@ mod tests {
     fn nrel_5mw_constants() {
         let law = TorqueLaw::new(5_296_610.0, 121.6805, 2.332287, 70.16224, 0.10, 47_402.91);
         assert!((law.sync_speed - 110.619).abs() < 1e-3);
-        assert!((law.transition_speed() - 119.014).abs() < 1e-3, "{}", law.transition_speed());
+        assert!(
+            (law.transition_speed() - 119.014).abs() < 1e-3,
+            "{}",
+            law.transition_speed()
+        );
         assert!((law.slope25() - 3935.04).abs() < 0.05, "{}", law.slope25());
         assert!((law.region2_start - 91.21091).abs() < 1e-3);
         let slope15 = law.k * law.region2_start.powi(2) / (law.region2_start - law.cut_in);

@@ -287,7 +287,10 @@ mod tests {
         let st = g.initial_state(157.0, 4000.0);
         for f in [0.5, 2.6, 20.0] {
             let (k, d) = g.equivalent_stiffness_damping(&st, 157.0, 2.0 * std::f64::consts::PI * f);
-            assert!((k / 2.81e4 - 1.0).abs() < 1e-6 && (d / 30.0 - 1.0).abs() < 1e-6, "{k} {d}");
+            assert!(
+                (k / 2.81e4 - 1.0).abs() < 1e-6 && (d / 30.0 - 1.0).abs() < 1e-6,
+                "{k} {d}"
+            );
         }
     }
 

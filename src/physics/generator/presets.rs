@@ -141,12 +141,15 @@ pub fn optimal_region2_gain(dt: &Drivetrain, name: &str) -> f64 {
 /// The generator of preset `name` (A–D) of the given kind with the user's overrides.
 pub fn build(name: &str, kind: Kind, o: &Overrides) -> Result<Generator, String> {
     let name = name.trim().to_ascii_uppercase();
-    let dt = Drivetrain::preset(&name).ok_or_else(|| format!("parameter preset = {name:?}: unknown drivetrain, use A, B, C or D"))?;
+    let dt = Drivetrain::preset(&name)
+        .ok_or_else(|| format!("parameter preset = {name:?}: unknown drivetrain, use A, B, C or D"))?;
     let rated_speed = dt.rated_rotor_speed * dt.gear_ratio();
     let (poles, l_m, l_ls, line) = table_4_6(&name);
     let poles = if o.poles > 0 { o.poles as u32 } else { poles };
     if poles % 2 == 1 {
-        return Err(format!("parameter poles = {poles}: a machine has an even number of poles"));
+        return Err(format!(
+            "parameter poles = {poles}: a machine has an even number of poles"
+        ));
     }
     let frequency = positive("frequency", o.frequency)?;
     let r_s = positive("stator_resistance", o.stator_resistance)?;
@@ -154,7 +157,11 @@ pub fn build(name: &str, kind: Kind, o: &Overrides) -> Result<Generator, String>
     let l_lr = positive("rotor_leakage", o.rotor_leakage)?;
     let l_m = pick(o.mutual_inductance, l_m);
     let l_ls = pick(o.stator_leakage, l_ls);
-    let line = if o.line_inductance >= 0.0 { o.line_inductance } else { line };
+    let line = if o.line_inductance >= 0.0 {
+        o.line_inductance
+    } else {
+        line
+    };
     let alpha = positive("current_bandwidth", o.current_bandwidth)?;
     let rated_torque = dt.rated_power / rated_speed;
     let max_torque = pick(o.max_torque, 1.1 * rated_torque);
@@ -258,6 +265,10 @@ mod tests {
             ..Overrides::default()
         };
         assert!(build("C", Kind::Dfig, &o).unwrap_err().contains("poles"));
-        assert!(build("E", Kind::Dfig, &Overrides::default()).unwrap_err().contains("preset"));
+        assert!(
+            build("E", Kind::Dfig, &Overrides::default())
+                .unwrap_err()
+                .contains("preset")
+        );
     }
 }
