@@ -76,6 +76,23 @@ impl DamageSums {
     }
 }
 
+/// Goodman mean-stress correction as in MLife (Hayman 2012): the range that does the same damage at
+/// the fixed mean L_MF as `c.range` at its own mean, L_RF = L_R·(L_ult − |L_MF|)/(L_ult − |L_M|).
+/// Errors when a cycle's mean reaches the ultimate load (the correction is undefined there).
+pub fn goodman(c: &Cycle, ultimate: f64, fixed_mean: f64) -> Result<Cycle, String> {
+    if c.mean.abs() >= ultimate {
+        return Err(format!(
+            "a cycle's mean {} reaches the ultimate load {ultimate}: Goodman's correction is undefined",
+            c.mean
+        ));
+    }
+    Ok(Cycle {
+        range: c.range * (ultimate - fixed_mean.abs()) / (ultimate - c.mean.abs()),
+        mean: fixed_mean,
+        ..*c
+    })
+}
+
 pub fn damage_equivalent_load(cycles: &[Cycle], m: f64, equivalent_cycles: f64) -> f64 {
     let mut sums = DamageSums::new(&[m]);
     cycles.iter().for_each(|c| sums.add(c));
@@ -86,6 +103,27 @@ pub fn damage_equivalent_load(cycles: &[Cycle], m: f64, equivalent_cycles: f64) 
 mod tests {
     use super::*;
     use crate::analysis::rainflow::cycles;
+
+    /// MLife's Goodman correction: a cycle at mean 0 with fixed mean 0 is unchanged; at mean L_ult/2
+    /// it counts double; the DEL then follows the corrected ranges.
+    #[test]
+    fn goodman_correction() {
+        let c = Cycle {
+            range: 10.0,
+            mean: 50.0,
+            count: 1.0,
+            start: 0,
+            end: 1,
+        };
+        assert_eq!(goodman(&Cycle { mean: 0.0, ..c }, 100.0, 0.0).unwrap().range, 10.0);
+        assert!((goodman(&c, 100.0, 0.0).unwrap().range - 20.0).abs() < 1e-12);
+        assert!((goodman(&c, 100.0, 50.0).unwrap().range - 10.0).abs() < 1e-12);
+        assert!(
+            goodman(&Cycle { mean: -100.0, ..c }, 100.0, 0.0)
+                .unwrap_err()
+                .contains("ultimate")
+        );
+    }
 
     /// Both accumulation paths equal the direct formula Σ n S^m to 1e-12.
     #[test]

@@ -5,7 +5,9 @@
 
 pub mod damage;
 pub mod hertz;
+pub mod ldd;
 pub mod life;
+pub mod matrix;
 pub mod rainflow;
 pub mod series;
 pub mod spectrum;

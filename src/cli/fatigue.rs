@@ -1,6 +1,8 @@
-//! `windrive rainflow` and `windrive del`: cycle counting and damage-equivalent loads of one CSV channel.
+//! `windrive rainflow`, `windrive del` and `windrive ldd`: cycle counting (lists and matrices),
+//! damage-equivalent loads and load duration distributions of one CSV channel.
 
-use crate::analysis::{damage, rainflow, series};
+use crate::analysis::{damage, ldd, matrix, rainflow, series};
+use crate::cli::plot;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -10,9 +12,40 @@ pub struct RainflowArgs {
     /// Column to count, e.g. torsional.hss_torque
     #[arg(long)]
     pub channel: String,
-    /// Print {"cycles": [[range, mean, count], ...]} for scripts
+    /// Print {"cycles": [[range, mean, count], ...]} for scripts (with --matrix:
+    /// {"matrix": {"kind", "rows": [lo, hi, n], "cols": [lo, hi, n], "counts": [[...], ...]}})
     #[arg(long)]
     pub json: bool,
+    /// Bin the cycles: range-mean (rows: range from 0, columns: mean) or from-to (levels)
+    #[arg(long, value_parser = ["range-mean", "from-to"])]
+    pub matrix: Option<String>,
+    /// Bins per matrix axis
+    #[arg(long, default_value_t = 32)]
+    pub bins: usize,
+    /// Draw the matrix (range–mean unless --matrix from-to) as a heat map, .png or .svg
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+pub struct LddArgs {
+    /// CSV file with a header `time,<name>,...`
+    pub file: PathBuf,
+    /// Load column, e.g. torsional.hss_torque
+    #[arg(long)]
+    pub channel: String,
+    /// Speed column in rad/s of the shaft whose revolutions count the load cycles, e.g. torsional.generator_speed
+    #[arg(long)]
+    pub speed: String,
+    /// Load bins over the channel's extent
+    #[arg(long, default_value_t = 20)]
+    pub bins: usize,
+    /// Print {"bins": [[load centre, seconds, revolutions], ...]} for scripts
+    #[arg(long)]
+    pub json: bool,
+    /// Bar chart of seconds and revolutions per bin, .png or .svg
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
 }
 
 #[derive(clap::Args)]
@@ -31,6 +64,12 @@ pub struct DelArgs {
     /// Print {"del": {"3": ..., "6": ...}} for scripts
     #[arg(long)]
     pub json: bool,
+    /// Goodman mean-load correction with this ultimate load (MLife: L_RF = L_R (L_ult − |L_MF|)/(L_ult − |L_M|))
+    #[arg(long)]
+    pub goodman: Option<f64>,
+    /// Fixed mean L_MF the Goodman-corrected ranges refer to
+    #[arg(long, default_value_t = 0.0)]
+    pub fixed_mean: f64,
 }
 
 fn fmt_m(m: f64) -> String {
@@ -44,6 +83,46 @@ fn fmt_m(m: f64) -> String {
 pub fn run_rainflow(args: &RainflowArgs) -> anyhow::Result<()> {
     let (_, x) = series::read_channel(&args.file, &args.channel)?;
     let cycles = rainflow::cycles(&x);
+    if args.bins == 0 {
+        anyhow::bail!("--bins 0: a matrix needs at least one bin per axis");
+    }
+    let from_to = args.matrix.as_deref() == Some("from-to");
+    let m = if from_to {
+        matrix::from_to(&cycles, &x, args.bins)
+    } else {
+        matrix::range_mean(&cycles, args.bins, args.bins)
+    };
+    if let Some(path) = &args.plot {
+        let (xl, yl) = if from_to { ("to", "from") } else { ("mean", "range") };
+        plot::heatmap(
+            path,
+            &format!(
+                "{}: rainflow {} matrix",
+                args.channel,
+                if from_to { "from-to" } else { "range-mean" }
+            ),
+            &format!("{} {xl}", args.channel),
+            &format!("{} {yl}", args.channel),
+            &plot::Grid {
+                x: (m.cols.lo, m.cols.hi, m.cols.n),
+                y: (m.rows.lo, m.rows.hi, m.rows.n),
+                counts: &m.counts,
+            },
+        )?;
+        if !args.json {
+            println!("plot: {}", path.display());
+        }
+    }
+    if args.json && args.matrix.is_some() {
+        let rows: Vec<&[f64]> = m.counts.chunks(m.cols.n).collect();
+        let axis = |b: &matrix::Bins| serde_json::json!([b.lo, b.hi, b.n]);
+        println!(
+            "{}",
+            serde_json::json!({ "matrix": {
+                "kind": args.matrix, "rows": axis(&m.rows), "cols": axis(&m.cols), "counts": rows } })
+        );
+        return Ok(());
+    }
     if args.json {
         let list: Vec<[f64; 3]> = cycles.iter().map(|c| [c.range, c.mean, c.count]).collect();
         println!("{}", serde_json::json!({ "cycles": list }));
@@ -79,10 +158,34 @@ pub fn run_del(args: &DelArgs) -> anyhow::Result<()> {
     // every slope in the same streaming pass
     let mut sums = damage::DamageSums::new(&args.m);
     let mut counter = rainflow::Counter::new();
-    for &v in &x {
-        counter.push(v, &mut |c| sums.add(&c));
+    match args.goodman {
+        None => {
+            for &v in &x {
+                counter.push(v, &mut |c| sums.add(&c));
+            }
+            counter.finish(&mut |c| sums.add(&c));
+        }
+        Some(ultimate) => {
+            if !(ultimate.is_finite() && ultimate > args.fixed_mean.abs()) {
+                anyhow::bail!(
+                    "--goodman {ultimate}: the ultimate load must exceed |--fixed-mean| ({})",
+                    args.fixed_mean
+                );
+            }
+            let mut bad = None;
+            let mut add = |c: rainflow::Cycle| match damage::goodman(&c, ultimate, args.fixed_mean) {
+                Ok(c) => sums.add(&c),
+                Err(e) => bad = bad.take().or(Some(e)),
+            };
+            for &v in &x {
+                counter.push(v, &mut add);
+            }
+            counter.finish(&mut add);
+            if let Some(e) = bad {
+                anyhow::bail!("{} {}: {e}", args.file.display(), args.channel);
+            }
+        }
     }
-    counter.finish(&mut |c| sums.add(&c));
     let n_eq = args.feq * duration;
     let dels: Vec<(String, f64)> = args.m.iter().map(|&m| fmt_m(m)).zip(sums.dels(n_eq)).collect();
     if args.json {
@@ -93,6 +196,60 @@ pub fn run_del(args: &DelArgs) -> anyhow::Result<()> {
     println!("{}: {} s, N_eq = {n_eq} ({} Hz)", args.channel, duration, args.feq);
     for (m, del) in dels {
         println!("  m = {m:<4} DEL = {del:.6e}");
+    }
+    Ok(())
+}
+
+pub fn run_ldd(args: &LddArgs) -> anyhow::Result<()> {
+    let (t, load) = series::read_channel(&args.file, &args.channel)?;
+    let (_, speed) = series::read_channel(&args.file, &args.speed)?;
+    if args.bins == 0 {
+        anyhow::bail!("--bins 0: the distribution needs at least one bin");
+    }
+    let l = ldd::load_duration(&t, &load, &speed, args.bins);
+    let rows: Vec<[f64; 3]> = (0..l.bins.n)
+        .map(|i| [l.bins.centre(i), l.seconds[i], l.revolutions[i]])
+        .collect();
+    if let Some(path) = &args.plot {
+        let secs: Vec<(f64, f64)> = rows.iter().map(|r| (r[0], r[1])).collect();
+        let total_revs: f64 = l.revolutions.iter().sum();
+        let total_secs: f64 = l.seconds.iter().sum();
+        // revolutions scaled onto the seconds axis so both shapes compare
+        let revs: Vec<(f64, f64)> = rows
+            .iter()
+            .map(|r| (r[0], r[2] * total_secs / total_revs.max(1e-300)))
+            .collect();
+        plot::lines(
+            path,
+            &format!("{}: load duration distribution", args.channel),
+            &args.channel,
+            "seconds per bin",
+            &[
+                plot::Series {
+                    label: "time at load".into(),
+                    points: &secs,
+                },
+                plot::Series {
+                    label: format!("revolutions (× {:.3e} s/rev)", total_secs / total_revs.max(1e-300)),
+                    points: &revs,
+                },
+            ],
+            &[],
+        )?;
+    }
+    if args.json {
+        println!("{}", serde_json::json!({ "bins": rows }));
+        return Ok(());
+    }
+    println!(
+        "{}: load duration distribution ({} bins of {:.6e})",
+        args.channel,
+        l.bins.n,
+        l.bins.width()
+    );
+    println!("{:>16} {:>12} {:>14}", "load (centre)", "seconds", "revolutions");
+    for r in &rows {
+        println!("{:>16.6e} {:>12.4} {:>14.4}", r[0], r[1], r[2]);
     }
     Ok(())
 }

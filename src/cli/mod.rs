@@ -49,8 +49,11 @@ pub enum Command {
     StepResponse(step::StepArgs),
     /// Benchmarks an FMU through the FMI boundary against named baselines in the same run.
     Bench(bench::BenchArgs),
-    /// Rainflow cycles (ASTM E1049-85) of one CSV channel.
+    /// Rainflow cycles (ASTM E1049-85) of one CSV channel, as a list or a range–mean / from–to matrix.
     Rainflow(fatigue::RainflowArgs),
+    /// Load duration distribution of one CSV channel: seconds and revolutions per load bin
+    /// (revolutions from a speed channel in rad/s: n_i = Σ t_j ω_j / 2π).
+    Ldd(fatigue::LddArgs),
     /// Runs an SSP scene (folder, .ssd or .ssp) through the co-simulation master and writes a CSV.
     ///
     /// Loads every component's FMU (ours or another tool's), checks the system (names, types,
@@ -58,12 +61,13 @@ pub enum Command {
     /// then steps with the chosen algorithm. If an FMU fails, every row up to the last good step is
     /// kept and the FMU, time and status are named.
     Run(Box<run::RunArgs>),
-    /// The thesis's normal operation and shutdown of drivetrain C or D through the master: CSVs,
+    /// The thesis's normal operation and shutdown of drivetrain A, B, C or D through the master: CSVs,
     /// plots (shaft torques, speeds, mesh forces, HSS spectrum with the modes, rainflow cloud) and
     /// the summary (torque ratios against the 1.35 design factor, ranges, braking frequencies).
     Shutdown(shutdown::ShutdownArgs),
     /// Packs a scene folder into an .ssp archive, with our FMUs freshly built into its resources/.
     PackScene(run::PackSceneArgs),
-    /// Damage-equivalent loads of one CSV channel: DEL = (Σ n_i S_i^m / N_eq)^(1/m), N_eq = feq × duration.
+    /// Damage-equivalent loads of one CSV channel: DEL = (Σ n_i S_i^m / N_eq)^(1/m), N_eq = feq × duration,
+    /// optionally with MLife's Goodman mean-load correction.
     Del(fatigue::DelArgs),
 }

@@ -26,6 +26,20 @@ fn register_font() -> anyhow::Result<()> {
     .map_err(|e| anyhow!(e))
 }
 
+/// Runs `$draw(root, args...)` on a PNG or SVG drawing area by the file's extension (the two
+/// backends are different types, so a function cannot take either).
+macro_rules! on_backend {
+    ($path:expr, $draw:ident($($arg:expr),*)) => {{
+        register_font()?;
+        let path: &Path = $path;
+        match path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase().as_str() {
+            "png" => $draw(BitMapBackend::new(path, (1000, 600)).into_drawing_area(), $($arg),*),
+            "svg" => $draw(SVGBackend::new(path, (1000, 600)).into_drawing_area(), $($arg),*),
+            _ => Err(anyhow!("{}: plot format must be .png or .svg", path.display())),
+        }
+    }};
+}
+
 /// A line chart of several series, to PNG or SVG by extension.
 pub struct Series<'a> {
     pub label: String,
@@ -53,33 +67,7 @@ pub fn lines_named(
     markers: &[(f64, String)],
     x_names: Option<&[String]>,
 ) -> anyhow::Result<()> {
-    register_font()?;
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .unwrap_or("")
-        .to_ascii_lowercase();
-    match ext.as_str() {
-        "png" => draw(
-            BitMapBackend::new(path, (1000, 600)).into_drawing_area(),
-            title,
-            x_label,
-            y_label,
-            series,
-            markers,
-            x_names,
-        ),
-        "svg" => draw(
-            SVGBackend::new(path, (1000, 600)).into_drawing_area(),
-            title,
-            x_label,
-            y_label,
-            series,
-            markers,
-            x_names,
-        ),
-        _ => Err(anyhow!("{}: plot format must be .png or .svg", path.display())),
-    }
+    on_backend!(path, draw(title, x_label, y_label, series, markers, x_names))
 }
 
 fn draw<DB: DrawingBackend>(
@@ -206,30 +194,7 @@ pub fn scatter(
     y_label: &str,
     clouds: &[(String, Vec<(f64, f64)>)],
 ) -> anyhow::Result<()> {
-    register_font()?;
-    match path
-        .extension()
-        .and_then(|e| e.to_str())
-        .unwrap_or("")
-        .to_ascii_lowercase()
-        .as_str()
-    {
-        "png" => draw_scatter(
-            BitMapBackend::new(path, (1000, 600)).into_drawing_area(),
-            title,
-            x_label,
-            y_label,
-            clouds,
-        ),
-        "svg" => draw_scatter(
-            SVGBackend::new(path, (1000, 600)).into_drawing_area(),
-            title,
-            x_label,
-            y_label,
-            clouds,
-        ),
-        _ => Err(anyhow!("{}: plot format must be .png or .svg", path.display())),
-    }
+    on_backend!(path, draw_scatter(title, x_label, y_label, clouds))
 }
 
 fn draw_scatter<DB: DrawingBackend>(
@@ -282,6 +247,70 @@ where
         .border_style(BLACK)
         .draw()
         .map_err(err)?;
+    root.present().map_err(err)?;
+    Ok(())
+}
+
+/// A heat map of counts on a grid of cells (x bins × y bins, row-major by y), shaded by log10 of the
+/// count (empty cells white): a rainflow matrix.
+pub struct Grid<'a> {
+    pub x: (f64, f64, usize),
+    pub y: (f64, f64, usize),
+    /// counts[iy * x.2 + ix]
+    pub counts: &'a [f64],
+}
+
+pub fn heatmap(path: &Path, title: &str, x_label: &str, y_label: &str, grid: &Grid) -> anyhow::Result<()> {
+    on_backend!(path, draw_heatmap(title, x_label, y_label, grid))
+}
+
+fn draw_heatmap<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    g: &Grid,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("plot: {e:?}");
+    root.fill(&WHITE).map_err(err)?;
+    let (x0, x1, nx) = g.x;
+    let (y0, y1, ny) = g.y;
+    let (dx, dy) = ((x1 - x0) / nx as f64, (y1 - y0) / ny as f64);
+    let max = g.counts.iter().cloned().fold(0.0f64, f64::max);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(format!("{title} (shade: log10 count, max {max})"), ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(80)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .draw()
+        .map_err(err)?;
+    let top = (max.max(1.0)).log10().max(1e-9);
+    let cells = (0..ny)
+        .flat_map(|iy| (0..nx).map(move |ix| (ix, iy)))
+        .filter_map(|(ix, iy)| {
+            let c = g.counts[iy * nx + ix];
+            (c > 0.0).then(|| {
+                // from pale yellow (one half cycle) to dark red (the largest count)
+                let f = ((c.max(0.5) * 2.0).log10() / (top + 2f64.log10())).clamp(0.0, 1.0);
+                let color = RGBColor(
+                    255 - (f * 100.0) as u8,
+                    (230.0 * (1.0 - f)) as u8,
+                    (120.0 * (1.0 - f)) as u8,
+                );
+                let (xa, ya) = (x0 + ix as f64 * dx, y0 + iy as f64 * dy);
+                Rectangle::new([(xa, ya), (xa + dx, ya + dy)], color.filled())
+            })
+        });
+    chart.draw_series(cells).map_err(err)?;
     root.present().map_err(err)?;
     Ok(())
 }
