@@ -4,6 +4,7 @@
 //! Campbell).
 
 pub mod damage;
+pub mod gear;
 pub mod hertz;
 pub mod ldd;
 pub mod life;

@@ -1,7 +1,7 @@
-//! `windrive rainflow`, `windrive del` and `windrive ldd`: cycle counting (lists and matrices),
-//! damage-equivalent loads and load duration distributions of one CSV channel.
+//! `windrive rainflow`, `del`, `ldd` and `spectrum`: cycle counting (lists and matrices),
+//! damage-equivalent loads, load duration distributions and amplitude spectra of one CSV channel.
 
-use crate::analysis::{damage, ldd, matrix, rainflow, series};
+use crate::analysis::{damage, ldd, matrix, rainflow, series, spectrum};
 use crate::cli::plot;
 use std::path::PathBuf;
 
@@ -44,6 +44,30 @@ pub struct LddArgs {
     #[arg(long)]
     pub json: bool,
     /// Bar chart of seconds and revolutions per bin, .png or .svg
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+pub struct SpectrumArgs {
+    /// CSV file with a header `time,<name>,...`, uniformly sampled
+    pub file: PathBuf,
+    /// Column to analyse
+    #[arg(long)]
+    pub channel: String,
+    /// Time window [s]: from,to [default: the whole series]
+    #[arg(long, value_delimiter = ',')]
+    pub window: Option<Vec<f64>>,
+    /// Frequency band searched for peaks [Hz]: low,high [default: 0.2 Hz to Nyquist]
+    #[arg(long, value_delimiter = ',')]
+    pub band: Option<Vec<f64>>,
+    /// Number of peaks listed (largest first)
+    #[arg(long, default_value_t = 5)]
+    pub peaks: usize,
+    /// Print {"peaks": [[frequency, amplitude], ...], "resolution": df} for scripts
+    #[arg(long)]
+    pub json: bool,
+    /// Amplitude spectrum with the peaks marked, .png or .svg
     #[arg(long)]
     pub plot: Option<PathBuf>,
 }
@@ -250,6 +274,79 @@ pub fn run_ldd(args: &LddArgs) -> anyhow::Result<()> {
     println!("{:>16} {:>12} {:>14}", "load (centre)", "seconds", "revolutions");
     for r in &rows {
         println!("{:>16.6e} {:>12.4} {:>14.4}", r[0], r[1], r[2]);
+    }
+    Ok(())
+}
+
+pub fn run_spectrum(args: &SpectrumArgs) -> anyhow::Result<()> {
+    for (name, v) in [("--window", &args.window), ("--band", &args.band)] {
+        if let Some(v) = v
+            && (v.len() != 2 || v[0] >= v[1] || !v.iter().all(|x| x.is_finite()))
+        {
+            anyhow::bail!("{name} {v:?}: give two increasing numbers, low,high");
+        }
+    }
+    let (t, x) = series::read_channel(&args.file, &args.channel)?;
+    let (t0, t1) = match &args.window {
+        Some(w) => (w[0], w[1]),
+        None => (t[0], t[t.len() - 1]),
+    };
+    let i0 = t.partition_point(|&v| v < t0);
+    let i1 = t.partition_point(|&v| v <= t1);
+    if i1 < i0 + 16 {
+        anyhow::bail!(
+            "{}: the window {t0}..{t1} s holds {} samples; a spectrum needs at least 16",
+            args.file.display(),
+            i1.saturating_sub(i0)
+        );
+    }
+    let dt = (t[i1 - 1] - t[i0]) / (i1 - 1 - i0) as f64;
+    let uneven = t[i0..i1].windows(2).any(|w| ((w[1] - w[0]) / dt - 1.0).abs() > 1e-3);
+    if uneven {
+        anyhow::bail!(
+            "{}: the time steps are not uniform (decimate or resample first)",
+            args.file.display()
+        );
+    }
+    let (f, a) = spectrum::amplitude_spectrum(&x[i0..i1], dt);
+    let (lo, hi) = args.band.as_ref().map_or((0.2, f64::INFINITY), |b| (b[0], b[1]));
+    let peaks = spectrum::peaks(&f, &a, lo, hi, args.peaks);
+    let df = f[1] - f[0];
+    if let Some(path) = &args.plot {
+        let f_hi = if hi.is_finite() { hi } else { f[f.len() - 1] };
+        let pts: Vec<(f64, f64)> = f
+            .iter()
+            .zip(&a)
+            .filter(|(ff, _)| **ff <= f_hi * 1.2)
+            .map(|(ff, aa)| (*ff, *aa))
+            .collect();
+        let marks: Vec<(f64, String)> = peaks.iter().map(|(pf, _)| (*pf, format!("{pf:.3} Hz"))).collect();
+        plot::lines(
+            path,
+            &format!(
+                "{}: amplitude spectrum, {t0:.2}-{t1:.2} s (Hann, detrended)",
+                args.channel
+            ),
+            "frequency [Hz]",
+            "amplitude",
+            &[plot::Series {
+                label: args.channel.clone(),
+                points: &pts,
+            }],
+            &marks,
+        )?;
+    }
+    if args.json {
+        println!("{}", serde_json::json!({ "peaks": peaks, "resolution": df }));
+        return Ok(());
+    }
+    println!(
+        "{}: {} samples at {dt} s over {t0}..{t1} s, resolution {df:.4} Hz",
+        args.channel,
+        i1 - i0
+    );
+    for (k, (pf, pa)) in peaks.iter().enumerate() {
+        println!("  peak {}: {pf:.4} Hz, amplitude {pa:.6e}", k + 1);
     }
     Ok(())
 }

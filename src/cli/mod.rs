@@ -54,6 +54,8 @@ pub enum Command {
     /// Load duration distribution of one CSV channel: seconds and revolutions per load bin
     /// (revolutions from a speed channel in rad/s: n_i = Σ t_j ω_j / 2π).
     Ldd(fatigue::LddArgs),
+    /// Amplitude spectrum of one CSV channel (detrended, Hann window, real FFT) and its largest peaks.
+    Spectrum(fatigue::SpectrumArgs),
     /// Runs an SSP scene (folder, .ssd or .ssp) through the co-simulation master and writes a CSV.
     ///
     /// Loads every component's FMU (ours or another tool's), checks the system (names, types,

@@ -124,9 +124,12 @@ where
             .label(s.label.clone())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
     }
-    for (k, (x, label)) in markers.iter().enumerate() {
-        // labels of close markers would overprint: every other one a line lower
-        let y_text = y1 - (k % 2) as f64 * 0.06 * (y1 - y0 + 2.0 * pad);
+    // labels of close markers would overprint: in order along x, each a line below the previous
+    let mut order: Vec<usize> = (0..markers.len()).collect();
+    order.sort_by(|&i, &j| markers[i].0.total_cmp(&markers[j].0));
+    for (rank, &k) in order.iter().enumerate() {
+        let (x, label) = &markers[k];
+        let y_text = y1 - (rank % 3) as f64 * 0.06 * (y1 - y0 + 2.0 * pad);
         chart
             .draw_series(std::iter::once(PathElement::new(
                 vec![(*x, y0 - pad), (*x, y1 + pad)],
