@@ -3,6 +3,7 @@
 //! operating hours from wind distributions (issue 4 has the rest: LDD, ISO 6336 stresses, spectra,
 //! Campbell).
 
+pub mod campbell;
 pub mod damage;
 pub mod gear;
 pub mod hertz;

@@ -1,6 +1,7 @@
 //! The `windrive` command line.
 
 pub mod bench;
+pub mod campbell;
 pub mod coupling;
 pub mod fatigue;
 pub mod modes;
@@ -56,6 +57,10 @@ pub enum Command {
     Ldd(fatigue::LddArgs),
     /// Amplitude spectrum of one CSV channel (detrended, Hann window, real FFT) and its largest peaks.
     Spectrum(fatigue::SpectrumArgs),
+    /// Campbell diagram of a preset: natural frequencies against rotor speed with 1P, 3P and every
+    /// stage's gear-mesh orders (physical z_ring·f_carrier beside the thesis's convention), and the
+    /// crossings inside the operating speed range.
+    Campbell(campbell::CampbellArgs),
     /// Runs an SSP scene (folder, .ssd or .ssp) through the co-simulation master and writes a CSV.
     ///
     /// Loads every component's FMU (ours or another tool's), checks the system (names, types,

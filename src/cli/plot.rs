@@ -317,3 +317,91 @@ where
     root.present().map_err(err)?;
     Ok(())
 }
+
+/// Campbell diagram: natural frequencies (horizontal), excitation orders (rays from the origin),
+/// the operating speed range (vertical lines) and the crossings inside it (circles).
+pub fn campbell(
+    path: &Path,
+    title: &str,
+    modes_hz: &[f64],
+    orders: &[(String, f64)],
+    range_rpm: (f64, f64),
+    crossings: &[(f64, f64)],
+    f_max: f64,
+) -> anyhow::Result<()> {
+    on_backend!(
+        path,
+        draw_campbell(title, modes_hz, orders, range_rpm, crossings, f_max)
+    )
+}
+
+fn draw_campbell<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    modes_hz: &[f64],
+    orders: &[(String, f64)],
+    (lo, hi): (f64, f64),
+    crossings: &[(f64, f64)],
+    f_max: f64,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("plot: {e:?}");
+    root.fill(&WHITE).map_err(err)?;
+    let x_max = hi * 1.25;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(80)
+        .build_cartesian_2d(0.0..x_max, 0.0..f_max)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("rotor speed [rpm]")
+        .y_desc("frequency [Hz]")
+        .draw()
+        .map_err(err)?;
+    for &f in modes_hz {
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(0.0, f), (x_max, f)],
+                BLUE.mix(0.5),
+            )))
+            .map_err(err)?;
+    }
+    for x in [lo, hi] {
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(x, 0.0), (x, f_max)],
+                RED.stroke_width(2),
+            )))
+            .map_err(err)?;
+    }
+    for (i, (name, order)) in orders.iter().enumerate() {
+        let color = Palette99::pick(i + 1).to_rgba();
+        // the ray f = order · n/60, clipped at the top of the chart
+        let x_end = (f_max * 60.0 / order).min(x_max);
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(0.0, 0.0), (x_end, order * x_end / 60.0)],
+                color.stroke_width(2),
+            )))
+            .map_err(err)?
+            .label(format!("{name} ({order:.1}×)"))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
+    }
+    chart
+        .draw_series(crossings.iter().map(|&p| Circle::new(p, 7, BLACK.stroke_width(2))))
+        .map_err(err)?;
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(err)?;
+    root.present().map_err(err)?;
+    Ok(())
+}

@@ -129,6 +129,16 @@ impl Drivetrain {
 
 pub const PRESETS: [&str; 4] = ["A", "B", "C", "D"];
 
+/// Rotor speed range (min, max) of a preset in rpm (thesis Table 3.1 / 4.1; PARAMETERS.md §1).
+pub fn operating_speed_range_rpm(name: &str) -> Option<(f64, f64)> {
+    match name.trim().to_ascii_uppercase().as_str() {
+        "A" | "B" => Some((8.6, 18.4)),
+        "C" => Some((10.8, 19.1)),
+        "D" => Some((14.8, 22.1)),
+        _ => None,
+    }
+}
+
 fn rpm(n: f64) -> f64 {
     n * std::f64::consts::PI / 30.0
 }

@@ -58,12 +58,7 @@ fn table_4_6(name: &str) -> (u32, f64, f64, f64) {
 
 /// Minimum rotor speed (thesis Table 3.1), rad/s.
 fn min_rotor_speed(name: &str) -> f64 {
-    let rpm = match name {
-        "A" | "B" => 8.6,
-        "C" => 10.8,
-        _ => 14.8,
-    };
-    rpm * PI / 30.0
+    crate::physics::drivetrain::operating_speed_range_rpm(name).map_or(0.0, |r| r.0) * PI / 30.0
 }
 
 /// Everything a user may set; zero (or empty) means "the preset's value".
