@@ -21,6 +21,7 @@ fn main() -> anyhow::Result<()> {
         Command::StepResponse(args) => windrive::cli::step::run(&args),
         Command::Bench(args) => windrive::cli::bench::run(&args),
         Command::Rainflow(args) => windrive::cli::fatigue::run_rainflow(&args),
+        Command::Life(args) => windrive::cli::life::run(&args),
         Command::Campbell(args) => windrive::cli::campbell::run(&args),
         Command::Spectrum(args) => windrive::cli::fatigue::run_spectrum(&args),
         Command::Ldd(args) => windrive::cli::fatigue::run_ldd(&args),

@@ -63,13 +63,19 @@ impl DamageSums {
         }
     }
 
-    /// One DEL per slope, for N_eq equivalent cycles.
-    pub fn dels(&self, equivalent_cycles: f64) -> Vec<f64> {
+    /// Σ n_i S_i^m per slope, in the order the slopes were given.
+    pub fn sums(&self) -> Vec<f64> {
         let mut sums = self.sums.clone();
         for &(_, i, sum) in self.whole.iter().flatten() {
             sums[i] = sum;
         }
-        sums.iter()
+        sums
+    }
+
+    /// One DEL per slope, for N_eq equivalent cycles.
+    pub fn dels(&self, equivalent_cycles: f64) -> Vec<f64> {
+        self.sums()
+            .iter()
             .zip(&self.slopes)
             .map(|(sum, m)| (sum / equivalent_cycles).powf(1.0 / m))
             .collect()

@@ -265,6 +265,33 @@ pub fn bending_life_factor(cycles: f64) -> f64 {
     life_factor(&[(1e3, 2.5), (3e6, 1.0), (1e10, 0.85)], cycles)
 }
 
+/// Load cycles to failure where the life factor equals `ratio` = stress / limit stress: the inverse
+/// of the log–log curve, its end slopes extended beyond the knots.
+fn cycles_at_ratio(knots: &[(f64, f64)], ratio: f64) -> f64 {
+    let seg = |(n0, f0): (f64, f64), (n1, f1): (f64, f64)| {
+        // ln N = ln n0 + ln(ratio/f0) · ln(n1/n0)/ln(f1/f0)
+        (n0.ln() + (ratio / f0).ln() * (n1 / n0).ln() / (f1 / f0).ln()).exp()
+    };
+    for w in knots.windows(2) {
+        if ratio >= w[1].1 {
+            return seg(w[0], w[1]);
+        }
+    }
+    let k = knots.len();
+    seg(knots[k - 2], knots[k - 1])
+}
+
+/// Contact S-N of case-carburised steel: load cycles to pitting at σ_H = ratio·σ_Hlim (inverse Z_NT).
+pub fn contact_cycles_to_failure(ratio: f64) -> f64 {
+    cycles_at_ratio(&[(1e5, 1.6), (5e7, 1.0), (1e10, 0.85)], ratio)
+}
+
+/// Bending S-N of case-carburised steel: load cycles to root breakage at σ_F = ratio·σ_FE·Y_M
+/// (inverse Y_NT).
+pub fn bending_cycles_to_failure(ratio: f64) -> f64 {
+    cycles_at_ratio(&[(1e3, 2.5), (3e6, 1.0), (1e10, 0.85)], ratio)
+}
+
 /// Which tooth of a planetary or parallel stage: how its load cycles and its bending reversal follow.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Tooth {
@@ -409,6 +436,19 @@ mod tests {
         let slope = |f: fn(f64) -> f64, n0: f64, n1: f64| (n1 / n0).ln() / (f(n0) / f(n1)).ln();
         assert!((slope(contact_life_factor, 1e5, 5e7) - 13.2).abs() < 0.05);
         assert!((slope(bending_life_factor, 1e3, 3e6) - 8.74).abs() < 0.01);
+        // the S-N curves invert the life factors (where those are not flat)
+        for n in [1e5, 4e6, 5e7, 3e9] {
+            assert!(
+                (contact_cycles_to_failure(contact_life_factor(n)) / n - 1.0).abs() < 1e-9,
+                "{n}"
+            );
+        }
+        for n in [2e3, 4e6, 5e7, 3e9] {
+            assert!(
+                (bending_cycles_to_failure(bending_life_factor(n)) / n - 1.0).abs() < 1e-9,
+                "{n}"
+            );
+        }
         assert_eq!(Tooth::Sun.load_cycles(10.0, 3), 30.0);
         assert_eq!(Tooth::Planet.mean_stress_factor(), 0.7);
     }

@@ -4,6 +4,7 @@ pub mod bench;
 pub mod campbell;
 pub mod coupling;
 pub mod fatigue;
+pub mod life;
 pub mod modes;
 pub mod overhead;
 pub mod plot;
@@ -61,6 +62,10 @@ pub enum Command {
     /// stage's gear-mesh orders (physical z_ring·f_carrier beside the thesis's convention), and the
     /// crossings inside the operating speed range.
     Campbell(campbell::CampbellArgs),
+    /// Lifetime fatigue of a channel from a normal-operation and a shutdown series: operating hours
+    /// from the wind climate, shutdowns per year, lifetime DELs with the shutdowns' share, and with
+    /// --gear the ISO 6336 flank and root stresses, allowables and Miner damage.
+    Life(Box<life::LifeArgs>),
     /// Runs an SSP scene (folder, .ssd or .ssp) through the co-simulation master and writes a CSV.
     ///
     /// Loads every component's FMU (ours or another tool's), checks the system (names, types,

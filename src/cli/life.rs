@@ -1,0 +1,356 @@
+//! `windrive life`: a channel's 20-year fatigue from one normal-operation and one shutdown series, as
+//! the thesis does it (Ch. 7.2.4): normal operation scaled to the operating hours of a Rayleigh or
+//! Weibull wind climate between cut-in and cut-out, shutdowns counted per year (Germanischer Lloyd:
+//! 1000 at cut-in, 50 at cut-out, 50 at rated = 1100). Lifetime DELs and the shutdowns' share of the
+//! damage; with `--gear`, ISO 6336 contact and root stresses of the mesh force, the allowable stresses
+//! at the lifetime's load cycles, and the Miner damage of the flank and root (ISO 6336-6 style: stress
+//! bins with their load cycles from the speed).
+
+use crate::analysis::gear::{self, Factors, GearPair, Tooth, ToothStress};
+use crate::analysis::limits::{LIMITS, limit};
+use crate::analysis::wind::{WindDistribution, time_factor};
+use crate::analysis::{damage, ldd, rainflow, series};
+use anyhow::{Context, bail};
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Args)]
+pub struct LifeArgs {
+    /// Normal-operation CSV (stands for every operating hour)
+    #[arg(long)]
+    pub normal: PathBuf,
+    /// Shutdown CSV (one event)
+    #[arg(long)]
+    pub shutdown: Option<PathBuf>,
+    /// Load channel, e.g. torsional.mesh_force_sun_planet_1 or torsional.hss_torque
+    #[arg(long)]
+    pub channel: String,
+    /// Rayleigh climate with this mean wind speed [m/s] (thesis Table 7.1: 10.0)
+    #[arg(long, default_value_t = 10.0)]
+    pub mean_wind: f64,
+    /// Weibull climate instead: shape,scale (k, C in m/s)
+    #[arg(long, value_delimiter = ',')]
+    pub weibull: Option<Vec<f64>>,
+    #[arg(long, default_value_t = 4.0)]
+    pub cut_in: f64,
+    #[arg(long, default_value_t = 25.0)]
+    pub cut_out: f64,
+    #[arg(long, default_value_t = 20.0)]
+    pub years: f64,
+    /// Shutdowns per year (Germanischer Lloyd: 1000 at cut-in + 50 at cut-out + 50 at rated)
+    #[arg(long, default_value_t = 1100.0)]
+    pub shutdowns_per_year: f64,
+    /// Wöhler slopes of the lifetime DELs
+    #[arg(long, value_delimiter = ',', default_value = "3,6,9")]
+    pub m: Vec<f64>,
+    /// Equivalent frequency of the lifetime DEL [Hz]
+    #[arg(long, default_value_t = 1.0)]
+    pub feq: f64,
+    /// Gear pair of the mesh force: z1,z2,normal module [mm],helix [deg],face width [mm]
+    #[arg(long, value_delimiter = ',')]
+    pub gear: Option<Vec<f64>>,
+    /// The pair is internal (z2 is the ring)
+    #[arg(long)]
+    pub internal: bool,
+    /// Profile shifts x1,x2
+    #[arg(long, value_delimiter = ',', default_value = "0,0")]
+    pub shift: Vec<f64>,
+    /// Normal pressure angle [deg]
+    #[arg(long, default_value_t = 20.0)]
+    pub pressure_angle: f64,
+    /// Which tooth's life: sun, planet (alternating root bending, Y_M = 0.7), ring or parallel
+    #[arg(long, default_value = "sun", value_parser = ["sun", "planet", "ring", "parallel"])]
+    pub tooth: String,
+    /// Planets of the stage (load cycles of sun and ring teeth)
+    #[arg(long, default_value_t = 3)]
+    pub planets: u32,
+    /// Speed channel [rad/s] of the tooth's gear (the carrier's for the ring)
+    #[arg(long)]
+    pub speed: Option<String>,
+    /// Speed channel subtracted from --speed (the carrier, for sun and planet speeds relative to it)
+    #[arg(long)]
+    pub relative_to: Option<String>,
+    /// Load sharing K_γ (REFERENCE-DATA §5.4: 1.10 for 3 planets)
+    #[arg(long, default_value_t = 1.0)]
+    pub k_gamma: f64,
+    /// Application factor K_A
+    #[arg(long, default_value_t = 1.0)]
+    pub k_a: f64,
+    /// Tooth form and stress correction factors Y_F,Y_S (from the root geometry, ISO 6336-3)
+    #[arg(long, value_delimiter = ',', default_value = "2.6,1.6")]
+    pub y_fs: Vec<f64>,
+    /// Print the results as JSON
+    #[arg(long)]
+    pub json: bool,
+}
+
+struct Case {
+    t: Vec<f64>,
+    x: Vec<f64>,
+    seconds: f64,
+}
+
+fn read(path: &Path, channel: &str) -> anyhow::Result<Case> {
+    let (t, x) = series::read_channel(path, channel)?;
+    let seconds = t[t.len() - 1] - t[0];
+    if seconds <= 0.0 {
+        bail!("{}: the series lasts {seconds} s", path.display());
+    }
+    Ok(Case { t, x, seconds })
+}
+
+fn sums(x: &[f64], slopes: &[f64]) -> Vec<f64> {
+    let mut s = damage::DamageSums::new(slopes);
+    let mut counter = rainflow::Counter::new();
+    for &v in x {
+        counter.push(v, &mut |c| s.add(&c));
+    }
+    counter.finish(&mut |c| s.add(&c));
+    s.sums()
+}
+
+/// Miner damage of one series' stress with load cycles from its speed: stress bins (LDD) with
+/// n_i load cycles each, N_i from the S-N curve at σ_i/limit.
+fn stress_damage(
+    t: &[f64],
+    stress: &[f64],
+    speed: &[f64],
+    cycles_per_rev: f64,
+    limit: f64,
+    sn: fn(f64) -> f64,
+) -> (f64, f64) {
+    let l = ldd::load_duration(t, stress, speed, 200);
+    let mut damage = 0.0;
+    let mut cycles = 0.0;
+    for i in 0..l.bins.n {
+        let n = l.revolutions[i] * cycles_per_rev;
+        cycles += n;
+        let s = l.bins.centre(i);
+        if n > 0.0 && s > 0.0 {
+            damage += n / sn(s / limit);
+        }
+    }
+    (damage, cycles)
+}
+
+pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
+    if !(args.cut_in < args.cut_out && args.cut_in >= 0.0 && args.years > 0.0 && args.feq > 0.0) {
+        bail!("need 0 ≤ --cut-in < --cut-out, --years > 0 and --feq > 0");
+    }
+    if args.shutdowns_per_year < 0.0 || args.m.iter().any(|m| !(*m > 0.0)) {
+        bail!("--shutdowns-per-year must be ≥ 0 and every --m positive");
+    }
+    let climate = match &args.weibull {
+        Some(w) if w.len() == 2 && w[0] > 0.0 && w[1] > 0.0 => WindDistribution::Weibull {
+            shape: w[0],
+            scale: w[1],
+        },
+        Some(w) => bail!("--weibull {w:?}: give shape,scale, both positive"),
+        None if args.mean_wind > 0.0 => WindDistribution::Rayleigh { mean: args.mean_wind },
+        None => bail!("--mean-wind {}: must be positive", args.mean_wind),
+    };
+    let life_hours = args.years * 8760.0;
+    let operating_hours = life_hours * (climate.cdf(args.cut_out) - climate.cdf(args.cut_in));
+    let shutdowns = args.shutdowns_per_year * args.years;
+    let normal = read(&args.normal, &args.channel)?;
+    let shutdown = args.shutdown.as_ref().map(|p| read(p, &args.channel)).transpose()?;
+    let normal_factor = time_factor(operating_hours, normal.seconds);
+    let life_seconds = life_hours * 3600.0;
+
+    // lifetime DELs: Σ n S^m of each case times its repetitions
+    let n_sums = sums(&normal.x, &args.m);
+    let s_sums = shutdown
+        .as_ref()
+        .map_or(vec![0.0; args.m.len()], |s| sums(&s.x, &args.m));
+    let dels: Vec<(f64, f64, f64)> = args
+        .m
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            let (a, b) = (n_sums[i] * normal_factor, s_sums[i] * shutdowns);
+            (*m, ((a + b) / (args.feq * life_seconds)).powf(1.0 / m), b / (a + b))
+        })
+        .collect();
+
+    let gear_report = match &args.gear {
+        None => None,
+        Some(g) => Some(gear_life(
+            args,
+            g,
+            &normal,
+            shutdown.as_ref(),
+            normal_factor,
+            shutdowns,
+        )?),
+    };
+
+    if args.json {
+        let d: Vec<serde_json::Value> = dels
+            .iter()
+            .map(|(m, del, share)| serde_json::json!({"m": m, "del": del, "shutdown_share": share}))
+            .collect();
+        println!(
+            "{}",
+            serde_json::json!({
+                "operating_hours": operating_hours, "life_hours": life_hours, "shutdowns": shutdowns,
+                "normal_time_factor": normal_factor, "lifetime_del": d, "gear": gear_report.map(|r| r.json),
+            })
+        );
+        return Ok(());
+    }
+    println!(
+        "{} over {} years: {operating_hours:.0} h in operation ({:.1} % of {life_hours:.0} h, {:?}, {}–{} m/s), {shutdowns:.0} shutdowns",
+        args.channel,
+        args.years,
+        100.0 * operating_hours / life_hours,
+        climate,
+        args.cut_in,
+        args.cut_out
+    );
+    println!(
+        "normal operation: {:.1} s simulated, time factor {normal_factor:.4e}",
+        normal.seconds
+    );
+    println!("\n{:>6} {:>16} {:>22}", "m", "lifetime DEL", "share from shutdowns");
+    for (m, del, share) in &dels {
+        println!("{m:>6} {del:>16.6e} {:>21.1}%", 100.0 * share);
+    }
+    if let Some(r) = gear_report {
+        print!("\n{}", r.text);
+    }
+    println!("\nallowable stresses (reference):");
+    for (component, value, what, source) in LIMITS {
+        println!("  {component:<24} {:>7.0} MPa  {what} ({source})", value / 1e6);
+    }
+    Ok(())
+}
+
+struct GearReport {
+    text: String,
+    json: serde_json::Value,
+}
+
+fn gear_life(
+    args: &LifeArgs,
+    g: &[f64],
+    normal: &Case,
+    shutdown: Option<&Case>,
+    normal_factor: f64,
+    shutdowns: f64,
+) -> anyhow::Result<GearReport> {
+    if g.len() != 5 || g.iter().any(|v| !v.is_finite()) || g[0] < 3.0 || g[1] < 3.0 || g[2] <= 0.0 || g[4] <= 0.0 {
+        bail!("--gear {g:?}: give z1,z2,module [mm],helix [deg],face width [mm] (teeth ≥ 3, module and width > 0)");
+    }
+    if args.shift.len() != 2 || args.y_fs.len() != 2 {
+        bail!("--shift and --y-fs take two numbers each");
+    }
+    let speed_name = args
+        .speed
+        .as_deref()
+        .context("--gear needs --speed: the load cycles come from the gear's revolutions")?;
+    let pair = GearPair {
+        z1: g[0] as u32,
+        z2: g[1] as u32,
+        internal: args.internal,
+        module: g[2] * 1e-3,
+        pressure_angle: args.pressure_angle.to_radians(),
+        helix_angle: g[3].to_radians(),
+        face_width: g[4] * 1e-3,
+        shift1: args.shift[0],
+        shift2: args.shift[1],
+        tip_diameters: None,
+    };
+    let factors = Factors {
+        k_a: args.k_a,
+        k_gamma: args.k_gamma,
+        y_f: args.y_fs[0],
+        y_s: args.y_fs[1],
+        ..Factors::default()
+    };
+    let st = ToothStress::steel(pair, factors);
+    let tooth = match args.tooth.as_str() {
+        "sun" => Tooth::Sun,
+        "planet" => Tooth::Planet,
+        "ring" => Tooth::Ring,
+        _ => Tooth::Parallel,
+    };
+    let per_rev = tooth.load_cycles(1.0, args.planets);
+    let sigma_hlim = limit("gear flank, σ_Hlim MQ").expect("in the table");
+    let sigma_fe = 2.0 * limit("gear root, σ_Flim MQ").expect("in the table") * tooth.mean_stress_factor();
+    let speed_of = |file: &Path| -> anyhow::Result<Vec<f64>> {
+        let (_, w) = series::read_channel(file, speed_name)?;
+        Ok(match &args.relative_to {
+            Some(r) => {
+                let (_, c) = series::read_channel(file, r)?;
+                w.iter().zip(&c).map(|(a, b)| a - b).collect()
+            }
+            None => w,
+        })
+    };
+    let mut cases = vec![("normal", normal, &args.normal, normal_factor)];
+    if let (Some(s), Some(p)) = (shutdown, &args.shutdown) {
+        cases.push(("shutdown", s, p, shutdowns));
+    }
+    let mut rows = Vec::new();
+    let (mut total_h, mut total_f, mut total_cycles) = (0.0, 0.0, 0.0);
+    let mut shut_h = 0.0;
+    let mut shut_f = 0.0;
+    for (name, case, file, repeat) in cases {
+        let ft: Vec<f64> = case.x.iter().map(|f| st.tangential_from_normal(*f)).collect();
+        let sh: Vec<f64> = ft.iter().map(|f| st.contact(*f)).collect();
+        let sf: Vec<f64> = ft.iter().map(|f| st.bending(*f)).collect();
+        let w = speed_of(file)?;
+        let (dh, n) = stress_damage(&case.t, &sh, &w, per_rev, sigma_hlim, gear::contact_cycles_to_failure);
+        let (df, _) = stress_damage(&case.t, &sf, &w, per_rev, sigma_fe, gear::bending_cycles_to_failure);
+        let max = |v: &[f64]| v.iter().cloned().fold(0.0, f64::max);
+        rows.push((name, max(&sh), max(&sf), n * repeat, dh * repeat, df * repeat));
+        total_h += dh * repeat;
+        total_f += df * repeat;
+        total_cycles += n * repeat;
+        if name == "shutdown" {
+            shut_h = dh * repeat;
+            shut_f = df * repeat;
+        }
+    }
+    let z_nt = gear::contact_life_factor(total_cycles);
+    let y_nt = gear::bending_life_factor(total_cycles);
+    let (allow_h, allow_f) = (sigma_hlim * z_nt, sigma_fe * y_nt);
+    let mut text = format!(
+        "gear {}/{} m_n {} mm β {}° b {} mm ({:?} tooth, {} load cycles per revolution): ε_α {:.3}, ε_β {:.3}\n",
+        pair.z1,
+        pair.z2,
+        g[2],
+        g[3],
+        g[4],
+        tooth,
+        per_rev,
+        pair.geometry().transverse_contact_ratio,
+        pair.geometry().overlap_ratio
+    );
+    text.push_str(&format!(
+        "{:<10} {:>12} {:>12} {:>16} {:>14} {:>14}\n",
+        "case", "max σ_H MPa", "max σ_F MPa", "load cycles", "flank damage", "root damage"
+    ));
+    for (name, h, f, n, dh, df) in &rows {
+        text.push_str(&format!(
+            "{name:<10} {:>12.1} {:>12.1} {n:>16.4e} {dh:>14.4e} {df:>14.4e}\n",
+            h / 1e6,
+            f / 1e6
+        ));
+    }
+    text.push_str(&format!(
+        "lifetime: {total_cycles:.4e} load cycles → Z_NT {z_nt:.3}, Y_NT {y_nt:.3}; limits σ_Hlim·Z_NT = {:.0} MPa, σ_FE·Y_M·Y_NT = {:.0} MPa\n",
+        allow_h / 1e6,
+        allow_f / 1e6
+    ));
+    text.push_str(&format!(
+        "20-year Miner damage: flank {total_h:.4e} ({:.1} % from shutdowns), root {total_f:.4e} ({:.1} % from shutdowns)\n",
+        100.0 * shut_h / total_h.max(1e-300),
+        100.0 * shut_f / total_f.max(1e-300)
+    ));
+    let json = serde_json::json!({
+        "cases": rows.iter().map(|(n, h, f, c, dh, df)| serde_json::json!({"case": n, "max_contact_stress": h, "max_root_stress": f, "load_cycles": c, "flank_damage": dh, "root_damage": df})).collect::<Vec<_>>(),
+        "load_cycles": total_cycles, "z_nt": z_nt, "y_nt": y_nt, "flank_damage": total_h, "root_damage": total_f,
+        "flank_shutdown_share": shut_h / total_h.max(1e-300), "root_shutdown_share": shut_f / total_f.max(1e-300),
+    });
+    Ok(GearReport { text, json })
+}
