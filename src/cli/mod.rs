@@ -1,6 +1,7 @@
 //! The `windrive` command line.
 
 pub mod bench;
+pub mod bode;
 pub mod campbell;
 pub mod coupling;
 pub mod fatigue;
@@ -62,6 +63,9 @@ pub enum Command {
     /// stage's gear-mesh orders (physical z_ring·f_carrier beside the thesis's convention), and the
     /// crossings inside the operating speed range.
     Campbell(campbell::CampbellArgs),
+    /// Frequency response (Bode) of the linear drivetrain: rotor or generator torque in, a speed or
+    /// the LSS/HSS torque out, with the natural frequencies marked.
+    Bode(bode::BodeArgs),
     /// Lifetime fatigue of a channel from a normal-operation and a shutdown series: operating hours
     /// from the wind climate, shutdowns per year, lifetime DELs with the shutdowns' share, and with
     /// --gear the ISO 6336 flank and root stresses, allowables and Miner damage.

@@ -4,6 +4,7 @@ pub mod aero;
 pub mod drivetrain;
 pub mod generator;
 pub mod modes;
+pub mod response;
 pub mod rotor;
 pub mod torsional;
 pub mod turbulence;

@@ -112,6 +112,13 @@ def test_campbell_orders_and_crossings(windrive):
         assert rpm == pytest.approx(60 * f / orders[name][0], rel=1e-12)
 
 
+def test_bode_resonance_at_the_first_mode(windrive):
+    r = windrive_json(windrive, "bode", "--preset", "D", "--range", "1,5", "--points", "2001")
+    f, mag = np.array(r["frequency_hz"]), np.array(r["magnitude"])
+    peak = f[np.argmax(mag * f)]  # ω·|G| removes the rigid-body roll-off
+    assert peak == pytest.approx(r["modes_hz"][0], rel=2e-3)
+
+
 @pytest.mark.parametrize("args,words", [
     (["spectrum", "{csv}", "--channel", "x", "--window", "5,1"], ["--window", "two increasing numbers"]),
     (["spectrum", "{csv}", "--channel", "x", "--window", "0,0.01"], ["needs at least 16"]),
@@ -125,6 +132,8 @@ def test_campbell_orders_and_crossings(windrive):
     (["life", "--normal", "{csv}", "--channel", "x", "--cut-in", "30"], ["--cut-in"]),
     (["campbell", "--preset", "Z"], ["Z", "A, B, C or D"]),
     (["campbell", "--harmonics", "0"], ["--harmonics 0"]),
+    (["bode", "--generator", "locked", "--input", "generator"], ["locked", "no torque input"]),
+    (["bode", "--range", "10,1"], ["--range"]),
 ])
 def test_bad_analysis_input_is_named(windrive, tmp_path, args, words):
     csv = tmp_path / "x.csv"
