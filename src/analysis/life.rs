@@ -47,10 +47,33 @@ pub fn bearing_l10_hours(dynamic_capacity: f64, equivalent_load: f64, roller: bo
     bearing_l10(dynamic_capacity, equivalent_load, roller) * 1e6 / (60.0 * rpm)
 }
 
+/// Miner damage of a bearing over a load spectrum: Σ revolutions_i / L10(P_i) with L10 in
+/// revolutions (ISO 281 basic rating life; 10 % failure probability). `spectrum` holds
+/// (equivalent dynamic load P_i, revolutions at it), e.g. an LDD of the bearing load.
+pub fn bearing_damage(dynamic_capacity: f64, spectrum: &[(f64, f64)], roller: bool) -> f64 {
+    spectrum
+        .iter()
+        .filter(|(p, n)| *p > 0.0 && *n > 0.0)
+        .map(|(p, n)| n / (bearing_l10(dynamic_capacity, *p, roller) * 1e6))
+        .sum()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::analysis::rainflow::cycles;
+
+    /// Miner over a spectrum equals one L10 at the spectrum's equivalent load
+    /// P_eq = (Σ n_i P_i^p / Σ n_i)^(1/p), the ISO 281 rule for variable load.
+    #[test]
+    fn bearing_miner_equals_the_equivalent_load() {
+        let spectrum = [(80e3, 2e8), (120e3, 5e7), (200e3, 1e6)];
+        let p = 10.0 / 3.0;
+        let n: f64 = spectrum.iter().map(|s| s.1).sum();
+        let p_eq = (spectrum.iter().map(|(l, k)| k * l.powf(p)).sum::<f64>() / n).powf(1.0 / p);
+        let d = bearing_damage(1.2e6, &spectrum, true);
+        assert!((d / (n / (bearing_l10(1.2e6, p_eq, true) * 1e6)) - 1.0).abs() < 1e-12);
+    }
 
     /// PARAMETERS.md §6: a UW bearing carrying 1.6× the DW load lives 1.6^(10/3) = 4.79× shorter.
     #[test]
