@@ -70,7 +70,7 @@ mod tests {
         let spectrum = [(80e3, 2e8), (120e3, 5e7), (200e3, 1e6)];
         let p = 10.0 / 3.0;
         let n: f64 = spectrum.iter().map(|s| s.1).sum();
-        let p_eq = (spectrum.iter().map(|(l, k)| k * l.powf(p)).sum::<f64>() / n).powf(1.0 / p);
+        let p_eq = (spectrum.iter().map(|&(l, k): &(f64, f64)| k * l.powf(p)).sum::<f64>() / n).powf(1.0 / p);
         let d = bearing_damage(1.2e6, &spectrum, true);
         assert!((d / (n / (bearing_l10(1.2e6, p_eq, true) * 1e6)) - 1.0).abs() < 1e-12);
     }

@@ -41,19 +41,30 @@ pub struct Modes {
 
 /// M-orthonormal eigenpairs of K x = ω² M x under `boundary`: (the DOFs kept, ω² per pair, and
 /// x as columns over the kept DOFs, in the model's own coordinates).
+/// The stiffness matrix `k` under a generator boundary (K_gen to ground when connected) and the DOFs
+/// that stay free (all but the generator when the HSS is locked).
+pub fn with_boundary(
+    model: &TorsionalModel,
+    mut k: nalgebra::DMatrix<f64>,
+    boundary: Boundary,
+    k_generator: f64,
+) -> (nalgebra::DMatrix<f64>, Vec<usize>) {
+    let g = model.generator;
+    if boundary == Boundary::Connected {
+        k[(g, g)] += k_generator;
+    }
+    let keep = (0..model.dofs())
+        .filter(|&d| !(boundary == Boundary::HssLocked && d == g))
+        .collect();
+    (k, keep)
+}
+
 fn eigenpairs(
     model: &TorsionalModel,
     boundary: Boundary,
     k_generator: f64,
 ) -> (Vec<usize>, Vec<f64>, nalgebra::DMatrix<f64>) {
-    let mut k = model.stiffness_matrix();
-    let g = model.generator;
-    if boundary == Boundary::Connected {
-        k[(g, g)] += k_generator;
-    }
-    let keep: Vec<usize> = (0..model.dofs())
-        .filter(|&d| !(boundary == Boundary::HssLocked && d == g))
-        .collect();
+    let (k, keep) = with_boundary(model, model.stiffness_matrix(), boundary, k_generator);
     let n = keep.len();
     let inv_sqrt: Vec<f64> = keep.iter().map(|&d| 1.0 / model.mass[d].sqrt()).collect();
     let a = nalgebra::DMatrix::from_fn(n, n, |i, j| k[(keep[i], keep[j])] * inv_sqrt[i] * inv_sqrt[j]);

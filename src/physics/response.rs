@@ -2,7 +2,7 @@
 //! a speed or a shaft torque out, from the dynamic stiffness K − ω²M + jωC (every mesh at its mean
 //! stiffness, no backlash) with the generator boundary of the modal analysis (locked = DOF removed).
 
-use crate::physics::modes::Boundary;
+use crate::physics::modes::{Boundary, with_boundary};
 use crate::physics::torsional::TorsionalModel;
 use nalgebra::{DMatrix, DVector};
 
@@ -31,14 +31,9 @@ pub fn frequency_response(
     output: Output,
     frequencies_hz: &[f64],
 ) -> Result<Vec<(f64, f64)>, String> {
-    let (mut k, c) = model.stiffness_and_damping();
+    let (k, c) = model.stiffness_and_damping();
+    let (k, keep) = with_boundary(model, k, boundary, k_generator);
     let g = model.generator;
-    if boundary == Boundary::Connected {
-        k[(g, g)] += k_generator;
-    }
-    let keep: Vec<usize> = (0..model.dofs())
-        .filter(|&d| !(boundary == Boundary::HssLocked && d == g))
-        .collect();
     let n = keep.len();
     let pos = |d: usize| keep.iter().position(|&x| x == d);
     let (load_dof, sign) = match input {
