@@ -41,7 +41,7 @@ pub fn run(args: &CampbellArgs) -> anyhow::Result<()> {
     let orders = excitation_orders(&dt, args.harmonics);
     let top = orders.iter().map(|o| o.order).fold(0.0, f64::max) * hi / 60.0;
     let f_max = args.max_frequency.unwrap_or(top * 1.05);
-    if !(f_max > 0.0) {
+    if f_max.is_nan() || f_max <= 0.0 {
         anyhow::bail!("--max-frequency {f_max}: must be positive");
     }
     // repeated modes (planet modes of a symmetric stage) are one line, with their multiplicity

@@ -136,7 +136,7 @@ pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
     if !(args.cut_in < args.cut_out && args.cut_in >= 0.0 && args.years > 0.0 && args.feq > 0.0) {
         bail!("need 0 ≤ --cut-in < --cut-out, --years > 0 and --feq > 0");
     }
-    if args.shutdowns_per_year < 0.0 || args.m.iter().any(|m| !(*m > 0.0)) {
+    if args.shutdowns_per_year < 0.0 || args.m.iter().any(|m| m.is_nan() || *m <= 0.0) {
         bail!("--shutdowns-per-year must be ≥ 0 and every --m positive");
     }
     let climate = match &args.weibull {

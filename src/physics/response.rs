@@ -22,6 +22,9 @@ pub enum Output {
     Shaft(usize),
 }
 
+/// (DOF, weight) pairs whose sum of angles is the output's deflection.
+type Weights = Vec<(usize, f64)>;
+
 /// Complex response (re, im) of `output` per unit `input` at each frequency (Hz).
 pub fn frequency_response(
     model: &TorsionalModel,
@@ -42,7 +45,7 @@ pub fn frequency_response(
     };
     let load = pos(load_dof).ok_or("the generator is locked: it takes no torque input")?;
     // output = Σ w_d·(a + jω b)·x_d: speeds are jω·x, shaft torques (k + jωc)·δ(x)
-    let (weights, elastic): (Vec<(usize, f64)>, Option<(f64, f64)>) = match output {
+    let (weights, elastic): (Weights, Option<(f64, f64)>) = match output {
         Output::RotorSpeed => (vec![(model.rotor, 1.0)], None),
         Output::GeneratorSpeed => (vec![(g, 1.0)], None),
         Output::Shaft(i) => {
