@@ -312,3 +312,39 @@ fn rk4_beyond_its_limit_names_the_limit() {
         ok.do_step(i as f64 * 1e-3, 1e-3).unwrap();
     }
 }
+
+/// The generator FMU: absurd electrical parameters are refused by their declared range, a DFIG step
+/// of a day is refused (its current loop would need 10⁸ sub-steps), NaN speed is refused; every
+/// refusal names the culprit and the instance keeps stepping.
+#[test]
+fn generator_refuses_absurd_parameters_and_steps() {
+    let fmu = Fmu::open(&fmu_path("generator")).expect("the packed generator FMU opens");
+    let mut inst = fmu.instantiate("gen", false).unwrap();
+    inst.setup_experiment(0.0, None).unwrap();
+    let err = inst
+        .set_real(&[fmu.vr("current_bandwidth").unwrap()], &[1e9])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("current_bandwidth") && err.contains("above its maximum"),
+        "{err}"
+    );
+    inst.set_string(&[fmu.vr("kind").unwrap()], &["dfig"]).unwrap();
+    inst.set_string(&[fmu.vr("preset").unwrap()], &["C"]).unwrap();
+    inst.set_real(&[fmu.vr("generator_speed").unwrap()], &[150.0]).unwrap();
+    inst.enter_initialization_mode().unwrap();
+    inst.exit_initialization_mode().unwrap();
+    let err = inst.do_step(0.0, 86_400.0).unwrap_err().to_string();
+    assert!(
+        err.contains("internal steps") && err.contains("current_bandwidth"),
+        "{err}"
+    );
+    let err = inst
+        .set_real(&[fmu.vr("generator_speed").unwrap()], &[f64::NAN])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("generator_speed") && err.contains("not a finite number"),
+        "{err}"
+    );
+}

@@ -48,6 +48,9 @@ pub struct GeneratorSlave {
     stepped: bool,
 }
 
+/// Most RK4 sub-steps one doStep may take (≈ 0.1 s of work).
+const MAX_SUBSTEPS: f64 = 1e6;
+
 fn err(msg: impl Into<String>) -> SlaveError {
     SlaveError::new(msg)
 }
@@ -267,7 +270,16 @@ impl Slave for GeneratorSlave {
     fn do_step(&mut self, _t: f64, h: f64, _log: &mut dyn Log) -> SlaveResult<()> {
         let Inputs { speed: w, connected } = self.inputs;
         let tau = self.params.trip_time_constant;
+        let bandwidth = self.params.o.current_bandwidth;
         let b = self.ensure()?;
+        // a step of hours with a 1 ms current loop would never return: refuse it instead
+        let n = b.generator.substeps(h);
+        if n > MAX_SUBSTEPS {
+            return Err(err(format!(
+                "a step of {h} s needs {n:.0} internal steps for the current loop (current_bandwidth {bandwidth} rad/s); \
+                 the most per step is {MAX_SUBSTEPS:.0}: take shorter steps"
+            )));
+        }
         b.generator.advance(&mut b.state, w.0, h, connected, tau);
         if !b.state.x.iter().all(|v| v.is_finite()) {
             return Err(err(format!(

@@ -147,12 +147,20 @@ impl Generator {
         }
     }
 
+    /// RK4 sub-steps `advance` takes over a step of `h` (0 for the spring, integrated exactly).
+    pub fn substeps(&self, h: f64) -> f64 {
+        match self.machine {
+            Machine::Spring(_) => 0.0,
+            _ => (h / self.max_substep()).ceil().max(1.0),
+        }
+    }
+
     /// Advances by `h` with the speed ω(τ) = w[0] + w[1]·τ + w[2]·τ²/2.
     pub fn advance(&self, st: &mut GenState, w: [f64; 3], h: f64, connected: bool, trip_time_constant: f64) {
         if let Machine::Spring(s) = &self.machine {
             st.x[0] = s.advance(st.x[0], w, h);
         } else {
-            let n = (h / self.max_substep()).ceil().max(1.0) as usize;
+            let n = self.substeps(h) as usize;
             let dt = h / n as f64;
             let speed = |tau: f64| w[0] + w[1] * tau + w[2] * tau * tau / 2.0;
             for i in 0..n {
