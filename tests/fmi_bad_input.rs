@@ -315,7 +315,8 @@ fn rk4_beyond_its_limit_names_the_limit() {
 
 /// The generator FMU: absurd electrical parameters are refused by their declared range, a DFIG step
 /// of a day is refused (its current loop would need 10⁸ sub-steps), NaN speed is refused; every
-/// refusal names the culprit and the instance keeps stepping.
+/// refusal names the culprit (an error leaves the instance in the Error state, so each case starts
+/// from fmi2Reset).
 #[test]
 fn generator_refuses_absurd_parameters_and_steps() {
     let fmu = Fmu::open(&fmu_path("generator")).expect("the packed generator FMU opens");
@@ -329,16 +330,23 @@ fn generator_refuses_absurd_parameters_and_steps() {
         err.contains("current_bandwidth") && err.contains("above its maximum"),
         "{err}"
     );
-    inst.set_string(&[fmu.vr("kind").unwrap()], &["dfig"]).unwrap();
-    inst.set_string(&[fmu.vr("preset").unwrap()], &["C"]).unwrap();
-    inst.set_real(&[fmu.vr("generator_speed").unwrap()], &[150.0]).unwrap();
-    inst.enter_initialization_mode().unwrap();
-    inst.exit_initialization_mode().unwrap();
+    let dfig = |inst: &mut Instance| {
+        inst.reset().unwrap();
+        inst.setup_experiment(0.0, None).unwrap();
+        inst.set_string(&[fmu.vr("kind").unwrap()], &["dfig"]).unwrap();
+        inst.set_string(&[fmu.vr("preset").unwrap()], &["C"]).unwrap();
+        inst.set_real(&[fmu.vr("generator_speed").unwrap()], &[150.0]).unwrap();
+        inst.enter_initialization_mode().unwrap();
+        inst.exit_initialization_mode().unwrap();
+    };
+    dfig(&mut inst);
     let err = inst.do_step(0.0, 86_400.0).unwrap_err().to_string();
     assert!(
         err.contains("internal steps") && err.contains("current_bandwidth"),
         "{err}"
     );
+    dfig(&mut inst);
+    inst.do_step(0.0, 1e-3).unwrap();
     let err = inst
         .set_real(&[fmu.vr("generator_speed").unwrap()], &[f64::NAN])
         .unwrap_err()

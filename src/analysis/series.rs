@@ -1,5 +1,8 @@
 //! Reading a time series from a CSV file in fmpy's layout: a header `time,<name>,...`, then numbers.
+//! Files are read line by line, so a channel of a recording larger than memory can be streamed
+//! through a counter ([`stream_channel`]) without holding the file or the series.
 
+use std::io::BufRead;
 use std::path::Path;
 
 #[derive(Debug, thiserror::Error)]
@@ -18,36 +21,75 @@ pub enum SeriesError {
     Empty { path: String },
 }
 
-/// Time and one channel of a CSV file. Rejects NaN/inf, non-numeric cells and time that does not
-/// increase, naming the row.
-pub fn read_channel(path: &Path, channel: &str) -> Result<(Vec<f64>, Vec<f64>), SeriesError> {
+/// What a streamed channel covered: sample count and first and last time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Extent {
+    pub samples: usize,
+    pub first_time: f64,
+    pub last_time: f64,
+}
+
+impl Extent {
+    /// Last time − first time (0 for a single sample).
+    pub fn duration(&self) -> f64 {
+        self.last_time - self.first_time
+    }
+}
+
+/// Hands every (time, value) of one column to `sample`, in file order, reading one line at a time.
+/// Rejects NaN/inf, non-numeric or missing cells and time that does not increase, naming the row;
+/// an unknown column names the columns there are; a file without data rows is an error.
+pub fn stream_channel(path: &Path, channel: &str, mut sample: impl FnMut(f64, f64)) -> Result<Extent, SeriesError> {
     let p = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| SeriesError::Read {
+    let read_error = |e: std::io::Error| SeriesError::Read {
         path: p.clone(),
         message: e.to_string(),
-    })?;
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines
-        .next()
-        .unwrap_or("")
+    };
+    let file = std::fs::File::open(path).map_err(read_error)?;
+    let mut reader = std::io::BufReader::with_capacity(1 << 16, file);
+    let mut line = String::new();
+    reader.read_line(&mut line).map_err(read_error)?;
+    let header: Vec<String> = line
+        .trim_end_matches(['\r', '\n'])
         .split(',')
-        .map(|h| h.trim().trim_matches('"'))
+        .map(|h| h.trim().trim_matches('"').to_string())
         .collect();
     let column = header
         .iter()
-        .position(|h| *h == channel)
+        .position(|h| h == channel)
         .ok_or_else(|| SeriesError::UnknownChannel {
             path: p.clone(),
             channel: channel.into(),
             available: header.join(", "),
         })?;
-    let time_column = header.iter().position(|h| *h == "time").unwrap_or(0);
-    let (mut t, mut x) = (Vec::new(), Vec::new());
-    for (i, line) in lines.enumerate().filter(|(_, l)| !l.trim().is_empty()) {
-        let row = i + 2;
-        let cells: Vec<&str> = line.split(',').collect();
-        let number = |c: usize| -> Result<f64, SeriesError> {
-            let cell = cells.get(c).map(|s| s.trim()).unwrap_or("");
+    let time_column = header.iter().position(|h| h == "time").unwrap_or(0);
+    let last_needed = column.max(time_column);
+    let mut extent = Extent {
+        samples: 0,
+        first_time: f64::NAN,
+        last_time: f64::NAN,
+    };
+    let mut row = 1;
+    loop {
+        line.clear();
+        if reader.read_line(&mut line).map_err(read_error)? == 0 {
+            break;
+        }
+        row += 1;
+        if line.trim().is_empty() {
+            continue;
+        }
+        let (mut time_cell, mut value_cell) = ("", "");
+        for (c, cell) in line.split(',').take(last_needed + 1).enumerate() {
+            if c == time_column {
+                time_cell = cell;
+            }
+            if c == column {
+                value_cell = cell;
+            }
+        }
+        let number = |cell: &str, c: usize| -> Result<f64, SeriesError> {
+            let cell = cell.trim();
             let v: f64 = cell.parse().map_err(|_| SeriesError::Value {
                 path: p.clone(),
                 row,
@@ -62,21 +104,79 @@ pub fn read_channel(path: &Path, channel: &str) -> Result<(Vec<f64>, Vec<f64>), 
             }
             Ok(v)
         };
-        let (ti, xi) = (number(time_column)?, number(column)?);
-        if let Some(&prev) = t.last()
-            && ti <= prev
-        {
+        let (t, x) = (number(time_cell, time_column)?, number(value_cell, column)?);
+        if extent.samples > 0 && t <= extent.last_time {
             return Err(SeriesError::Value {
                 path: p.clone(),
                 row,
-                message: format!("time {ti} does not increase (previous {prev})"),
+                message: format!("time {t} does not increase (previous {})", extent.last_time),
             });
         }
-        t.push(ti);
-        x.push(xi);
+        if extent.samples == 0 {
+            extent.first_time = t;
+        }
+        extent.last_time = t;
+        extent.samples += 1;
+        sample(t, x);
     }
-    if x.is_empty() {
+    if extent.samples == 0 {
         return Err(SeriesError::Empty { path: p });
     }
+    Ok(extent)
+}
+
+/// Time and one channel of a CSV file, with the checks of [`stream_channel`].
+pub fn read_channel(path: &Path, channel: &str) -> Result<(Vec<f64>, Vec<f64>), SeriesError> {
+    let (mut t, mut x) = (Vec::new(), Vec::new());
+    stream_channel(path, channel, |ti, xi| {
+        t.push(ti);
+        x.push(xi);
+    })?;
     Ok((t, x))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn file(name: &str, text: &str) -> std::path::PathBuf {
+        let path = std::env::temp_dir().join(format!("windrive-series-{}-{name}.csv", std::process::id()));
+        std::fs::write(&path, text).unwrap();
+        path
+    }
+
+    #[test]
+    fn streams_one_column_with_its_extent() {
+        let path = file("ok", "\"time\",a,b\r\n0,1,2\r\n\r\n0.5,3,4\n1.5,5,6");
+        let mut seen = Vec::new();
+        let extent = stream_channel(&path, "b", |t, x| seen.push((t, x))).unwrap();
+        assert_eq!(seen, vec![(0.0, 2.0), (0.5, 4.0), (1.5, 6.0)]);
+        assert_eq!(extent.samples, 3);
+        assert_eq!(extent.duration(), 1.5);
+        assert_eq!(read_channel(&path, "a").unwrap().1, vec![1.0, 3.0, 5.0]);
+    }
+
+    #[test]
+    fn bad_files_name_the_row_or_column() {
+        let cases = [
+            ("nan", "time,a\n0,1\n1,nan\n", "row 3: a is NaN"),
+            ("text", "time,a\n0,x\n", "row 2: \"x\" is not a number in column a"),
+            ("short", "time,a,b\n0,1\n", "row 2: \"\" is not a number in column b"),
+            ("back", "time,a\n0,1\n1,1\n1,2\n", "row 4: time 1 does not increase"),
+            ("empty", "time,a\n", "the series is empty"),
+        ];
+        for (name, text, message) in cases {
+            let column = if name == "short" { "b" } else { "a" };
+            let err = read_channel(&file(name, text), column).unwrap_err().to_string();
+            assert!(err.contains(message), "{name}: {err}");
+        }
+        let err = read_channel(&file("unknown", "time,a\n0,1\n"), "z")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("no column \"z\"; columns: time, a"), "{err}");
+        let err = read_channel(Path::new("/nonexistent/x.csv"), "a")
+            .unwrap_err()
+            .to_string();
+        assert!(err.starts_with("/nonexistent/x.csv: "), "{err}");
+    }
 }

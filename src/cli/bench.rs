@@ -286,9 +286,7 @@ fn rainflow(args: &BenchArgs) -> anyhow::Result<()> {
             count += c.count;
             sums.add(&c);
         };
-        for &v in &x {
-            counter.push(v, &mut add);
-        }
+        counter.extend(&x, &mut add);
         counter.finish(&mut add);
         let dels = sums.dels((x.len().max(2) - 1) as f64);
         best = best.min(started.elapsed().as_secs_f64());

@@ -167,48 +167,40 @@ pub fn run_rainflow(args: &RainflowArgs) -> anyhow::Result<()> {
 }
 
 pub fn run_del(args: &DelArgs) -> anyhow::Result<()> {
-    let (t, x) = series::read_channel(&args.file, &args.channel)?;
-    let duration = t[t.len() - 1] - t[0];
+    if let Some(m) = args.m.iter().find(|m| !(m.is_finite() && **m > 0.0)) {
+        anyhow::bail!("Wöhler slope --m {m} must be a positive number");
+    }
+    if let Some(ultimate) = args.goodman
+        && !(ultimate.is_finite() && ultimate > args.fixed_mean.abs())
+    {
+        anyhow::bail!(
+            "--goodman {ultimate}: the ultimate load must exceed |--fixed-mean| ({})",
+            args.fixed_mean
+        );
+    }
+    // one streaming pass from the file to the sums of every slope: no series, no cycle list
+    let mut sums = damage::DamageSums::new(&args.m);
+    let mut counter = rainflow::Counter::new();
+    let mut bad = None;
+    let mut add = |c: rainflow::Cycle| match args.goodman {
+        None => sums.add(&c),
+        Some(ultimate) => match damage::goodman(&c, ultimate, args.fixed_mean) {
+            Ok(c) => sums.add(&c),
+            Err(e) => bad = bad.take().or(Some(e)),
+        },
+    };
+    let extent = series::stream_channel(&args.file, &args.channel, |_, v| counter.push(v, &mut add))?;
+    counter.finish(&mut add);
+    if let Some(e) = bad {
+        anyhow::bail!("{} {}: {e}", args.file.display(), args.channel);
+    }
+    let duration = extent.duration();
     if duration <= 0.0 || args.feq <= 0.0 {
         anyhow::bail!(
             "{}: duration {duration} s and --feq {} must be positive",
             args.file.display(),
             args.feq
         );
-    }
-    if let Some(m) = args.m.iter().find(|m| !(m.is_finite() && **m > 0.0)) {
-        anyhow::bail!("Wöhler slope --m {m} must be a positive number");
-    }
-    // every slope in the same streaming pass
-    let mut sums = damage::DamageSums::new(&args.m);
-    let mut counter = rainflow::Counter::new();
-    match args.goodman {
-        None => {
-            for &v in &x {
-                counter.push(v, &mut |c| sums.add(&c));
-            }
-            counter.finish(&mut |c| sums.add(&c));
-        }
-        Some(ultimate) => {
-            if !(ultimate.is_finite() && ultimate > args.fixed_mean.abs()) {
-                anyhow::bail!(
-                    "--goodman {ultimate}: the ultimate load must exceed |--fixed-mean| ({})",
-                    args.fixed_mean
-                );
-            }
-            let mut bad = None;
-            let mut add = |c: rainflow::Cycle| match damage::goodman(&c, ultimate, args.fixed_mean) {
-                Ok(c) => sums.add(&c),
-                Err(e) => bad = bad.take().or(Some(e)),
-            };
-            for &v in &x {
-                counter.push(v, &mut add);
-            }
-            counter.finish(&mut add);
-            if let Some(e) = bad {
-                anyhow::bail!("{} {}: {e}", args.file.display(), args.channel);
-            }
-        }
     }
     let n_eq = args.feq * duration;
     let dels: Vec<(String, f64)> = args.m.iter().map(|&m| fmt_m(m)).zip(sums.dels(n_eq)).collect();

@@ -101,9 +101,7 @@ fn read(path: &Path, channel: &str) -> anyhow::Result<Case> {
 fn sums(x: &[f64], slopes: &[f64]) -> Vec<f64> {
     let mut s = damage::DamageSums::new(slopes);
     let mut counter = rainflow::Counter::new();
-    for &v in x {
-        counter.push(v, &mut |c| s.add(&c));
-    }
+    counter.extend(x, &mut |c| s.add(&c));
     counter.finish(&mut |c| s.add(&c));
     s.sums()
 }
