@@ -4,12 +4,13 @@
 //! 1000 at cut-in, 50 at cut-out, 50 at rated = 1100). Lifetime DELs and the shutdowns' share of the
 //! damage; with `--gear`, ISO 6336 contact and root stresses of the mesh force, the allowable stresses
 //! at the lifetime's load cycles, and the Miner damage of the flank and root (ISO 6336-6 style: stress
-//! bins with their load cycles from the speed).
+//! bins with their load cycles from the speed); with `--bearing`, the ISO 281 basic rating life of a
+//! bearing whose load is the channel, as Miner damage over its load spectrum.
 
 use crate::analysis::gear::{self, Factors, GearPair, Tooth, ToothStress};
 use crate::analysis::limits::{LIMITS, limit};
 use crate::analysis::wind::{WindDistribution, time_factor};
-use crate::analysis::{damage, ldd, rainflow, series};
+use crate::analysis::{damage, ldd, life, rainflow, series};
 use anyhow::{Context, bail};
 use std::path::{Path, PathBuf};
 
@@ -78,6 +79,14 @@ pub struct LifeArgs {
     /// Tooth form and stress correction factors Y_F,Y_S (from the root geometry, ISO 6336-3)
     #[arg(long, value_delimiter = ',', default_value = "2.6,1.6")]
     pub y_fs: Vec<f64>,
+    /// Bearing life instead of gear: the bearing's basic dynamic load rating C [N]; the channel is
+    /// then its equivalent dynamic load P [N] and --speed its speed [rad/s] (ISO 281 L10, Miner over
+    /// the load spectrum)
+    #[arg(long, conflicts_with = "gear")]
+    pub bearing: Option<f64>,
+    /// With --bearing: a ball bearing (life exponent 3; roller bearings 10/3)
+    #[arg(long, requires = "bearing")]
+    pub ball: bool,
     /// Print the results as JSON
     #[arg(long)]
     pub json: bool,
@@ -169,6 +178,10 @@ pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
         })
         .collect();
 
+    let bearing_report = match args.bearing {
+        None => None,
+        Some(c) => Some(bearing_life(args, c, &normal, shutdown.as_ref(), normal_factor, shutdowns)?),
+    };
     let gear_report = match &args.gear {
         None => None,
         Some(g) => Some(gear_life(
@@ -191,6 +204,7 @@ pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
             serde_json::json!({
                 "operating_hours": operating_hours, "life_hours": life_hours, "shutdowns": shutdowns,
                 "normal_time_factor": normal_factor, "lifetime_del": d, "gear": gear_report.map(|r| r.json),
+                "bearing": bearing_report.map(|r| r.json),
             })
         );
         return Ok(());
@@ -212,7 +226,7 @@ pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
     for (m, del, share) in &dels {
         println!("{m:>6} {del:>16.6e} {:>21.1}%", 100.0 * share);
     }
-    if let Some(r) = gear_report {
+    if let Some(r) = gear_report.or(bearing_report) {
         print!("\n{}", r.text);
     }
     println!("\nallowable stresses (reference):");
@@ -222,7 +236,104 @@ pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-struct GearReport {
+/// The `--speed` channel of a file, less `--relative-to` when given.
+fn speed(args: &LifeArgs, file: &Path, name: &str) -> anyhow::Result<Vec<f64>> {
+    let (_, w) = series::read_channel(file, name)?;
+    Ok(match &args.relative_to {
+        Some(r) => {
+            let (_, c) = series::read_channel(file, r)?;
+            w.iter().zip(&c).map(|(a, b)| a - b).collect()
+        }
+        None => w,
+    })
+}
+
+/// The cases of a lifetime, each with its file and how often it repeats: normal operation scaled to
+/// the operating hours, the shutdown once per shutdown.
+fn cases<'a>(
+    args: &'a LifeArgs,
+    normal: &'a Case,
+    shutdown: Option<&'a Case>,
+    normal_factor: f64,
+    shutdowns: f64,
+) -> Vec<(&'static str, &'a Case, &'a PathBuf, f64)> {
+    let mut cases = vec![("normal", normal, &args.normal, normal_factor)];
+    if let (Some(s), Some(p)) = (shutdown, &args.shutdown) {
+        cases.push(("shutdown", s, p, shutdowns));
+    }
+    cases
+}
+
+/// ISO 281 basic rating life of a bearing loaded by the channel: each case's load spectrum (every
+/// sample's |P| with the revolutions until the next sample) summed by Miner's rule against
+/// L10(P) = (C/P)^p 10⁶ revolutions, repeated as often as the case occurs in the lifetime.
+fn bearing_life(
+    args: &LifeArgs,
+    capacity: f64,
+    normal: &Case,
+    shutdown: Option<&Case>,
+    normal_factor: f64,
+    shutdowns: f64,
+) -> anyhow::Result<Report> {
+    if !(capacity.is_finite() && capacity > 0.0) {
+        bail!("--bearing {capacity}: the dynamic load rating C must be a positive number of newtons");
+    }
+    let speed_name = args
+        .speed
+        .as_deref()
+        .context("--bearing needs --speed: the bearing's life is counted in its revolutions")?;
+    let roller = !args.ball;
+    let p = if roller { 10.0 / 3.0 } else { 3.0 };
+    let mut rows = Vec::new();
+    let (mut damage, mut revolutions, mut weighted, mut shutdown_damage) = (0.0, 0.0, 0.0, 0.0);
+    for (name, case, file, repeat) in cases(args, normal, shutdown, normal_factor, shutdowns) {
+        // every sample holds its load for its time step (as in the LDD), with no binning error
+        let w = speed(args, file, speed_name)?;
+        let spectrum: Vec<(f64, f64)> = (0..case.t.len() - 1)
+            .map(|j| (case.x[j].abs(), (case.t[j + 1] - case.t[j]) * w[j].abs() / std::f64::consts::TAU))
+            .collect();
+        let d = life::bearing_damage(capacity, &spectrum, roller) * repeat;
+        let n: f64 = spectrum.iter().map(|(_, n)| n).sum::<f64>() * repeat;
+        weighted += spectrum.iter().map(|(load, n)| n * load.powf(p)).sum::<f64>() * repeat;
+        let max = case.x.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        rows.push((name, max, n, d));
+        (damage, revolutions) = (damage + d, revolutions + n);
+        if name == "shutdown" {
+            shutdown_damage = d;
+        }
+    }
+    let equivalent_load = (weighted / revolutions.max(1e-300)).powf(1.0 / p);
+    let l10 = life::bearing_l10(capacity, equivalent_load, roller) * 1e6;
+    let mut text = format!(
+        "{} bearing, C = {capacity:.4e} N, ISO 281 L10 = (C/P)^{} million revolutions\n",
+        if roller { "roller" } else { "ball" },
+        if roller { "10/3" } else { "3" }
+    );
+    text.push_str(&format!(
+        "{:<10} {:>14} {:>16} {:>14}\n",
+        "case", "max P [N]", "revolutions", "damage"
+    ));
+    for (name, max, n, d) in &rows {
+        text.push_str(&format!("{name:<10} {max:>14.4e} {n:>16.4e} {d:>14.4e}\n"));
+    }
+    text.push_str(&format!(
+        "lifetime: {revolutions:.4e} revolutions at P_eq = {equivalent_load:.4e} N (L10 {l10:.4e} revolutions)\n"
+    ));
+    text.push_str(&format!(
+        "{}-year Miner damage {damage:.4e} ({:.1} % from shutdowns): L10 life {:.1} years\n",
+        args.years,
+        100.0 * shutdown_damage / damage.max(1e-300),
+        args.years / damage.max(1e-300)
+    ));
+    let json = serde_json::json!({
+        "cases": rows.iter().map(|(n, max, revs, d)| serde_json::json!({"case": n, "max_load": max, "revolutions": revs, "damage": d})).collect::<Vec<_>>(),
+        "revolutions": revolutions, "equivalent_load": equivalent_load, "l10_revolutions": l10,
+        "damage": damage, "shutdown_share": shutdown_damage / damage.max(1e-300), "l10_years": args.years / damage.max(1e-300),
+    });
+    Ok(Report { text, json })
+}
+
+struct Report {
     text: String,
     json: serde_json::Value,
 }
@@ -234,7 +345,7 @@ fn gear_life(
     shutdown: Option<&Case>,
     normal_factor: f64,
     shutdowns: f64,
-) -> anyhow::Result<GearReport> {
+) -> anyhow::Result<Report> {
     if g.len() != 5 || g.iter().any(|v| !v.is_finite()) || g[0] < 3.0 || g[1] < 3.0 || g[2] <= 0.0 || g[4] <= 0.0 {
         bail!("--gear {g:?}: give z1,z2,module [mm],helix [deg],face width [mm] (teeth ≥ 3, module and width > 0)");
     }
@@ -245,6 +356,7 @@ fn gear_life(
         .speed
         .as_deref()
         .context("--gear needs --speed: the load cycles come from the gear's revolutions")?;
+    let speed_of = |file: &Path| speed(args, file, speed_name);
     let pair = GearPair {
         z1: g[0] as u32,
         z2: g[1] as u32,
@@ -274,25 +386,11 @@ fn gear_life(
     let per_rev = tooth.load_cycles(1.0, args.planets);
     let sigma_hlim = limit("gear flank, σ_Hlim MQ").expect("in the table");
     let sigma_fe = 2.0 * limit("gear root, σ_Flim MQ").expect("in the table") * tooth.mean_stress_factor();
-    let speed_of = |file: &Path| -> anyhow::Result<Vec<f64>> {
-        let (_, w) = series::read_channel(file, speed_name)?;
-        Ok(match &args.relative_to {
-            Some(r) => {
-                let (_, c) = series::read_channel(file, r)?;
-                w.iter().zip(&c).map(|(a, b)| a - b).collect()
-            }
-            None => w,
-        })
-    };
-    let mut cases = vec![("normal", normal, &args.normal, normal_factor)];
-    if let (Some(s), Some(p)) = (shutdown, &args.shutdown) {
-        cases.push(("shutdown", s, p, shutdowns));
-    }
     let mut rows = Vec::new();
     let (mut total_h, mut total_f, mut total_cycles) = (0.0, 0.0, 0.0);
     let mut shut_h = 0.0;
     let mut shut_f = 0.0;
-    for (name, case, file, repeat) in cases {
+    for (name, case, file, repeat) in cases(args, normal, shutdown, normal_factor, shutdowns) {
         let ft: Vec<f64> = case.x.iter().map(|f| st.tangential_from_normal(*f)).collect();
         let sh: Vec<f64> = ft.iter().map(|f| st.contact(*f)).collect();
         let sf: Vec<f64> = ft.iter().map(|f| st.bending(*f)).collect();
@@ -350,5 +448,5 @@ fn gear_life(
         "load_cycles": total_cycles, "z_nt": z_nt, "y_nt": y_nt, "flank_damage": total_h, "root_damage": total_f,
         "flank_shutdown_share": shut_h / total_h.max(1e-300), "root_shutdown_share": shut_f / total_f.max(1e-300),
     });
-    Ok(GearReport { text, json })
+    Ok(Report { text, json })
 }

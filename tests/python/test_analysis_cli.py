@@ -100,6 +100,36 @@ def test_life_dels_equal_a_direct_lifetime_evaluation(windrive, tmp_path):
         assert entry["shutdown_share"] == pytest.approx(b / (a + b), rel=1e-12)
 
 
+def test_bearing_life_equals_iso_281_miner_sum(windrive, tmp_path):
+    """ISO 281: L10 = (C/P)^(10/3) million revolutions for a roller bearing (3 for a ball bearing);
+    Miner over the samples, n_j = dt_j |w_j| / 2 pi, normal operation scaled to the operating hours and
+    the shutdown repeated 1100 times a year; P_eq = (sum n P^p / sum n)^(1/p)."""
+    rng = np.random.default_rng(11)
+    t = np.arange(4000) * 0.005
+    normal_p = 2e5 + 3e4 * rng.normal(size=t.size)
+    normal_w = 2.0 + 0.1 * rng.normal(size=t.size)
+    shutdown_p = -4e5 * np.exp(-t / 5) * np.cos(2 * np.pi * 1.3 * t)
+    shutdown_w = 2.0 * np.exp(-t / 3)
+    pn, ps = tmp_path / "n.csv", tmp_path / "s.csv"
+    write_csv(pn, t, {"p": normal_p, "w": normal_w})
+    write_csv(ps, t, {"p": shutdown_p, "w": shutdown_w})
+    cdf = lambda v: 1 - np.exp(-np.pi / 4 * (v / 10.0) ** 2)
+    op_s = 20 * 8760 * (cdf(25) - cdf(4)) * 3600
+    for ball, p in ((False, 10 / 3), (True, 3.0)):
+        args = ["life", "--normal", str(pn), "--shutdown", str(ps), "--channel", "p", "--speed", "w",
+                "--bearing", "2.5e6"] + (["--ball"] if ball else [])
+        r = windrive_json(windrive, *args)["bearing"]
+        n_n = np.diff(t) * np.abs(normal_w[:-1]) / (2 * np.pi) * op_s / (t[-1] - t[0])
+        n_s = np.diff(t) * np.abs(shutdown_w[:-1]) / (2 * np.pi) * 1100 * 20
+        l10 = lambda load: (2.5e6 / np.abs(load)) ** p * 1e6
+        d_n, d_s = np.sum(n_n / l10(normal_p[:-1])), np.sum(n_s / l10(shutdown_p[:-1]))
+        assert r["damage"] == pytest.approx(d_n + d_s, rel=1e-12)
+        assert r["shutdown_share"] == pytest.approx(d_s / (d_n + d_s), rel=1e-12)
+        assert r["revolutions"] == pytest.approx(n_n.sum() + n_s.sum(), rel=1e-12)
+        # the equivalent load's L10 over the lifetime's revolutions is the same damage
+        assert r["revolutions"] / l10(r["equivalent_load"]) == pytest.approx(r["damage"], rel=1e-12)
+
+
 def test_campbell_orders_and_crossings(windrive):
     r = windrive_json(windrive, "campbell", "--preset", "C", "--harmonics", "1")
     orders = {name: (o, thesis) for name, o, thesis in r["orders"]}
@@ -130,6 +160,8 @@ def test_bode_resonance_at_the_first_mode(windrive):
     (["life", "--normal", "{csv}", "--channel", "x", "--gear", "1,2"], ["--gear", "z1,z2"]),
     (["life", "--normal", "{csv}", "--channel", "x", "--gear", "20,40,10,0,100"], ["--speed"]),
     (["life", "--normal", "{csv}", "--channel", "x", "--cut-in", "30"], ["--cut-in"]),
+    (["life", "--normal", "{csv}", "--channel", "x", "--bearing", "1e6"], ["--bearing needs --speed"]),
+    (["life", "--normal", "{csv}", "--channel", "x", "--bearing=-5", "--speed", "x"], ["--bearing -5", "positive"]),
     (["campbell", "--preset", "Z"], ["Z", "A, B, C or D"]),
     (["campbell", "--harmonics", "0"], ["--harmonics 0"]),
     (["bode", "--generator", "locked", "--input", "generator"], ["locked", "no torque input"]),

@@ -132,8 +132,21 @@ impl Induction {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
+
+    /// A 60 Hz MW-class machine with typical per-unit data; a current-loop bandwidth makes it a DFIG.
+    pub(crate) fn typical_machine(current_bandwidth: Option<f64>) -> Induction {
+        Induction {
+            omega_base: 2.0 * std::f64::consts::PI * 60.0,
+            r_s: 0.01,
+            r_r: 0.01,
+            l_ls: 0.2,
+            l_lr: 0.1,
+            l_m: 3.0,
+            current_bandwidth,
+        }
+    }
 
     /// AWT-27 Thevenin induction generator (REFERENCE-DATA §3.3, OpenFAST TEC model), in per unit
     /// on Z_b = 1 Ω so the machine data are the published ohms: the steady torque of the
@@ -177,15 +190,7 @@ mod tests {
     /// the stator power factor is one, and nothing moves.
     #[test]
     fn dfig_steady_state_delivers_the_demand() {
-        let m = Induction {
-            omega_base: 2.0 * std::f64::consts::PI * 60.0,
-            r_s: 0.01,
-            r_r: 0.01,
-            l_ls: 0.2,
-            l_lr: 0.1,
-            l_m: 3.0,
-            current_bandwidth: Some(1000.0),
-        };
+        let m = typical_machine(Some(1000.0));
         for (w, te) in [(0.93, -0.9), (1.1, -1.0), (0.8, -0.3)] {
             let x = m.steady_state(w, te);
             let t = m.terminal(&x, w, te);

@@ -318,15 +318,7 @@ mod tests {
     #[test]
     fn cage_machine_is_mostly_a_damper() {
         let g = Generator {
-            machine: Machine::Induction(Induction {
-                omega_base: 2.0 * std::f64::consts::PI * 60.0,
-                r_s: 0.01,
-                r_r: 0.01,
-                l_ls: 0.2,
-                l_lr: 0.1,
-                l_m: 3.0,
-                current_bandwidth: None,
-            }),
+            machine: Machine::Induction(induction::tests::typical_machine(None)),
             base_speed: 188.5,
             base_power: 2e6,
             control: None,
