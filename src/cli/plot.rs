@@ -4,6 +4,7 @@
 use crate::physics::modes::Modes;
 use anyhow::{Context, anyhow};
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
 
 const FONT_PATHS: [&str; 3] = [
@@ -350,44 +351,69 @@ where
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("plot: {e:?}");
     root.fill(&WHITE).map_err(err)?;
     let x_max = hi * 1.25;
+    // logarithmic frequency: the first drivetrain modes (≈1 Hz, met by 1P/3P) and the mesh
+    // frequencies (10²–10³ Hz) in one picture
+    let lowest_ray = orders.iter().map(|o| o.1).fold(f64::INFINITY, f64::min) * lo / 60.0;
+    let f_min = 0.5 * modes_hz.first().copied().unwrap_or(f_max).min(lowest_ray).min(f_max / 10.0);
     let mut chart = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 20))
         .margin(12)
         .x_label_area_size(45)
         .y_label_area_size(80)
-        .build_cartesian_2d(0.0..x_max, 0.0..f_max)
+        .right_y_label_area_size(70)
+        .build_cartesian_2d(0.0..x_max, (f_min..f_max).log_scale())
         .map_err(err)?;
     chart
         .configure_mesh()
         .x_desc("rotor speed [rpm]")
         .y_desc("frequency [Hz]")
+        .y_label_formatter(&|f| format!("{f}"))
         .draw()
         .map_err(err)?;
-    for &f in modes_hz {
-        chart
-            .draw_series(std::iter::once(PathElement::new(
-                vec![(0.0, f), (x_max, f)],
-                BLUE.mix(0.5),
-            )))
+    let grey = RGBColor(90, 90, 160);
+    let mut last_label = 0.0;
+    for (i, &f) in modes_hz.iter().enumerate() {
+        let line = chart
+            .draw_series(std::iter::once(PathElement::new(vec![(0.0, f), (x_max, f)], grey.mix(0.6))))
             .map_err(err)?;
+        if i == 0 {
+            line.label("natural frequency")
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], grey));
+        }
+        // the value at the right edge, where lines are far enough apart to read
+        if f / last_label > 1.08 {
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    format!("{f:.3} Hz"),
+                    (x_max * 0.995, f),
+                    ("sans-serif", 11).into_font().color(&grey).pos(Pos::new(HPos::Right, VPos::Bottom)),
+                )))
+                .map_err(err)?;
+            last_label = f;
+        }
     }
     for x in [lo, hi] {
-        chart
+        let edge = chart
             .draw_series(std::iter::once(PathElement::new(
-                vec![(x, 0.0), (x, f_max)],
+                vec![(x, f_min), (x, f_max)],
                 RED.stroke_width(2),
             )))
             .map_err(err)?;
+        if x == lo {
+            edge.label(format!("operating range {lo}–{hi} rpm"))
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], RED.stroke_width(2)));
+        }
     }
     for (i, (name, order)) in orders.iter().enumerate() {
         let color = Palette99::pick(i + 1).to_rgba();
-        // the ray f = order · n/60, clipped at the top of the chart
-        let x_end = (f_max * 60.0 / order).min(x_max);
+        // the ray f = order · n/60, sampled so it bends correctly on the log axis, from f_min to the top
+        let (x_start, x_end) = (f_min * 60.0 / order, (f_max * 60.0 / order).min(x_max));
+        let ray: Vec<(f64, f64)> = (0..=48)
+            .map(|k| x_start * (x_end / x_start).powf(k as f64 / 48.0))
+            .map(|x| (x, order * x / 60.0))
+            .collect();
         chart
-            .draw_series(std::iter::once(PathElement::new(
-                vec![(0.0, 0.0), (x_end, order * x_end / 60.0)],
-                color.stroke_width(2),
-            )))
+            .draw_series(std::iter::once(PathElement::new(ray, color.stroke_width(2))))
             .map_err(err)?
             .label(format!("{name} ({order:.1}×)"))
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
