@@ -180,7 +180,14 @@ pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
 
     let bearing_report = match args.bearing {
         None => None,
-        Some(c) => Some(bearing_life(args, c, &normal, shutdown.as_ref(), normal_factor, shutdowns)?),
+        Some(c) => Some(bearing_life(
+            args,
+            c,
+            &normal,
+            shutdown.as_ref(),
+            normal_factor,
+            shutdowns,
+        )?),
     };
     let gear_report = match &args.gear {
         None => None,
@@ -290,7 +297,12 @@ fn bearing_life(
         // every sample holds its load for its time step (as in the LDD), with no binning error
         let w = speed(args, file, speed_name)?;
         let spectrum: Vec<(f64, f64)> = (0..case.t.len() - 1)
-            .map(|j| (case.x[j].abs(), (case.t[j + 1] - case.t[j]) * w[j].abs() / std::f64::consts::TAU))
+            .map(|j| {
+                (
+                    case.x[j].abs(),
+                    (case.t[j + 1] - case.t[j]) * w[j].abs() / std::f64::consts::TAU,
+                )
+            })
             .collect();
         let d = life::bearing_damage(capacity, &spectrum, roller) * repeat;
         let n: f64 = spectrum.iter().map(|(_, n)| n).sum::<f64>() * repeat;

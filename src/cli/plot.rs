@@ -354,7 +354,13 @@ where
     // logarithmic frequency: the first drivetrain modes (≈1 Hz, met by 1P/3P) and the mesh
     // frequencies (10²–10³ Hz) in one picture
     let lowest_ray = orders.iter().map(|o| o.1).fold(f64::INFINITY, f64::min) * lo / 60.0;
-    let f_min = 0.5 * modes_hz.first().copied().unwrap_or(f_max).min(lowest_ray).min(f_max / 10.0);
+    let f_min = 0.5
+        * modes_hz
+            .first()
+            .copied()
+            .unwrap_or(f_max)
+            .min(lowest_ray)
+            .min(f_max / 10.0);
     let mut chart = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 20))
         .margin(12)
@@ -374,7 +380,10 @@ where
     let mut last_label = 0.0;
     for (i, &f) in modes_hz.iter().enumerate() {
         let line = chart
-            .draw_series(std::iter::once(PathElement::new(vec![(0.0, f), (x_max, f)], grey.mix(0.6))))
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(0.0, f), (x_max, f)],
+                grey.mix(0.6),
+            )))
             .map_err(err)?;
         if i == 0 {
             line.label("natural frequency")
@@ -386,7 +395,10 @@ where
                 .draw_series(std::iter::once(Text::new(
                     format!("{f:.3} Hz"),
                     (x_max * 0.995, f),
-                    ("sans-serif", 11).into_font().color(&grey).pos(Pos::new(HPos::Right, VPos::Bottom)),
+                    ("sans-serif", 11)
+                        .into_font()
+                        .color(&grey)
+                        .pos(Pos::new(HPos::Right, VPos::Bottom)),
                 )))
                 .map_err(err)?;
             last_label = f;
