@@ -70,7 +70,7 @@ pub struct LifeArgs {
     /// Speed channel subtracted from --speed (the carrier, for sun and planet speeds relative to it)
     #[arg(long)]
     pub relative_to: Option<String>,
-    /// Load sharing K_γ (REFERENCE-DATA §5.4: 1.10 for 3 planets)
+    /// Load sharing K_γ (IEC 61400-4 mesh load factor: 1.10 for 3 planets, 1.25 for 4, 1.35 for 5)
     #[arg(long, default_value_t = 1.0)]
     pub k_gamma: f64,
     /// Application factor K_A
