@@ -47,6 +47,17 @@ def test_identical_cycles_to_the_rainflow_package(windrive, tmp_path):
         assert ours == theirs, name
 
 
+@pytest.mark.parametrize("n", [1023, 1024, 1025, 4097, 25000])
+def test_identical_cycles_across_the_counters_chunks(windrive, tmp_path, n):
+    """Our counter scans samples in chunks of 1024; lengths at and across those edges, with plateaus."""
+    rng = np.random.default_rng(n)
+    x = np.round(np.cumsum(rng.normal(size=n)) * 4) / 4
+    path = tmp_path / "long.csv"
+    write_csv(path, np.arange(n) * 0.01, {"x": x})
+    ours = windrive_json(windrive, "rainflow", str(path), "--channel", "x")["cycles"]
+    assert ours == [[r, m, c] for r, m, c, _, _ in rainflow.extract_cycles(x.tolist())]
+
+
 def test_astm_example(windrive, tmp_path):
     x = [-2, 1, -3, 5, -1, 3, -4, 4, -2]
     path = tmp_path / "astm.csv"
