@@ -19,9 +19,9 @@ pub struct RainflowArgs {
     /// Bin the cycles: range-mean (rows: range from 0, columns: mean) or from-to (levels)
     #[arg(long, value_parser = ["range-mean", "from-to"])]
     pub matrix: Option<String>,
-    /// Bins per matrix axis
-    #[arg(long, default_value_t = 32)]
-    pub bins: usize,
+    /// Bins per matrix axis: one number for both, or range,mean (range-mean matrices only)
+    #[arg(long, value_delimiter = ',', default_value = "32")]
+    pub bins: Vec<usize>,
     /// Draw the matrix (range–mean unless --matrix from-to) as a heat map, .png or .svg
     #[arg(long)]
     pub plot: Option<PathBuf>,
@@ -107,14 +107,22 @@ fn fmt_m(m: f64) -> String {
 pub fn run_rainflow(args: &RainflowArgs) -> anyhow::Result<()> {
     let (_, x) = series::read_channel(&args.file, &args.channel)?;
     let cycles = rainflow::cycles(&x);
-    if args.bins == 0 {
-        anyhow::bail!("--bins 0: a matrix needs at least one bin per axis");
-    }
     let from_to = args.matrix.as_deref() == Some("from-to");
+    let (range_bins, mean_bins) = match args.bins[..] {
+        [n] => (n, n),
+        [r, m] if !from_to => (r, m),
+        _ => anyhow::bail!(
+            "--bins {:?}: give one count, or range,mean for a range-mean matrix",
+            args.bins
+        ),
+    };
+    if range_bins == 0 || mean_bins == 0 {
+        anyhow::bail!("--bins {:?}: a matrix needs at least one bin per axis", args.bins);
+    }
     let m = if from_to {
-        matrix::from_to(&cycles, &x, args.bins)
+        matrix::from_to(&cycles, &x, range_bins)
     } else {
-        matrix::range_mean(&cycles, args.bins, args.bins)
+        matrix::range_mean(&cycles, range_bins, mean_bins)
     };
     if let Some(path) = &args.plot {
         let (xl, yl) = if from_to { ("to", "from") } else { ("mean", "range") };

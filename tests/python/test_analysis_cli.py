@@ -13,13 +13,15 @@ import rainflow
 from test_rainflow import write_csv, windrive_json
 
 
-def test_range_mean_matrix_equals_numpy_histogram(windrive, tmp_path):
+@pytest.mark.parametrize("bins,shape", [("12", (12, 12)), ("10,16", (10, 16))])
+def test_range_mean_matrix_equals_numpy_histogram(windrive, tmp_path, bins, shape):
     rng = np.random.default_rng(11)
     t = np.arange(5000) * 0.01
     x = np.cumsum(rng.normal(size=t.size))
     path = tmp_path / "m.csv"
     write_csv(path, t, {"x": x})
-    m = windrive_json(windrive, "rainflow", str(path), "--channel", "x", "--matrix", "range-mean", "--bins", "12")["matrix"]
+    m = windrive_json(windrive, "rainflow", str(path), "--channel", "x", "--matrix", "range-mean", "--bins", bins)["matrix"]
+    assert np.array(m["counts"]).shape == shape
     c = np.array([[r, mean, n] for r, mean, n, _, _ in rainflow.extract_cycles(x.tolist())])
     rows, cols = m["rows"], m["cols"]
     h, _, _ = np.histogram2d(c[:, 0], c[:, 1], bins=[np.linspace(rows[0], rows[1], rows[2] + 1),
@@ -154,6 +156,8 @@ def test_bode_resonance_at_the_first_mode(windrive):
     (["spectrum", "{csv}", "--channel", "x", "--window", "0,0.01"], ["needs at least 16"]),
     (["ldd", "{csv}", "--channel", "x", "--speed", "nosuch"], ["nosuch"]),
     (["rainflow", "{csv}", "--channel", "x", "--matrix", "diagonal"], ["diagonal"]),
+    (["rainflow", "{csv}", "--channel", "x", "--matrix", "from-to", "--bins", "4,5"], ["--bins", "range,mean"]),
+    (["rainflow", "{csv}", "--channel", "x", "--matrix", "range-mean", "--bins", "4,0"], ["--bins", "at least one bin"]),
     (["rainflow", "{csv}", "--channel", "x", "--plot", "{tmp}/m.jpg"], ["m.jpg", ".png or .svg"]),
     (["del", "{csv}", "--channel", "x", "--goodman", "0.001"], ["Goodman", "ultimate"]),
     (["del", "{csv}", "--channel", "x", "--goodman=-1"], ["--goodman -1", "ultimate"]),
