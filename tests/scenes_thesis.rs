@@ -7,7 +7,8 @@
 //! - shutdown: no reversal before it, a reversal after the generator trips;
 //! - while the brake slips the HSS torque rings at the lowest non-zero free–free mode, and once the
 //!   brake holds at the lowest HSS-locked mode (each within 10 %, measured within 0.4 %);
-//! - the brake locks and stays locked; the generator angle does not creep.
+//! - the brake locks and stays locked; the generator angle does not creep; the held rotor rocks
+//!   about a fixed angle without drift, and its rocking does not grow.
 
 mod common;
 
@@ -24,6 +25,7 @@ struct Run {
     lss: Vec<f64>,
     locked: Vec<f64>,
     generator_angle: Vec<f64>,
+    rotor_speed: Vec<f64>,
 }
 
 fn run(scene: &str) -> Run {
@@ -34,6 +36,7 @@ fn run(scene: &str) -> Run {
         "angle_generator",
         "mesh_force_gear_pinion_2",
         "lss_torque",
+        "rotor_speed",
     ];
     let mut channels: Vec<String> = names.iter().map(|n| format!("torsional.{n}")).collect();
     channels.push("generator.electrical_power".into());
@@ -47,6 +50,7 @@ fn run(scene: &str) -> Run {
         generator_angle: c.next().unwrap(),
         gear_pinion: c.next().unwrap(),
         lss: c.next().unwrap(),
+        rotor_speed: c.next().unwrap(),
         power: c.next().unwrap(),
     }
 }
@@ -103,6 +107,22 @@ fn check(scene: &str, preset: &str) {
         "{scene}: the generator creeps"
     );
     let t_lock = r.t[lock];
+    // the rotor, held through the gearbox, rocks on the shafts' stiffness about a fixed angle: its
+    // mean speed over the held phase is nil (no drift) and the rocking never grows
+    let held_phase = r.t.iter().position(|&t| t >= t_lock + 0.5).unwrap();
+    let w = &r.rotor_speed[held_phase..];
+    let amplitude = |w: &[f64]| w.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let mean = w.iter().sum::<f64>() / w.len() as f64;
+    let (first, last) = (amplitude(&w[..w.len() / 4]), amplitude(&w[3 * w.len() / 4..]));
+    println!("{scene}: held rotor speed: mean {mean:.2e} rad/s, rocking {first:.2e} -> {last:.2e} rad/s");
+    assert!(
+        mean.abs() < 0.1 * first,
+        "{scene}: the held rotor drifts at {mean} rad/s"
+    );
+    assert!(
+        last <= 1.01 * first,
+        "{scene}: the held rotor's rocking grows, {first} -> {last}"
+    );
     let dt = windrive::physics::drivetrain::Drivetrain::preset(preset).unwrap();
     let peak = r.lss.iter().fold(0.0f64, |m, v| m.max(v.abs())) / dt.rated_rotor_torque();
     println!("{scene}: max |LSS torque| / rated = {peak:.3} (design factor 1.35)");
