@@ -1,7 +1,8 @@
 //! Gear geometry (ISO 21771) and tooth stresses after ISO 6336-2 (contact, method B) and ISO 6336-3
 //! (root bending, method B), from a mesh force. Factors come from the geometry where the standard
 //! gives a formula (α_t, β_b, α_wt, ε_α, ε_β, Z_H, Z_E, Z_ε, Z_β, Y_β) and are parameters otherwise
-//! (K_A, K_v, K_Hβ, K_Fβ, K_Hα, K_Fα, K_γ, Y_F, Y_S). Life factors Z_NT and Y_NT for case-carburised
+//! (K_A, K_v, K_Hβ, K_Fβ, K_Hα, K_Fα, K_γ); Y_F and Y_S of external teeth come from the root geometry
+//! in `tooth_root`. Life factors Z_NT and Y_NT for case-carburised
 //! steel are interpolated log–log between the standard's knots (REFERENCE-DATA §5.5).
 
 use std::f64::consts::PI;
@@ -73,14 +74,7 @@ impl GearPair {
         };
         let awt = inv_inverse(inv(at) + 2.0 * an.tan() * xs / zs);
         let aw = if self.internal { db2 - db1 } else { db1 + db2 } / (2.0 * awt.cos());
-        let (da1, da2) = self.tip_diameters.unwrap_or((
-            d1 + 2.0 * mn * (1.0 + self.shift1),
-            if self.internal {
-                d2 - 2.0 * mn * (1.0 - self.shift2)
-            } else {
-                d2 + 2.0 * mn * (1.0 + self.shift2)
-            },
-        ));
+        let (da1, da2) = self.tip_diameters_or_standard();
         let path = |da: f64, db: f64| ((da / 2.0).powi(2) - (db / 2.0).powi(2)).max(0.0).sqrt();
         let pbt = PI * mt * at.cos();
         let eps_a = if self.internal {
@@ -98,6 +92,21 @@ impl GearPair {
             transverse_contact_ratio: eps_a,
             overlap_ratio: self.face_width * b.sin() / (PI * mn),
         }
+    }
+
+    /// Tip diameters: as given, or d + 2m(1 + x) (external) and d − 2m(1 − x) (ring) without tip
+    /// alteration.
+    pub fn tip_diameters_or_standard(&self) -> (f64, f64) {
+        let mt = self.module / self.helix_angle.cos();
+        let (d1, d2) = (self.z1 as f64 * mt, self.z2 as f64 * mt);
+        self.tip_diameters.unwrap_or((
+            d1 + 2.0 * self.module * (1.0 + self.shift1),
+            if self.internal {
+                d2 - 2.0 * self.module * (1.0 - self.shift2)
+            } else {
+                d2 + 2.0 * self.module * (1.0 + self.shift2)
+            },
+        ))
     }
 
     /// Gear ratio u = z2/z1, negative for an internal pair (ISO 6336 sign).

@@ -1,7 +1,7 @@
-//! Fatigue and vibration analysis of recorded series. So far: rainflow cycle counting,
-//! damage-equivalent loads, S-N curves with Miner's sum, ISO 281 bearing life, Hertz line contact and
-//! operating hours from wind distributions (issue 4 has the rest: LDD, ISO 6336 stresses, spectra,
-//! Campbell).
+//! Fatigue and vibration analysis of recorded series: rainflow counting and matrices, damage-equivalent
+//! loads, load duration distributions, ISO 6336 gear stresses with their root geometry, S-N curves with
+//! Miner's sum, ISO 281 bearing life, Hertz line contact, operating hours from wind distributions,
+//! spectra and Campbell diagrams. Everything reads plain series; nothing here needs an FMU.
 
 pub mod campbell;
 pub mod damage;
@@ -14,4 +14,5 @@ pub mod matrix;
 pub mod rainflow;
 pub mod series;
 pub mod spectrum;
+pub mod tooth_root;
 pub mod wind;

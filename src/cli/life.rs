@@ -9,6 +9,7 @@
 
 use crate::analysis::gear::{self, Factors, GearPair, Tooth, ToothStress};
 use crate::analysis::limits::{LIMITS, limit};
+use crate::analysis::tooth_root::{BasicRack, LoadPoint, root_form};
 use crate::analysis::wind::{WindDistribution, time_factor};
 use crate::analysis::{damage, ldd, life, rainflow, series};
 use anyhow::{Context, bail};
@@ -76,9 +77,17 @@ pub struct LifeArgs {
     /// Application factor K_A
     #[arg(long, default_value_t = 1.0)]
     pub k_a: f64,
-    /// Tooth form and stress correction factors Y_F,Y_S (from the root geometry, ISO 6336-3)
-    #[arg(long, value_delimiter = ',', default_value = "2.6,1.6")]
-    pub y_fs: Vec<f64>,
+    /// Tooth form and stress correction factors Y_F,Y_S [default: from the root geometry, ISO 6336-3
+    /// method B, for external teeth; the ring needs them given]
+    #[arg(long, value_delimiter = ',')]
+    pub y_fs: Option<Vec<f64>>,
+    /// Basic rack of the hob that cut the teeth: dedendum h_fP, root radius ρ_fP (× module)
+    #[arg(long, value_delimiter = ',', default_value = "1.25,0.38")]
+    pub rack: Vec<f64>,
+    /// Which member of --gear the tooth is: 1 (z1) or 2 (z2) [default: sun 1, planet 2 (1 with
+    /// --internal), ring 2, parallel 1]
+    #[arg(long)]
+    pub member: Option<u8>,
     /// Bearing life instead of gear: the bearing's basic dynamic load rating C [N]; the channel is
     /// then its equivalent dynamic load P [N] and --speed its speed [rad/s] (ISO 281 L10, Miner over
     /// the load spectrum)
@@ -361,8 +370,14 @@ fn gear_life(
     if g.len() != 5 || g.iter().any(|v| !v.is_finite()) || g[0] < 3.0 || g[1] < 3.0 || g[2] <= 0.0 || g[4] <= 0.0 {
         bail!("--gear {g:?}: give z1,z2,module [mm],helix [deg],face width [mm] (teeth ≥ 3, module and width > 0)");
     }
-    if args.shift.len() != 2 || args.y_fs.len() != 2 {
-        bail!("--shift and --y-fs take two numbers each");
+    if args.shift.len() != 2 || args.rack.len() != 2 || args.y_fs.as_ref().is_some_and(|y| y.len() != 2) {
+        bail!("--shift, --rack and --y-fs take two numbers each");
+    }
+    if !(args.rack[0] > 0.0 && args.rack[1] >= 0.0 && args.rack[1] < args.rack[0]) {
+        bail!(
+            "--rack {:?}: give the hob's dedendum h_fP > 0 and root radius 0 ≤ ρ_fP < h_fP, in modules",
+            args.rack
+        );
     }
     let speed_name = args
         .speed
@@ -381,20 +396,44 @@ fn gear_life(
         shift2: args.shift[1],
         tip_diameters: None,
     };
-    let factors = Factors {
-        k_a: args.k_a,
-        k_gamma: args.k_gamma,
-        y_f: args.y_fs[0],
-        y_s: args.y_fs[1],
-        ..Factors::default()
-    };
-    let st = ToothStress::steel(pair, factors);
     let tooth = match args.tooth.as_str() {
         "sun" => Tooth::Sun,
         "planet" => Tooth::Planet,
         "ring" => Tooth::Ring,
         _ => Tooth::Parallel,
     };
+    let member = args.member.unwrap_or(match tooth {
+        Tooth::Planet if !args.internal => 2,
+        Tooth::Ring => 2,
+        _ => 1,
+    });
+    let (y_f, y_s, root_note) = match &args.y_fs {
+        Some(y) => (y[0], y[1], "given".to_string()),
+        None => {
+            let rack = BasicRack {
+                dedendum: args.rack[0],
+                root_radius: args.rack[1],
+                protuberance: 0.0,
+            };
+            let r = root_form(&pair, member, &rack, LoadPoint::SinglePairContact)
+                .map_err(|e| anyhow::anyhow!("--gear {g:?}, member {member}: {e} (--y-fs)"))?;
+            let note = format!(
+                "ISO 6336-3 method B, member {member}: s_Fn {:.2} mm, h_Fe {:.2} mm, ρ_F {:.2} mm",
+                r.chord * 1e3,
+                r.bending_arm * 1e3,
+                r.fillet_radius * 1e3
+            );
+            (r.form_factor, r.stress_correction, note)
+        }
+    };
+    let factors = Factors {
+        k_a: args.k_a,
+        k_gamma: args.k_gamma,
+        y_f,
+        y_s,
+        ..Factors::default()
+    };
+    let st = ToothStress::steel(pair, factors);
     let per_rev = tooth.load_cycles(1.0, args.planets);
     let sigma_hlim = limit("gear flank, σ_Hlim MQ").expect("in the table");
     let sigma_fe = 2.0 * limit("gear root, σ_Flim MQ").expect("in the table") * tooth.mean_stress_factor();
@@ -434,6 +473,7 @@ fn gear_life(
         pair.geometry().transverse_contact_ratio,
         pair.geometry().overlap_ratio
     );
+    text.push_str(&format!("Y_F {y_f:.4}, Y_S {y_s:.4} ({root_note})\n"));
     text.push_str(&format!(
         "{:<10} {:>12} {:>12} {:>16} {:>14} {:>14}\n",
         "case", "max σ_H MPa", "max σ_F MPa", "load cycles", "flank damage", "root damage"
@@ -457,7 +497,7 @@ fn gear_life(
     ));
     let json = serde_json::json!({
         "cases": rows.iter().map(|(n, h, f, c, dh, df)| serde_json::json!({"case": n, "max_contact_stress": h, "max_root_stress": f, "load_cycles": c, "flank_damage": dh, "root_damage": df})).collect::<Vec<_>>(),
-        "load_cycles": total_cycles, "z_nt": z_nt, "y_nt": y_nt, "flank_damage": total_h, "root_damage": total_f,
+        "load_cycles": total_cycles, "y_f": y_f, "y_s": y_s, "z_nt": z_nt, "y_nt": y_nt, "flank_damage": total_h, "root_damage": total_f,
         "flank_shutdown_share": shut_h / total_h.max(1e-300), "root_shutdown_share": shut_f / total_f.max(1e-300),
     });
     Ok(Report { text, json })

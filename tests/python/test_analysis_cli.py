@@ -132,6 +132,24 @@ def test_bearing_life_equals_iso_281_miner_sum(windrive, tmp_path):
         assert r["revolutions"] / l10(r["equivalent_load"]) == pytest.approx(r["damage"], rel=1e-12)
 
 
+def test_life_root_factors_from_geometry_or_given(windrive, tmp_path):
+    """Without --y-fs the root factors come from the tooth geometry (ISO 6336-3 method B) and the root
+    stress is F_t/(b m_n) Y_F Y_S K_A (spur, other factors 1); --y-fs overrides them."""
+    t = np.arange(1000) * 0.01
+    f = 2e5 + 1e4 * np.sin(2 * np.pi * t)
+    path = tmp_path / "g.csv"
+    write_csv(path, t, {"f": f, "w": np.full(t.size, 10.0)})
+    base = ["life", "--normal", str(path), "--channel", "f", "--gear", "29,58,16,0,300", "--speed", "w", "--k-a", "1"]
+    computed = windrive_json(windrive, *base)["gear"]
+    given = windrive_json(windrive, *base, "--y-fs", "2.6,1.6")["gear"]
+    assert 1.2 < computed["y_f"] < 2.5 and 1.5 < computed["y_s"] < 2.5
+    assert (given["y_f"], given["y_s"]) == (2.6, 1.6)
+    ft = f.max() * np.cos(np.radians(20))  # mesh force along the line of action -> tangential
+    for g in (computed, given):
+        root = g["cases"][0]["max_root_stress"]
+        assert root == pytest.approx(ft / (0.3 * 0.016) * g["y_f"] * g["y_s"], rel=1e-12)
+
+
 def test_campbell_orders_and_crossings(windrive):
     r = windrive_json(windrive, "campbell", "--preset", "C", "--harmonics", "1")
     orders = {name: (o, thesis) for name, o, thesis in r["orders"]}
@@ -163,6 +181,10 @@ def test_bode_resonance_at_the_first_mode(windrive):
     (["del", "{csv}", "--channel", "x", "--goodman=-1"], ["--goodman -1", "ultimate"]),
     (["life", "--normal", "{csv}", "--channel", "x", "--gear", "1,2"], ["--gear", "z1,z2"]),
     (["life", "--normal", "{csv}", "--channel", "x", "--gear", "20,40,10,0,100"], ["--speed"]),
+    (["life", "--normal", "{csv}", "--channel", "x", "--gear", "20,80,10,0,100", "--internal", "--tooth", "ring",
+      "--speed", "x"], ["ring", "--y-fs"]),
+    (["life", "--normal", "{csv}", "--channel", "x", "--gear", "20,40,10,0,100", "--speed", "x", "--rack", "1.25,2"],
+     ["--rack", "root radius"]),
     (["life", "--normal", "{csv}", "--channel", "x", "--cut-in", "30"], ["--cut-in"]),
     (["life", "--normal", "{csv}", "--channel", "x", "--bearing", "1e6"], ["--bearing needs --speed"]),
     (["life", "--normal", "{csv}", "--channel", "x", "--bearing=-5", "--speed", "x"], ["--bearing -5", "positive"]),
