@@ -332,11 +332,12 @@ impl Tooth {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::analysis::hertz::{LineContact, effective_modulus};
 
-    fn spur(z1: u32, z2: u32, internal: bool) -> GearPair {
+    /// A spur pair of module 10 mm, 20°, face width 100 mm, no profile shift.
+    pub(crate) fn spur(z1: u32, z2: u32, internal: bool) -> GearPair {
         GearPair {
             z1,
             z2,

@@ -269,18 +269,7 @@ mod tests {
 
     #[test]
     fn the_ring_is_refused_by_name() {
-        let pair = GearPair {
-            z1: 20,
-            z2: 80,
-            internal: true,
-            module: 0.01,
-            pressure_angle: 20f64.to_radians(),
-            helix_angle: 0.0,
-            face_width: 0.1,
-            shift1: 0.0,
-            shift2: 0.0,
-            tip_diameters: None,
-        };
+        let pair = crate::analysis::gear::tests::spur(20, 80, true);
         assert!(
             root_form(&pair, 2, &BasicRack::ISO_53_A, LoadPoint::Tip)
                 .unwrap_err()

@@ -187,28 +187,14 @@ pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
         })
         .collect();
 
-    let bearing_report = match args.bearing {
-        None => None,
-        Some(c) => Some(bearing_life(
-            args,
-            c,
-            &normal,
-            shutdown.as_ref(),
-            normal_factor,
-            shutdowns,
-        )?),
+    let lifetime = Lifetime {
+        normal: &normal,
+        shutdown: shutdown.as_ref(),
+        normal_factor,
+        shutdowns,
     };
-    let gear_report = match &args.gear {
-        None => None,
-        Some(g) => Some(gear_life(
-            args,
-            g,
-            &normal,
-            shutdown.as_ref(),
-            normal_factor,
-            shutdowns,
-        )?),
-    };
+    let bearing_report = args.bearing.map(|c| bearing_life(args, c, &lifetime)).transpose()?;
+    let gear_report = args.gear.as_ref().map(|g| gear_life(args, g, &lifetime)).transpose()?;
 
     if args.json {
         let d: Vec<serde_json::Value> = dels
@@ -264,33 +250,30 @@ fn speed(args: &LifeArgs, file: &Path, name: &str) -> anyhow::Result<Vec<f64>> {
     })
 }
 
-/// The cases of a lifetime, each with its file and how often it repeats: normal operation scaled to
-/// the operating hours, the shutdown once per shutdown.
-fn cases<'a>(
-    args: &'a LifeArgs,
+/// What every component's life is made of: normal operation scaled to the operating hours, and the
+/// shutdown repeated once per shutdown.
+struct Lifetime<'a> {
     normal: &'a Case,
     shutdown: Option<&'a Case>,
     normal_factor: f64,
     shutdowns: f64,
-) -> Vec<(&'static str, &'a Case, &'a PathBuf, f64)> {
-    let mut cases = vec![("normal", normal, &args.normal, normal_factor)];
-    if let (Some(s), Some(p)) = (shutdown, &args.shutdown) {
-        cases.push(("shutdown", s, p, shutdowns));
+}
+
+impl Lifetime<'_> {
+    /// Each case with its name, file and how often it repeats in the lifetime.
+    fn cases<'a>(&'a self, args: &'a LifeArgs) -> Vec<(&'static str, &'a Case, &'a PathBuf, f64)> {
+        let mut cases = vec![("normal", self.normal, &args.normal, self.normal_factor)];
+        if let (Some(s), Some(p)) = (self.shutdown, &args.shutdown) {
+            cases.push(("shutdown", s, p, self.shutdowns));
+        }
+        cases
     }
-    cases
 }
 
 /// ISO 281 basic rating life of a bearing loaded by the channel: each case's load spectrum (every
 /// sample's |P| with the revolutions until the next sample) summed by Miner's rule against
 /// L10(P) = (C/P)^p 10⁶ revolutions, repeated as often as the case occurs in the lifetime.
-fn bearing_life(
-    args: &LifeArgs,
-    capacity: f64,
-    normal: &Case,
-    shutdown: Option<&Case>,
-    normal_factor: f64,
-    shutdowns: f64,
-) -> anyhow::Result<Report> {
+fn bearing_life(args: &LifeArgs, capacity: f64, lifetime: &Lifetime) -> anyhow::Result<Report> {
     if !(capacity.is_finite() && capacity > 0.0) {
         bail!("--bearing {capacity}: the dynamic load rating C must be a positive number of newtons");
     }
@@ -302,7 +285,7 @@ fn bearing_life(
     let p = if roller { 10.0 / 3.0 } else { 3.0 };
     let mut rows = Vec::new();
     let (mut damage, mut revolutions, mut weighted, mut shutdown_damage) = (0.0, 0.0, 0.0, 0.0);
-    for (name, case, file, repeat) in cases(args, normal, shutdown, normal_factor, shutdowns) {
+    for (name, case, file, repeat) in lifetime.cases(args) {
         // every sample holds its load for its time step (as in the LDD), with no binning error
         let w = speed(args, file, speed_name)?;
         let spectrum: Vec<(f64, f64)> = (0..case.t.len() - 1)
@@ -359,14 +342,7 @@ struct Report {
     json: serde_json::Value,
 }
 
-fn gear_life(
-    args: &LifeArgs,
-    g: &[f64],
-    normal: &Case,
-    shutdown: Option<&Case>,
-    normal_factor: f64,
-    shutdowns: f64,
-) -> anyhow::Result<Report> {
+fn gear_life(args: &LifeArgs, g: &[f64], lifetime: &Lifetime) -> anyhow::Result<Report> {
     if g.len() != 5 || g.iter().any(|v| !v.is_finite()) || g[0] < 3.0 || g[1] < 3.0 || g[2] <= 0.0 || g[4] <= 0.0 {
         bail!("--gear {g:?}: give z1,z2,module [mm],helix [deg],face width [mm] (teeth ≥ 3, module and width > 0)");
     }
@@ -441,7 +417,7 @@ fn gear_life(
     let (mut total_h, mut total_f, mut total_cycles) = (0.0, 0.0, 0.0);
     let mut shut_h = 0.0;
     let mut shut_f = 0.0;
-    for (name, case, file, repeat) in cases(args, normal, shutdown, normal_factor, shutdowns) {
+    for (name, case, file, repeat) in lifetime.cases(args) {
         let ft: Vec<f64> = case.x.iter().map(|f| st.tangential_from_normal(*f)).collect();
         let sh: Vec<f64> = ft.iter().map(|f| st.contact(*f)).collect();
         let sf: Vec<f64> = ft.iter().map(|f| st.bending(*f)).collect();
