@@ -13,17 +13,25 @@ pub struct LoadDuration {
     pub revolutions: Vec<f64>,
 }
 
+/// Each sample's time step and the revolutions |ω_j|·t_j/2π turned in it (the sample holds until the
+/// next one; the last gets none).
+pub fn sample_revolutions<'a>(time: &'a [f64], speed: &'a [f64]) -> impl Iterator<Item = (f64, f64)> + 'a {
+    time.windows(2).zip(speed).map(|(t, w)| {
+        let dt = t[1] - t[0];
+        (dt, dt * w.abs() / std::f64::consts::TAU)
+    })
+}
+
 /// The LDD of `load` sampled at `time` with shaft speed `speed` (rad/s) in `n` bins over the load's
 /// extent. Each sample holds until the next one (the last sample gets no time).
 pub fn load_duration(time: &[f64], load: &[f64], speed: &[f64], n: usize) -> LoadDuration {
     let bins = Bins::spanning(load.iter().copied(), n);
     let mut seconds = vec![0.0; bins.n];
     let mut revolutions = vec![0.0; bins.n];
-    for j in 0..time.len().saturating_sub(1) {
-        let dt = time[j + 1] - time[j];
+    for (j, (dt, revs)) in sample_revolutions(time, speed).enumerate() {
         let i = bins.index(load[j]);
         seconds[i] += dt;
-        revolutions[i] += dt * speed[j].abs() / (2.0 * std::f64::consts::PI);
+        revolutions[i] += revs;
     }
     LoadDuration {
         bins,

@@ -40,6 +40,16 @@ impl Extent {
 /// Rejects NaN/inf, non-numeric or missing cells and time that does not increase, naming the row;
 /// an unknown column names the columns there are; a file without data rows is an error.
 pub fn stream_channel(path: &Path, channel: &str, mut sample: impl FnMut(f64, f64)) -> Result<Extent, SeriesError> {
+    stream_channels(path, &[channel], |t, x| sample(t, x[0]))
+}
+
+/// As [`stream_channel`] for several columns in one pass: `sample` gets the time and the row's values
+/// in the order of `channels`.
+pub fn stream_channels(
+    path: &Path,
+    channels: &[&str],
+    mut sample: impl FnMut(f64, &[f64]),
+) -> Result<Extent, SeriesError> {
     let p = path.display().to_string();
     let read_error = |e: std::io::Error| SeriesError::Read {
         path: p.clone(),
@@ -54,21 +64,29 @@ pub fn stream_channel(path: &Path, channel: &str, mut sample: impl FnMut(f64, f6
         .split(',')
         .map(|h| h.trim().trim_matches('"').to_string())
         .collect();
-    let column = header
-        .iter()
-        .position(|h| h == channel)
-        .ok_or_else(|| SeriesError::UnknownChannel {
-            path: p.clone(),
-            channel: channel.into(),
-            available: header.join(", "),
-        })?;
-    let time_column = header.iter().position(|h| h == "time").unwrap_or(0);
-    let last_needed = column.max(time_column);
+    // column of each slot: the time first, then the channels
+    let mut columns = vec![header.iter().position(|h| h == "time").unwrap_or(0)];
+    for channel in channels {
+        columns.push(
+            header
+                .iter()
+                .position(|h| h == channel)
+                .ok_or_else(|| SeriesError::UnknownChannel {
+                    path: p.clone(),
+                    channel: channel.to_string(),
+                    available: header.join(", "),
+                })?,
+        );
+    }
+    let last_needed = columns.iter().copied().max().unwrap_or(0);
     let mut extent = Extent {
         samples: 0,
         first_time: f64::NAN,
         last_time: f64::NAN,
     };
+    // byte span of each slot's cell in the current line (empty when the row is short) and its value
+    let mut spans = vec![(0usize, 0usize); columns.len()];
+    let mut values = vec![0.0; columns.len()];
     let mut row = 1;
     loop {
         line.clear();
@@ -79,17 +97,16 @@ pub fn stream_channel(path: &Path, channel: &str, mut sample: impl FnMut(f64, f6
         if line.trim().is_empty() {
             continue;
         }
-        let (mut time_cell, mut value_cell) = ("", "");
+        spans.fill((0, 0));
+        let mut start = 0;
         for (c, cell) in line.split(',').take(last_needed + 1).enumerate() {
-            if c == time_column {
-                time_cell = cell;
+            for (span, _) in spans.iter_mut().zip(&columns).filter(|(_, col)| **col == c) {
+                *span = (start, start + cell.len());
             }
-            if c == column {
-                value_cell = cell;
-            }
+            start += cell.len() + 1;
         }
-        let number = |cell: &str, c: usize| -> Result<f64, SeriesError> {
-            let cell = cell.trim();
+        for ((value, &(from, to)), &c) in values.iter_mut().zip(&spans).zip(&columns) {
+            let cell = line[from..to].trim();
             let v: f64 = cell.parse().map_err(|_| SeriesError::Value {
                 path: p.clone(),
                 row,
@@ -102,9 +119,9 @@ pub fn stream_channel(path: &Path, channel: &str, mut sample: impl FnMut(f64, f6
                     message: format!("{} is {v}", header[c]),
                 });
             }
-            Ok(v)
-        };
-        let (t, x) = (number(time_cell, time_column)?, number(value_cell, column)?);
+            *value = v;
+        }
+        let t = values[0];
         if extent.samples > 0 && t <= extent.last_time {
             return Err(SeriesError::Value {
                 path: p.clone(),
@@ -117,7 +134,7 @@ pub fn stream_channel(path: &Path, channel: &str, mut sample: impl FnMut(f64, f6
         }
         extent.last_time = t;
         extent.samples += 1;
-        sample(t, x);
+        sample(t, &values[1..]);
     }
     if extent.samples == 0 {
         return Err(SeriesError::Empty { path: p });
@@ -125,14 +142,20 @@ pub fn stream_channel(path: &Path, channel: &str, mut sample: impl FnMut(f64, f6
     Ok(extent)
 }
 
-/// Time and one channel of a CSV file, with the checks of [`stream_channel`].
-pub fn read_channel(path: &Path, channel: &str) -> Result<(Vec<f64>, Vec<f64>), SeriesError> {
-    let (mut t, mut x) = (Vec::new(), Vec::new());
-    stream_channel(path, channel, |ti, xi| {
+/// Time and several channels of a CSV file read in one pass, with the checks of [`stream_channel`].
+pub fn read_channels(path: &Path, channels: &[&str]) -> Result<(Vec<f64>, Vec<Vec<f64>>), SeriesError> {
+    let (mut t, mut x) = (Vec::new(), vec![Vec::new(); channels.len()]);
+    stream_channels(path, channels, |ti, row| {
         t.push(ti);
-        x.push(xi);
+        x.iter_mut().zip(row).for_each(|(column, v)| column.push(*v));
     })?;
     Ok((t, x))
+}
+
+/// Time and one channel of a CSV file, with the checks of [`stream_channel`].
+pub fn read_channel(path: &Path, channel: &str) -> Result<(Vec<f64>, Vec<f64>), SeriesError> {
+    let (t, mut x) = read_channels(path, &[channel])?;
+    Ok((t, x.pop().unwrap_or_default()))
 }
 
 #[cfg(test)]
@@ -154,6 +177,9 @@ mod tests {
         assert_eq!(extent.samples, 3);
         assert_eq!(extent.duration(), 1.5);
         assert_eq!(read_channel(&path, "a").unwrap().1, vec![1.0, 3.0, 5.0]);
+        let (t, x) = read_channels(&path, &["b", "time", "a"]).unwrap();
+        assert_eq!(t, vec![0.0, 0.5, 1.5]);
+        assert_eq!(x, vec![vec![2.0, 4.0, 6.0], vec![0.0, 0.5, 1.5], vec![1.0, 3.0, 5.0]]);
     }
 
     #[test]

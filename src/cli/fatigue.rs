@@ -225,12 +225,12 @@ pub fn run_del(args: &DelArgs) -> anyhow::Result<()> {
 }
 
 pub fn run_ldd(args: &LddArgs) -> anyhow::Result<()> {
-    let (t, load) = series::read_channel(&args.file, &args.channel)?;
-    let (_, speed) = series::read_channel(&args.file, &args.speed)?;
+    let (t, columns) = series::read_channels(&args.file, &[&args.channel, &args.speed])?;
+    let (load, speed) = (&columns[0], &columns[1]);
     if args.bins == 0 {
         anyhow::bail!("--bins 0: the distribution needs at least one bin");
     }
-    let l = ldd::load_duration(&t, &load, &speed, args.bins);
+    let l = ldd::load_duration(&t, load, speed, args.bins);
     let rows: Vec<[f64; 3]> = (0..l.bins.n)
         .map(|i| [l.bins.centre(i), l.seconds[i], l.revolutions[i]])
         .collect();

@@ -104,16 +104,30 @@ pub struct LifeArgs {
 struct Case {
     t: Vec<f64>,
     x: Vec<f64>,
+    /// `--speed` less `--relative-to`, when a speed is named
+    speed: Option<Vec<f64>>,
     seconds: f64,
 }
 
-fn read(path: &Path, channel: &str) -> anyhow::Result<Case> {
-    let (t, x) = series::read_channel(path, channel)?;
+/// The load channel and, when named, the speed channels of one file, read in one pass.
+fn read(args: &LifeArgs, path: &Path) -> anyhow::Result<Case> {
+    let mut names = vec![args.channel.as_str()];
+    if let Some(speed) = &args.speed {
+        names.push(speed);
+        names.extend(args.relative_to.as_deref());
+    }
+    let (t, columns) = series::read_channels(path, &names)?;
+    let mut columns = columns.into_iter();
+    let x = columns.next().unwrap_or_default();
+    let speed = columns.next().map(|w| match columns.next() {
+        Some(carrier) => w.iter().zip(&carrier).map(|(a, b)| a - b).collect(),
+        None => w,
+    });
     let seconds = t[t.len() - 1] - t[0];
     if seconds <= 0.0 {
         bail!("{}: the series lasts {seconds} s", path.display());
     }
-    Ok(Case { t, x, seconds })
+    Ok(Case { t, x, speed, seconds })
 }
 
 fn sums(x: &[f64], slopes: &[f64]) -> Vec<f64> {
@@ -167,8 +181,8 @@ pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
     let life_hours = args.years * 8760.0;
     let operating_hours = life_hours * (climate.cdf(args.cut_out) - climate.cdf(args.cut_in));
     let shutdowns = args.shutdowns_per_year * args.years;
-    let normal = read(&args.normal, &args.channel)?;
-    let shutdown = args.shutdown.as_ref().map(|p| read(p, &args.channel)).transpose()?;
+    let normal = read(args, &args.normal)?;
+    let shutdown = args.shutdown.as_ref().map(|p| read(args, p)).transpose()?;
     let normal_factor = time_factor(operating_hours, normal.seconds);
     let life_seconds = life_hours * 3600.0;
 
@@ -238,18 +252,6 @@ pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The `--speed` channel of a file, less `--relative-to` when given.
-fn speed(args: &LifeArgs, file: &Path, name: &str) -> anyhow::Result<Vec<f64>> {
-    let (_, w) = series::read_channel(file, name)?;
-    Ok(match &args.relative_to {
-        Some(r) => {
-            let (_, c) = series::read_channel(file, r)?;
-            w.iter().zip(&c).map(|(a, b)| a - b).collect()
-        }
-        None => w,
-    })
-}
-
 /// What every component's life is made of: normal operation scaled to the operating hours, and the
 /// shutdown repeated once per shutdown.
 struct Lifetime<'a> {
@@ -260,11 +262,11 @@ struct Lifetime<'a> {
 }
 
 impl Lifetime<'_> {
-    /// Each case with its name, file and how often it repeats in the lifetime.
-    fn cases<'a>(&'a self, args: &'a LifeArgs) -> Vec<(&'static str, &'a Case, &'a PathBuf, f64)> {
-        let mut cases = vec![("normal", self.normal, &args.normal, self.normal_factor)];
-        if let (Some(s), Some(p)) = (self.shutdown, &args.shutdown) {
-            cases.push(("shutdown", s, p, self.shutdowns));
+    /// Each case with its name and how often it repeats in the lifetime.
+    fn cases(&self) -> Vec<(&'static str, &Case, f64)> {
+        let mut cases = vec![("normal", self.normal, self.normal_factor)];
+        if let Some(s) = self.shutdown {
+            cases.push(("shutdown", s, self.shutdowns));
         }
         cases
     }
@@ -277,24 +279,19 @@ fn bearing_life(args: &LifeArgs, capacity: f64, lifetime: &Lifetime) -> anyhow::
     if !(capacity.is_finite() && capacity > 0.0) {
         bail!("--bearing {capacity}: the dynamic load rating C must be a positive number of newtons");
     }
-    let speed_name = args
-        .speed
-        .as_deref()
-        .context("--bearing needs --speed: the bearing's life is counted in its revolutions")?;
     let roller = !args.ball;
     let p = if roller { 10.0 / 3.0 } else { 3.0 };
     let mut rows = Vec::new();
     let (mut damage, mut revolutions, mut weighted, mut shutdown_damage) = (0.0, 0.0, 0.0, 0.0);
-    for (name, case, file, repeat) in lifetime.cases(args) {
+    for (name, case, repeat) in lifetime.cases() {
         // every sample holds its load for its time step (as in the LDD), with no binning error
-        let w = speed(args, file, speed_name)?;
-        let spectrum: Vec<(f64, f64)> = (0..case.t.len() - 1)
-            .map(|j| {
-                (
-                    case.x[j].abs(),
-                    (case.t[j + 1] - case.t[j]) * w[j].abs() / std::f64::consts::TAU,
-                )
-            })
+        let w = case
+            .speed
+            .as_deref()
+            .context("--bearing needs --speed: the bearing's life is counted in its revolutions")?;
+        let spectrum: Vec<(f64, f64)> = ldd::sample_revolutions(&case.t, w)
+            .zip(&case.x)
+            .map(|((_, revolutions), load)| (load.abs(), revolutions))
             .collect();
         let d = life::bearing_damage(capacity, &spectrum, roller) * repeat;
         let n: f64 = spectrum.iter().map(|(_, n)| n).sum::<f64>() * repeat;
@@ -355,11 +352,9 @@ fn gear_life(args: &LifeArgs, g: &[f64], lifetime: &Lifetime) -> anyhow::Result<
             args.rack
         );
     }
-    let speed_name = args
-        .speed
-        .as_deref()
-        .context("--gear needs --speed: the load cycles come from the gear's revolutions")?;
-    let speed_of = |file: &Path| speed(args, file, speed_name);
+    if args.speed.is_none() {
+        bail!("--gear needs --speed: the load cycles come from the gear's revolutions");
+    }
     let pair = GearPair {
         z1: g[0] as u32,
         z2: g[1] as u32,
@@ -417,13 +412,13 @@ fn gear_life(args: &LifeArgs, g: &[f64], lifetime: &Lifetime) -> anyhow::Result<
     let (mut total_h, mut total_f, mut total_cycles) = (0.0, 0.0, 0.0);
     let mut shut_h = 0.0;
     let mut shut_f = 0.0;
-    for (name, case, file, repeat) in lifetime.cases(args) {
+    for (name, case, repeat) in lifetime.cases() {
         let ft: Vec<f64> = case.x.iter().map(|f| st.tangential_from_normal(*f)).collect();
         let sh: Vec<f64> = ft.iter().map(|f| st.contact(*f)).collect();
         let sf: Vec<f64> = ft.iter().map(|f| st.bending(*f)).collect();
-        let w = speed_of(file)?;
-        let (dh, n) = stress_damage(&case.t, &sh, &w, per_rev, sigma_hlim, gear::contact_cycles_to_failure);
-        let (df, _) = stress_damage(&case.t, &sf, &w, per_rev, sigma_fe, gear::bending_cycles_to_failure);
+        let w = case.speed.as_deref().context("read with --speed")?;
+        let (dh, n) = stress_damage(&case.t, &sh, w, per_rev, sigma_hlim, gear::contact_cycles_to_failure);
+        let (df, _) = stress_damage(&case.t, &sf, w, per_rev, sigma_fe, gear::bending_cycles_to_failure);
         let max = |v: &[f64]| v.iter().cloned().fold(0.0, f64::max);
         rows.push((name, max(&sh), max(&sf), n * repeat, dh * repeat, df * repeat));
         total_h += dh * repeat;
