@@ -1,6 +1,7 @@
 //! Pure Rust models: no FFI, no globals. Every test of the physics runs without an FMU.
 
 pub mod aero;
+pub mod brake;
 pub mod drivetrain;
 pub mod generator;
 pub mod modes;

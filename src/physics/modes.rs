@@ -1,8 +1,11 @@
-//! Natural frequencies and mode shapes of a torsional model: K x = ω² M x, solved by the Cholesky
-//! reduction (M is diagonal, so L = √M): A = M^{-1/2} K M^{-1/2} is symmetric, its eigenvectors y give
-//! M-orthonormal modes x = M^{-1/2} y (STYLE.md habit 11: no QZ for a symmetric pencil).
+//! Natural frequencies and mode shapes: K x = ω² M x of any linearised model ([`modal_analysis`]),
+//! solved by the Cholesky reduction M = L·Lᵀ, A = L⁻¹ K L⁻ᵀ symmetric, modes x = L⁻ᵀ y
+//! (M-orthonormal; no QZ for a symmetric pencil), and the torsional drivetrain's boundaries.
 
 use super::torsional::TorsionalModel;
+use crate::solver::system::{Linearisation, SecondOrderSystem};
+
+use nalgebra::DMatrix;
 use serde::Serialize;
 
 /// How the generator end is held.
@@ -39,8 +42,6 @@ pub struct Modes {
     pub dominant_dof: Vec<usize>,
 }
 
-/// M-orthonormal eigenpairs of K x = ω² M x under `boundary`: (the DOFs kept, ω² per pair, and
-/// x as columns over the kept DOFs, in the model's own coordinates).
 /// The stiffness matrix `k` under a generator boundary (K_gen to ground when connected) and the DOFs
 /// that stay free (all but the generator when the HSS is locked).
 pub fn with_boundary(
@@ -59,18 +60,102 @@ pub fn with_boundary(
     (k, keep)
 }
 
+/// M-orthonormal eigenpairs of K x = ω² M x restricted to the DOFs `keep`, for any symmetric
+/// positive definite M (diagonal or with 6×6 body blocks): M = L·Lᵀ, A = L⁻¹·K·L⁻ᵀ is symmetric, its
+/// eigenvectors y give x = L⁻ᵀ·y. Returns (ω² per pair, x as columns over the kept DOFs).
+pub fn eigenpairs_of(mass: &DMatrix<f64>, stiffness: &DMatrix<f64>, keep: &[usize]) -> (Vec<f64>, DMatrix<f64>) {
+    let n = keep.len();
+    let m = DMatrix::from_fn(n, n, |i, j| mass[(keep[i], keep[j])]);
+    let k = DMatrix::from_fn(n, n, |i, j| stiffness[(keep[i], keep[j])]);
+    let l = m.cholesky().expect("the mass matrix is positive definite").l();
+    let l_inv_k = l.solve_lower_triangular(&k).expect("L is invertible");
+    let a = l.solve_lower_triangular(&l_inv_k.transpose()).expect("L is invertible");
+    // symmetrise the rounding before the symmetric solver
+    let a = (&a + a.transpose()) * 0.5;
+    let eig = nalgebra::SymmetricEigen::new(a);
+    let x = l
+        .transpose()
+        .solve_upper_triangular(&eig.eigenvectors)
+        .expect("L is invertible");
+    (eig.eigenvalues.iter().copied().collect(), x)
+}
+
+/// Natural frequencies and shapes of any linearised model over the DOFs `keep`, sorted by
+/// frequency. Shapes are divided by `reference` per DOF (e.g. each DOF's speed ratio, so rigid
+/// rotation is flat), cover every DOF (0 where not kept) and peak at 1; the dominant DOF holds the
+/// largest share of the mode's kinetic energy (M_dd·x_d²).
+pub fn modal_analysis(lin: &Linearisation, keep: &[usize], dof_names: &[String], reference: &[f64]) -> Modes {
+    let (eigenvalues, x) = eigenpairs_of(&lin.mass, &lin.stiffness, keep);
+    let n = keep.len();
+    let dofs = lin.mass.nrows();
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| eigenvalues[a].total_cmp(&eigenvalues[b]));
+    let scale = eigenvalues.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut frequencies_hz = Vec::with_capacity(n);
+    let mut shapes = Vec::with_capacity(n);
+    let mut dominant_dof = Vec::with_capacity(n);
+    for &m in &order {
+        // the rigid-body eigenvalue comes out as round-off of either sign
+        let lambda = if eigenvalues[m].abs() < 1e-12 * scale {
+            0.0
+        } else {
+            eigenvalues[m].max(0.0)
+        };
+        frequencies_hz.push(lambda.sqrt() / std::f64::consts::TAU);
+        let mut shape = vec![0.0; dofs];
+        let mut energy = (0, 0.0);
+        for (i, &d) in keep.iter().enumerate() {
+            let xd = x[(i, m)];
+            let e = lin.mass[(d, d)] * xd * xd;
+            if e > energy.1 {
+                energy = (d, e);
+            }
+            shape[d] = xd / reference[d];
+        }
+        dominant_dof.push(energy.0);
+        let peak = shape
+            .iter()
+            .cloned()
+            .fold(0.0f64, |p, v| if v.abs() > p.abs() { v } else { p });
+        if peak != 0.0 {
+            shape.iter_mut().for_each(|v| *v /= peak);
+        }
+        shapes.push(shape);
+    }
+    Modes {
+        dof_names: dof_names.to_vec(),
+        frequencies_hz,
+        shapes,
+        dominant_dof,
+    }
+}
+
+/// The torsional model linearised (every mesh in contact at its mean stiffness) under `boundary`,
+/// and the DOFs that stay free.
+pub fn linearised(model: &TorsionalModel, boundary: Boundary, k_generator: f64) -> (Linearisation, Vec<usize>) {
+    // nominal stiffness everywhere: a mesh with backlash is linearised in contact, a time-varying
+    // one at its mean
+    let (k, damping) = model.stiffness_and_damping();
+    let (stiffness, keep) = with_boundary(model, k, boundary, k_generator);
+    let mass = model.mass().to_matrix();
+    (
+        Linearisation {
+            mass,
+            damping,
+            stiffness,
+        },
+        keep,
+    )
+}
+
 fn eigenpairs(
     model: &TorsionalModel,
     boundary: Boundary,
     k_generator: f64,
 ) -> (Vec<usize>, Vec<f64>, nalgebra::DMatrix<f64>) {
-    let (k, keep) = with_boundary(model, model.stiffness_matrix(), boundary, k_generator);
-    let n = keep.len();
-    let inv_sqrt: Vec<f64> = keep.iter().map(|&d| 1.0 / model.mass[d].sqrt()).collect();
-    let a = nalgebra::DMatrix::from_fn(n, n, |i, j| k[(keep[i], keep[j])] * inv_sqrt[i] * inv_sqrt[j]);
-    let eig = nalgebra::SymmetricEigen::new(a);
-    let x = nalgebra::DMatrix::from_fn(n, n, |i, m| eig.eigenvectors[(i, m)] * inv_sqrt[i]);
-    (keep, eig.eigenvalues.iter().copied().collect(), x)
+    let (lin, keep) = linearised(model, boundary, k_generator);
+    let (lambda, x) = eigenpairs_of(&lin.mass, &lin.stiffness, &keep);
+    (keep, lambda, x)
 }
 
 /// Exact response of the undamped linear model, at rest in its reference state, to a torque
@@ -108,45 +193,6 @@ pub fn undamped_step_response(
 }
 
 pub fn modes(model: &TorsionalModel, boundary: Boundary, k_generator: f64) -> Modes {
-    let (keep, eigenvalues, x) = eigenpairs(model, boundary, k_generator);
-    let n = keep.len();
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&a, &b| eigenvalues[a].total_cmp(&eigenvalues[b]));
-    let scale = eigenvalues.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let mut frequencies_hz = Vec::with_capacity(n);
-    let mut shapes = Vec::with_capacity(n);
-    let mut dominant_dof = Vec::with_capacity(n);
-    for &m in &order {
-        // the rigid-body eigenvalue comes out as round-off of either sign
-        let lambda = if eigenvalues[m].abs() < 1e-12 * scale {
-            0.0
-        } else {
-            eigenvalues[m].max(0.0)
-        };
-        frequencies_hz.push(lambda.sqrt() / std::f64::consts::TAU);
-        let mut shape = vec![0.0; model.dofs()];
-        let mut energy = (0, 0.0);
-        for (i, &d) in keep.iter().enumerate() {
-            let xd = x[(i, m)];
-            if model.mass[d] * xd * xd > energy.1 {
-                energy = (d, model.mass[d] * xd * xd);
-            }
-            shape[d] = xd / model.speed_ratio[d];
-        }
-        dominant_dof.push(energy.0);
-        let peak = shape
-            .iter()
-            .cloned()
-            .fold(0.0f64, |p, v| if v.abs() > p.abs() { v } else { p });
-        if peak != 0.0 {
-            shape.iter_mut().for_each(|v| *v /= peak);
-        }
-        shapes.push(shape);
-    }
-    Modes {
-        dof_names: model.dof_names.clone(),
-        frequencies_hz,
-        shapes,
-        dominant_dof,
-    }
+    let (lin, keep) = linearised(model, boundary, k_generator);
+    modal_analysis(&lin, &keep, &model.dof_names, &model.speed_ratio)
 }

@@ -1,9 +1,11 @@
-//! Frequency response (Bode) of the linear drivetrain: a torque at the rotor or the generator in,
+//! Frequency response of any linearised model ([`dynamic_response`]) and the Bode plots of the
+//! linear drivetrain: a torque at the rotor or the generator in,
 //! a speed or a shaft torque out, from the dynamic stiffness K − ω²M + jωC (every mesh at its mean
 //! stiffness, no backlash) with the generator boundary of the modal analysis (locked = DOF removed).
 
-use crate::physics::modes::{Boundary, with_boundary};
+use crate::physics::modes::{Boundary, linearised};
 use crate::physics::torsional::TorsionalModel;
+use crate::solver::system::Linearisation;
 use nalgebra::{DMatrix, DVector};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -23,7 +25,73 @@ pub enum Output {
 }
 
 /// (DOF, weight) pairs whose sum of angles is the output's deflection.
-type Weights = Vec<(usize, f64)>;
+pub type Weights = Vec<(usize, f64)>;
+
+/// What a response reads: Σ w_d·x_d over (DOF, weight) pairs, as a speed (jω·x) or as the force of
+/// an element with stiffness and damping (k + jωc)·δ.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Observation {
+    Speed(Weights),
+    ElementForce {
+        deflection: Weights,
+        stiffness: f64,
+        damping: f64,
+    },
+}
+
+/// Complex response (re, im) of an observation per unit force vector `load` at each frequency (Hz)
+/// of any linearised model restricted to the DOFs `keep`: solves (K − ω²M + jωC)·x = load in real
+/// arithmetic.
+pub fn dynamic_response(
+    lin: &Linearisation,
+    keep: &[usize],
+    load: &[f64],
+    observation: &Observation,
+    frequencies_hz: &[f64],
+) -> Result<Vec<(f64, f64)>, String> {
+    let n = keep.len();
+    let pos = |d: usize| keep.iter().position(|&x| x == d);
+    let weights = match observation {
+        Observation::Speed(w) => w,
+        Observation::ElementForce { deflection, .. } => deflection,
+    };
+    let mut out = Vec::with_capacity(frequencies_hz.len());
+    for &f in frequencies_hz {
+        let w = std::f64::consts::TAU * f;
+        // [K − ω²M, −ωC; ωC, K − ω²M] [x_re; x_im] = [F; 0]
+        let mut a = DMatrix::zeros(2 * n, 2 * n);
+        for (i, &di) in keep.iter().enumerate() {
+            for (j, &dj) in keep.iter().enumerate() {
+                let kr = lin.stiffness[(di, dj)] - w * w * lin.mass[(di, dj)];
+                a[(i, j)] = kr;
+                a[(n + i, n + j)] = kr;
+                a[(i, n + j)] = -w * lin.damping[(di, dj)];
+                a[(n + i, j)] = w * lin.damping[(di, dj)];
+            }
+        }
+        let b = DVector::from_fn(2 * n, |i, _| if i < n { load[keep[i]] } else { 0.0 });
+        let x = a
+            .lu()
+            .solve(&b)
+            .ok_or(format!("the dynamic stiffness is singular at {f} Hz"))?;
+        let (mut re, mut im) = (0.0, 0.0);
+        for &(d, wt) in weights {
+            if let Some(p) = pos(d) {
+                re += wt * x[p];
+                im += wt * x[n + p];
+            }
+        }
+        out.push(match observation {
+            // (k + jωc)(re + j im)
+            Observation::ElementForce { stiffness, damping, .. } => {
+                (stiffness * re - w * damping * im, stiffness * im + w * damping * re)
+            }
+            // jω(re + j im)
+            Observation::Speed(_) => (-w * im, w * re),
+        });
+    }
+    Ok(out)
+}
 
 /// Complex response (re, im) of `output` per unit `input` at each frequency (Hz).
 pub fn frequency_response(
@@ -34,20 +102,20 @@ pub fn frequency_response(
     output: Output,
     frequencies_hz: &[f64],
 ) -> Result<Vec<(f64, f64)>, String> {
-    let (k, c) = model.stiffness_and_damping();
-    let (k, keep) = with_boundary(model, k, boundary, k_generator);
+    let (lin, keep) = linearised(model, boundary, k_generator);
     let g = model.generator;
-    let n = keep.len();
-    let pos = |d: usize| keep.iter().position(|&x| x == d);
     let (load_dof, sign) = match input {
         Input::RotorTorque => (model.rotor, 1.0),
         Input::GeneratorTorque => (g, -1.0),
     };
-    let load = pos(load_dof).ok_or("the generator is locked: it takes no torque input")?;
-    // output = Σ w_d·(a + jω b)·x_d: speeds are jω·x, shaft torques (k + jωc)·δ(x)
-    let (weights, elastic): (Weights, Option<(f64, f64)>) = match output {
-        Output::RotorSpeed => (vec![(model.rotor, 1.0)], None),
-        Output::GeneratorSpeed => (vec![(g, 1.0)], None),
+    if !keep.contains(&load_dof) {
+        return Err("the generator is locked: it takes no torque input".into());
+    }
+    let mut load = vec![0.0; model.dofs()];
+    load[load_dof] = sign;
+    let observation = match output {
+        Output::RotorSpeed => Observation::Speed(vec![(model.rotor, 1.0)]),
+        Output::GeneratorSpeed => Observation::Speed(vec![(g, 1.0)]),
         Output::Shaft(i) => {
             let o = model
                 .shafts
@@ -56,48 +124,14 @@ pub fn frequency_response(
                 .flatten()
                 .ok_or(format!("this model has no shaft {i}"))?;
             let e = &model.elements[o.element];
-            (
-                e.coeffs.iter().map(|&(d, w)| (d, w * o.factor)).collect(),
-                Some((e.stiffness, e.damping)),
-            )
+            Observation::ElementForce {
+                deflection: e.coeffs.iter().map(|&(d, w)| (d, w * o.factor)).collect(),
+                stiffness: e.stiffness,
+                damping: e.damping,
+            }
         }
     };
-    let mut out = Vec::with_capacity(frequencies_hz.len());
-    for &f in frequencies_hz {
-        let w = std::f64::consts::TAU * f;
-        // [K − ω²M, −ωC; ωC, K − ω²M] [x_re; x_im] = [F; 0]
-        let mut a = DMatrix::zeros(2 * n, 2 * n);
-        for (i, &di) in keep.iter().enumerate() {
-            for (j, &dj) in keep.iter().enumerate() {
-                let kr = k[(di, dj)] - if i == j { w * w * model.mass[di] } else { 0.0 };
-                a[(i, j)] = kr;
-                a[(n + i, n + j)] = kr;
-                a[(i, n + j)] = -w * c[(di, dj)];
-                a[(n + i, j)] = w * c[(di, dj)];
-            }
-        }
-        let mut b = DVector::zeros(2 * n);
-        b[load] = sign;
-        let x = a
-            .lu()
-            .solve(&b)
-            .ok_or(format!("the dynamic stiffness is singular at {f} Hz"))?;
-        let (mut re, mut im) = (0.0, 0.0);
-        for &(d, wt) in &weights {
-            if let Some(p) = pos(d) {
-                re += wt * x[p];
-                im += wt * x[n + p];
-            }
-        }
-        let (re, im) = match elastic {
-            // (k + jωc)(re + j im)
-            Some((ks, cs)) => (ks * re - w * cs * im, ks * im + w * cs * re),
-            // jω(re + j im)
-            None => (-w * im, w * re),
-        };
-        out.push((re, im));
-    }
-    Ok(out)
+    dynamic_response(&lin, &keep, &load, &observation, frequencies_hz)
 }
 
 #[cfg(test)]

@@ -8,7 +8,10 @@
 //! lumps all stages into the generator side with the shafts in series, so all three agree on the
 //! static torque distribution and the low modes.
 
+use super::brake::DiskBrake;
 use super::drivetrain::{Drivetrain, Stage};
+use crate::solver::system::{Friction, InputLoad, Linearity, Mass, SecondOrderSystem};
+use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
@@ -41,6 +44,30 @@ pub struct ModelOptions {
     /// (k_double − k_single) / k_mean; 0 = constant mesh stiffness.
     pub mesh_stiffness_variation: f64,
     pub contact_ratio: f64,
+    /// How the reduced (2- and 5-mass) models lump the planets.
+    pub lumping: Lumping,
+}
+
+/// Whose 5-mass lumping the reduced models use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Lumping {
+    /// Every body's kinetic energy at rigid rotation, the planets' spin included: the reduced models
+    /// keep the full model's rigid-body inertia (the default, physically consistent).
+    #[default]
+    Physical,
+    /// The thesis's Eq. 4.9, J2 = J_pc + N1²·J_s: the planets' spin inertia is left out (moves D's
+    /// fourth 5-mass mode by 8.6 %).
+    Thesis,
+}
+
+impl Lumping {
+    pub fn parse(s: &str) -> Option<Self> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "physical" => Some(Self::Physical),
+            "thesis" => Some(Self::Thesis),
+            _ => None,
+        }
+    }
 }
 
 impl Default for ModelOptions {
@@ -52,6 +79,7 @@ impl Default for ModelOptions {
             mesh_backlash: 0.0,
             mesh_stiffness_variation: 0.0,
             contact_ratio: 1.6,
+            lumping: Lumping::Physical,
         }
     }
 }
@@ -212,7 +240,19 @@ pub struct TorsionalModel {
     pub backlash: bool,
     /// Some mesh has time-varying stiffness.
     pub stiffness_variation: bool,
+    /// The HSS brake on the generator DOF (none until the owner sets one).
+    pub brake: DiskBrake,
+    /// Rotor torque drives the rotor, generator torque opposes the generator (the inputs
+    /// [`INPUT_ROTOR_TORQUE`] and [`INPUT_GENERATOR_TORQUE`]).
+    pub input_loads: [InputLoad; 2],
 }
+
+/// The model's inputs, in this order: rotor torque (N·m, driving), generator torque (N·m,
+/// electromagnetic, opposing rotation), brake command (0–1).
+pub const INPUT_ROTOR_TORQUE: usize = 0;
+pub const INPUT_GENERATOR_TORQUE: usize = 1;
+pub const INPUT_BRAKE_COMMAND: usize = 2;
+pub const INPUT_COUNT: usize = 3;
 
 struct FullBody {
     slot: Option<usize>,
@@ -221,6 +261,8 @@ struct FullBody {
     ratio: f64,
     /// Index of the stage the body belongs to (None for rotor and generator).
     stage: Option<usize>,
+    /// A planet: its spin inertia is what the thesis's 5-mass lumping leaves out.
+    planet: bool,
 }
 
 struct Assembly {
@@ -249,6 +291,7 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
         inertia: dt.j_rotor,
         ratio: 1.0,
         stage: None,
+        planet: false,
     }];
     let mut elements = Vec::new();
     let mut mesh_slots = Vec::new();
@@ -289,6 +332,7 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
                     inertia: p.j_carrier,
                     ratio,
                     stage: Some(s),
+                    planet: false,
                 });
                 let carrier = input;
                 let first_planet = bodies.len();
@@ -299,6 +343,7 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
                         inertia: p.j_planet,
                         ratio: planet_ratio,
                         stage: Some(s),
+                        planet: true,
                     });
                 }
                 let sun = bodies.len();
@@ -308,6 +353,7 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
                     inertia: p.j_sun,
                     ratio: ratio * stage.ratio(),
                     stage: Some(s),
+                    planet: false,
                 });
                 let k_rp = p.k_ring_planet / (r_s * r_s);
                 let k_sp = p.k_sun_planet / (r_s * r_s);
@@ -365,6 +411,7 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
                     inertia: p.j_gear,
                     ratio,
                     stage: Some(s),
+                    planet: false,
                 });
                 let pinion = bodies.len();
                 bodies.push(FullBody {
@@ -373,6 +420,7 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
                     inertia: p.j_pinion,
                     ratio: ratio * stage.ratio(),
                     stage: Some(s),
+                    planet: false,
                 });
                 let k = p.k_mesh / (r_p * r_p);
                 let m_eq = 1.0 / (r_g * r_g / p.j_gear + r_p * r_p / p.j_pinion);
@@ -408,6 +456,7 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
         inertia: dt.j_generator,
         ratio,
         stage: None,
+        planet: false,
     });
     // Shafts go first in the element list: element i = shaft i.
     let mut shafts = Vec::new();
@@ -513,8 +562,11 @@ impl TorsionalModel {
         let n = names.len();
         let mut mass = vec![0.0; n];
         let mut speed_ratio = vec![0.0; n];
+        let omit_planets = fidelity != Fidelity::Full && opt.lumping == Lumping::Thesis;
         for (b, &(g, f)) in full.bodies.iter().zip(&group) {
-            mass[g] += b.inertia * f * f;
+            if !(omit_planets && b.planet) {
+                mass[g] += b.inertia * f * f;
+            }
             speed_ratio[g] = b.ratio / f;
         }
         let mut bodies = vec![None; BODY_SLOTS.len()];
@@ -611,6 +663,19 @@ impl TorsionalModel {
         Ok(Self {
             backlash,
             stiffness_variation,
+            brake: DiskBrake::default(),
+            input_loads: [
+                InputLoad {
+                    input: INPUT_ROTOR_TORQUE,
+                    dof: 0,
+                    gain: 1.0,
+                },
+                InputLoad {
+                    input: INPUT_GENERATOR_TORQUE,
+                    dof: generator,
+                    gain: -1.0,
+                },
+            ],
             fidelity,
             dof_names: names,
             mass,
@@ -720,5 +785,105 @@ impl TorsionalModel {
             q[d] = x[i];
         }
         Ok(q)
+    }
+}
+
+impl TorsionalModel {
+    /// Kinetic energy plus the elastic energy of every element in contact, J.
+    pub fn stored_energy(&self, q: &[f64], v: &[f64]) -> f64 {
+        let kinetic: f64 = self.mass.iter().zip(v).map(|(m, w)| 0.5 * m * w * w).sum();
+        let elastic: f64 = self
+            .elements
+            .iter()
+            .map(|e| {
+                let (x, _) = e.contact(e.deflection(q));
+                0.5 * e.stiffness_at(q) * x * x
+            })
+            .sum();
+        kinetic + elastic
+    }
+
+    /// Force in element `o` (times its output factor) at the state (q, v).
+    pub fn element_output(&self, o: Option<ForceOutput>, q: &[f64], v: &[f64]) -> f64 {
+        let Some(o) = o else { return 0.0 };
+        let e = &self.elements[o.element];
+        o.factor * e.force(e.stiffness_at(q), e.deflection(q), e.deflection(v))
+    }
+}
+
+/// Two pattern bits per element (flanks touching, double tooth contact), packed into u64 words.
+fn set_bit(key: &mut Vec<u64>, bit: usize) {
+    let word = bit / 64;
+    if key.len() <= word {
+        key.resize(word + 1, 0);
+    }
+    key[word] |= 1 << (bit % 64);
+}
+
+impl SecondOrderSystem for TorsionalModel {
+    fn dofs(&self) -> usize {
+        self.mass.len()
+    }
+
+    fn linearity(&self) -> Linearity {
+        if self.backlash || self.stiffness_variation {
+            Linearity::PiecewiseLinear
+        } else {
+            Linearity::Linear
+        }
+    }
+
+    fn mass(&self) -> Mass<'_> {
+        Mass::Diagonal(&self.mass)
+    }
+
+    fn input_loads(&self) -> &[InputLoad] {
+        &self.input_loads
+    }
+
+    fn internal_forces(&self, _t: f64, q: &[f64], v: &[f64], out: &mut [f64]) {
+        out.iter_mut().for_each(|x| *x = 0.0);
+        for e in &self.elements {
+            let f = e.force(e.stiffness_at(q), e.deflection(q), e.deflection(v));
+            for &(d, g) in &e.coeffs {
+                out[d] += g * f;
+            }
+        }
+    }
+
+    fn add_tangent(&self, _t: f64, q: &[f64], _v: &[f64], c_c: f64, c_k: f64, j: &mut DMatrix<f64>) {
+        self.assemble_into(j, |_, e| {
+            if e.contact(e.deflection(q)).1 {
+                c_k * e.stiffness_at(q) + c_c * e.damping
+            } else {
+                0.0
+            }
+        });
+    }
+
+    fn factor_key(&self, _t: f64, q: &[f64], key: &mut Vec<u64>) {
+        key.clear();
+        if !self.backlash && !self.stiffness_variation {
+            return;
+        }
+        key.push(0);
+        for (i, e) in self.elements.iter().enumerate() {
+            if e.half_backlash > 0.0 && e.contact(e.deflection(q)).1 {
+                set_bit(key, 2 * i);
+            }
+            if let Some(v) = &e.variation
+                && v.stiffness(q[v.dof]) == v.k_double
+            {
+                set_bit(key, 2 * i + 1);
+            }
+        }
+    }
+
+    fn friction(&self, u: &[f64]) -> Option<Friction> {
+        self.brake.friction(self.generator, u[INPUT_BRAKE_COMMAND])
+    }
+
+    fn rigid_mode(&self) -> Option<(&[f64], usize)> {
+        Some((&self.speed_ratio, self.rotor))
     }
 }

@@ -4,9 +4,11 @@
 use crate::fmi2::slave::{Log, Slave, SlaveError, SlaveResult};
 use crate::models::torsional as xml;
 use crate::models::torsional::vr;
+use crate::physics::brake::DiskBrake;
 use crate::physics::drivetrain::Drivetrain;
-use crate::physics::torsional::{Fidelity, ModelOptions, TorsionalModel};
-use crate::solver::{self, DynState, Loads, Scratch, newmark::Newmark, rk4};
+use crate::physics::torsional::{Fidelity, INPUT_COUNT, ModelOptions, TorsionalModel};
+use crate::solver::alpha::Alpha;
+use crate::solver::{Driver, DynState, Method, Statistics, rk4};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
@@ -58,14 +60,10 @@ impl Inputs {
         std::array::from_fn(|i| self.values[i] + dt * self.derivatives[i][0] + 0.5 * dt * dt * self.derivatives[i][1])
     }
 
-    /// The loads `dt` seconds after the communication point; the brake command is clamped to [0, 1].
-    fn loads(&self, dt: f64, brake_torque_max: f64) -> Loads {
-        let u = self.at(dt);
-        Loads {
-            rotor_torque: u[0],
-            generator_torque: u[1],
-            brake_capacity: u[2].clamp(0.0, 1.0) * brake_torque_max,
-        }
+    /// The model's inputs `dt` seconds after the communication point (rotor torque, generator torque,
+    /// brake command; the model clamps the command to [0, 1]).
+    fn write(&self, dt: f64, u: &mut [f64]) {
+        u.copy_from_slice(&self.at(dt));
     }
 
     /// Moves the expansion point forward by `h` so the polynomial continues if nobody sets new values.
@@ -87,6 +85,17 @@ pub struct Built {
     pub rk4_step_limit: f64,
 }
 
+impl Built {
+    fn method(&self) -> Method {
+        match self.integrator {
+            Integrator::Implicit => Method::Implicit(Alpha::NEWMARK),
+            Integrator::Rk4 => Method::Rk4 {
+                stability_limit: self.rk4_step_limit,
+            },
+        }
+    }
+}
+
 #[derive(Clone, Serialize, Deserialize)]
 pub struct TorsionalSlave {
     pub params: Params,
@@ -95,12 +104,12 @@ pub struct TorsionalSlave {
     state: Option<DynState>,
     #[serde(skip)]
     built: Option<Arc<Built>>,
-    #[serde(skip)]
-    newmark: Newmark,
-    #[serde(skip)]
-    rk4: rk4::Rk4,
-    #[serde(skip)]
-    scratch: Scratch,
+    #[serde(skip, default = "implicit_driver")]
+    driver: Driver,
+}
+
+fn implicit_driver() -> Driver {
+    Driver::new(Method::Implicit(Alpha::NEWMARK))
 }
 
 fn err(msg: impl Into<String>) -> SlaveError {
@@ -143,12 +152,17 @@ impl Params {
             mesh_backlash: self.mesh_backlash,
             mesh_stiffness_variation: self.mesh_stiffness_variation,
             contact_ratio: self.contact_ratio,
+            ..ModelOptions::default()
         };
-        let model = TorsionalModel::new(&drivetrain, fidelity, &options).map_err(err)?;
+        let mut model = TorsionalModel::new(&drivetrain, fidelity, &options).map_err(err)?;
         let brake_torque_max = if self.brake_torque_max > 0.0 {
             self.brake_torque_max
         } else {
             1.5 * drivetrain.rated_generator_torque()
+        };
+        model.brake = DiskBrake {
+            torque_max: brake_torque_max,
+            static_ratio: self.brake_static_ratio,
         };
         let rk4_step_limit = rk4::stability_limit(model.max_angular_frequency());
         Ok(Built {
@@ -176,16 +190,16 @@ impl TorsionalSlave {
             inputs: Inputs::default(),
             state: None,
             built: None,
-            newmark: Newmark::new(),
-            rk4: rk4::Rk4::default(),
-            scratch: Scratch::default(),
+            driver: implicit_driver(),
         }
     }
 
     /// The built model and state, created from the current parameters on first use.
     pub fn ensure(&mut self) -> SlaveResult<(&Built, &mut DynState)> {
         if self.built.is_none() {
-            self.built = Some(Arc::new(self.params.build()?));
+            let built = self.params.build()?;
+            self.driver = Driver::new(built.method());
+            self.built = Some(Arc::new(built));
         }
         let built = self.built.as_ref().unwrap();
         if self.state.is_none() {
@@ -200,48 +214,16 @@ impl TorsionalSlave {
     }
 
     fn element_output(built: &Built, st: &DynState, out: Option<crate::physics::torsional::ForceOutput>) -> f64 {
-        let Some(o) = out else { return 0.0 };
-        let e = &built.model.elements[o.element];
-        o.factor * e.force(e.stiffness_at(&st.q), e.deflection(&st.q), e.deflection(&st.v))
+        built.model.element_output(out, &st.q, &st.v)
     }
 
-    /// Statistics of the implicit integrator: (factorisations, Newton iterations).
-    pub fn solver_statistics(&self) -> (u64, u64) {
-        (self.newmark.factorizations, self.newmark.iterations)
+    /// The integrator's work counters since the model was built.
+    pub fn solver_statistics(&self) -> Statistics {
+        self.driver.stats
     }
 
     pub fn built(&mut self) -> SlaveResult<&Built> {
         Ok(self.ensure()?.0)
-    }
-}
-
-/// Deepest halving of an implicit substep whose backlash contact does not settle: 2⁻¹² of a
-/// substep (0.24 µs at 1 ms) resolves any mesh contact event of these drivetrains.
-const MAX_SUBDIVISION: u32 = 12;
-
-/// One implicit step over the interval `span` (seconds after the communication point), halved
-/// recursively while a backlash contact event inside it keeps the Newton iteration from settling.
-fn implicit_step(
-    newmark: &mut Newmark,
-    built: &Built,
-    st: &mut DynState,
-    inputs: &Inputs,
-    span: (f64, f64),
-    static_ratio: f64,
-    depth: u32,
-) -> SlaveResult<()> {
-    let loads = inputs.loads(span.1, built.brake_torque_max);
-    match newmark.step(&built.model, st, span.1 - span.0, &loads, static_ratio) {
-        Ok(()) => Ok(()),
-        Err(solver::newmark::NewmarkError::NotSettled) if depth < MAX_SUBDIVISION => {
-            let mid = 0.5 * (span.0 + span.1);
-            implicit_step(newmark, built, st, inputs, (span.0, mid), static_ratio, depth + 1)?;
-            implicit_step(newmark, built, st, inputs, (mid, span.1), static_ratio, depth + 1)
-        }
-        Err(e) => Err(err(format!(
-            "{e} (step of {:.3e} s after {depth} halvings)",
-            span.1 - span.0
-        ))),
     }
 }
 
@@ -294,8 +276,8 @@ impl Slave for TorsionalSlave {
             vr::IS1_TORQUE => Self::element_output(b, st, b.model.shafts[1]),
             vr::IS2_TORQUE => Self::element_output(b, st, b.model.shafts[2]),
             vr::HSS_TORQUE => Self::element_output(b, st, b.model.shafts[3]),
-            vr::BRAKE_TORQUE => st.brake_torque,
-            vr::STORED_ENERGY => solver::stored_energy(&b.model, &st.q, &st.v),
+            vr::BRAKE_TORQUE => -st.friction_force,
+            vr::STORED_ENERGY => b.model.stored_energy(&st.q, &st.v),
             r if (MESH_FIRST..MESH_FIRST + MESH_COUNT).contains(&r) => {
                 Self::element_output(b, st, b.model.meshes[(r - MESH_FIRST) as usize])
             }
@@ -414,56 +396,38 @@ impl Slave for TorsionalSlave {
 
 impl TorsionalSlave {
     fn step_with(&mut self, built: &Built, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
-        let static_ratio = self.params.brake_static_ratio;
-        let max_step = self.params.max_internal_step;
-        let substeps = (h / max_step * (1.0 - 1e-12)).ceil().max(1.0);
-        let hs = h / substeps;
-        if built.integrator == Integrator::Rk4 && hs > built.rk4_step_limit {
-            return Err(err(format!(
-                "RK4 is unstable at an internal step of {hs:.3e} s: its stability limit is 2.785/omega_max = {:.3e} s \
-                 (omega_max = {:.0} rad/s, the stiffest gear-mesh mode at {:.0} Hz); set max_internal_step <= {:.3e} \
-                 or use integrator = implicit",
-                built.rk4_step_limit,
-                2.785 / built.rk4_step_limit,
-                2.785 / built.rk4_step_limit / std::f64::consts::TAU,
-                built.rk4_step_limit
-            )));
-        }
-        let brake_max = built.brake_torque_max;
         let inputs = self.inputs;
-        let start_loads = inputs.loads(0.0, brake_max);
         let st = self.state.as_mut().unwrap();
-        let was_locked = st.locked;
-        solver::consistent_acceleration(&built.model, st, &start_loads, static_ratio, &mut self.scratch);
-        let n = substeps as usize;
-        for i in 0..n {
-            let tau = if i + 1 == n { h } else { (i + 1) as f64 * hs };
-            match built.integrator {
-                Integrator::Implicit => {
-                    let t0 = if i == 0 { 0.0 } else { i as f64 * hs };
-                    implicit_step(&mut self.newmark, built, st, &inputs, (t0, tau), static_ratio, 0)?;
-                }
-                Integrator::Rk4 => self
-                    .rk4
-                    .step(&built.model, st, hs, &inputs.loads(tau, brake_max), static_ratio),
-            }
-        }
-        if st.q.iter().chain(&st.v).any(|x| !x.is_finite()) {
-            return Err(err(format!(
-                "the state became non-finite during the step from t = {t} s"
-            )));
-        }
-        if st.locked != was_locked {
+        let result = self.driver.advance(
+            &built.model,
+            st,
+            t,
+            h,
+            self.params.max_internal_step,
+            INPUT_COUNT,
+            |dt, u| inputs.write(dt, u),
+        );
+        for e in &self.driver.events {
             log.event(&format!(
                 "t = {:.6} s: HSS brake {}",
-                t + h,
-                if st.locked {
+                e.time,
+                if e.locked {
                     "locked (stiction)"
                 } else {
                     "released (slipping)"
                 }
             ));
         }
+        result.map_err(|e| match e {
+            crate::solver::SolverError::AboveStabilityLimit { step, limit } => err(format!(
+                "RK4 is unstable at an internal step of {step:.3e} s: its stability limit is 2.785/omega_max = \
+                 {limit:.3e} s (omega_max = {:.0} rad/s, the stiffest gear-mesh mode at {:.0} Hz); set \
+                 max_internal_step <= {limit:.3e} or use integrator = implicit",
+                rk4::STABILITY_BOUND / limit,
+                rk4::STABILITY_BOUND / limit / std::f64::consts::TAU,
+            )),
+            e => err(format!("{e} (communication step from t = {t} s, h = {h} s)")),
+        })?;
         self.inputs.advance(h);
         Ok(())
     }

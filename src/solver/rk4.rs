@@ -1,13 +1,14 @@
-//! Classical explicit RK4. Stable only for h·ω_max ≤ 2.785 (the RK4 stability interval on the
-//! imaginary axis), which the gear-mesh modes of a full-fidelity drivetrain push to a fraction of
-//! a millisecond; a larger step is refused with the limit named instead of returning garbage.
+//! Classical explicit RK4 for any [`SecondOrderSystem`]. Stable only for h·ω_max ≤ 2.785 (the RK4
+//! stability interval on the imaginary axis), which gear-mesh modes push to a fraction of a
+//! millisecond; the driver refuses a larger step with the limit named instead of returning garbage.
 //!
-//! The brake slips with ±capacity; when the generator speed crosses zero within a step it is set to
-//! rest and held while the holding torque stays within the static capacity (first-order event
-//! location: the implicit integrator solves stick–slip exactly and is the default).
+//! The friction contact slips with ± its kinetic capacity; when its DOF's speed crosses zero within
+//! a step it is set to rest and held while the holding force stays within the static capacity
+//! (first-order event location, as OpenFAST's HSS brake: the implicit integrators solve
+//! stick–slip exactly and are the default).
 
-use super::{DynState, Loads, Scratch, brake_at_rest_or_slip, external_forces, internal_forces};
-use crate::physics::torsional::TorsionalModel;
+use super::state::{DynState, Statistics};
+use super::system::{Friction, Mass, SecondOrderSystem, external_forces};
 
 /// Largest stable RK4 step is STABILITY_BOUND / ω_max (2√2 on the imaginary axis).
 pub const STABILITY_BOUND: f64 = 2.785;
@@ -25,37 +26,81 @@ pub struct Rk4 {
     v: Vec<f64>,
     q0: Vec<f64>,
     v0: Vec<f64>,
-    s: Scratch,
+    f: Vec<f64>,
+    fi: Vec<f64>,
 }
 
-/// Accelerations at (q, v) and the brake torque used (positive opposing rotation).
-fn accelerations(
-    model: &TorsionalModel,
+/// out = M⁻¹·f (a dense mass is factorised on each call: the models with one are implicit's).
+pub fn mass_solve(mass: Mass<'_>, f: &[f64], out: &mut [f64]) {
+    match mass {
+        Mass::Diagonal(m) => {
+            for ((o, fi), mi) in out.iter_mut().zip(f).zip(m) {
+                *o = fi / mi;
+            }
+        }
+        Mass::Dense(m) => {
+            let x = m
+                .clone()
+                .cholesky()
+                .map(|c| c.solve(&nalgebra::DVector::from_column_slice(f)))
+                .unwrap_or_else(|| nalgebra::DVector::from_element(f.len(), f64::NAN));
+            out.copy_from_slice(x.as_slice());
+        }
+    }
+}
+
+/// The friction force that keeps DOF `dof` from accelerating under the free accelerations `a`:
+/// its share of M⁻¹ decides how much force one unit of acceleration takes.
+pub fn holding_force(mass: Mass<'_>, a: &[f64], dof: usize) -> f64 {
+    match mass {
+        Mass::Diagonal(m) => -m[dof] * a[dof],
+        Mass::Dense(m) => {
+            let n = m.nrows();
+            let mut e = vec![0.0; n];
+            e[dof] = 1.0;
+            let mut column = vec![0.0; n];
+            mass_solve(mass, &e, &mut column);
+            -a[dof] / column[dof]
+        }
+    }
+}
+
+/// Accelerations at (q, v) into `out`; returns the friction force used (on its DOF).
+#[allow(clippy::too_many_arguments)]
+fn accelerations<S: SecondOrderSystem>(
+    sys: &S,
+    t: f64,
     q: &[f64],
     v: &[f64],
-    loads: &Loads,
+    u: &[f64],
+    friction: Option<Friction>,
     locked: bool,
-    s: &mut Scratch,
+    w: &mut Rk4,
     out: &mut [f64],
 ) -> f64 {
-    let n = model.dofs();
-    external_forces(model, loads, &mut s.f);
-    internal_forces(model, q, v, q, &mut s.fi);
-    for d in 0..n {
-        out[d] = (s.f[d] - s.fi[d]) / model.mass[d];
+    external_forces(sys, u, &mut w.f);
+    sys.internal_forces(t, q, v, &mut w.fi);
+    for (f, fi) in w.f.iter_mut().zip(&w.fi) {
+        *f -= fi;
     }
-    let g = model.generator;
-    if locked {
-        let hold = model.mass[g] * out[g];
-        out[g] = 0.0;
-        hold
-    } else if loads.brake_capacity > 0.0 && v[g] != 0.0 {
-        let t = loads.brake_capacity * v[g].signum();
-        out[g] -= t / model.mass[g];
-        t
+    let Some(fr) = friction else {
+        mass_solve(sys.mass(), &w.f, out);
+        return 0.0;
+    };
+    let force = if locked {
+        mass_solve(sys.mass(), &w.f, out);
+        holding_force(sys.mass(), out, fr.dof)
+    } else if v[fr.dof] != 0.0 {
+        -fr.kinetic * v[fr.dof].signum()
     } else {
         0.0
+    };
+    w.f[fr.dof] += force;
+    mass_solve(sys.mass(), &w.f, out);
+    if locked {
+        out[fr.dof] = 0.0;
     }
+    force
 }
 
 impl Rk4 {
@@ -67,55 +112,82 @@ impl Rk4 {
             self.q = z.clone();
             self.v = z.clone();
             self.q0 = z.clone();
-            self.v0 = z;
-            self.s.fit(n);
+            self.v0 = z.clone();
+            self.f = z.clone();
+            self.fi = z;
         }
     }
 
-    pub fn step(&mut self, model: &TorsionalModel, st: &mut DynState, h: f64, loads: &Loads, static_ratio: f64) {
-        let n = model.dofs();
-        let g = model.generator;
+    /// Advances `st` from t by h with the inputs held at `u` (their value at t + h).
+    pub fn step<S: SecondOrderSystem>(
+        &mut self,
+        sys: &S,
+        st: &mut DynState,
+        t: f64,
+        h: f64,
+        u: &[f64],
+        stats: &mut Statistics,
+    ) {
+        let n = sys.dofs();
         self.fit(n);
-        let w = self;
-        // a locked brake lets go when the torque to hold it exceeds the static capacity
-        if st.locked {
-            let hold = accelerations(model, &st.q, &st.v, loads, true, &mut w.s, &mut w.k_v[0]);
-            st.locked = brake_at_rest_or_slip(0.0, hold, loads.brake_capacity, true, static_ratio).1;
+        let friction = sys.friction(u).filter(|f| f.kinetic > 0.0 || f.holding > 0.0);
+        // a stuck contact lets go when the force to hold it exceeds its static capacity
+        if let Some(fr) = friction
+            && st.locked
+        {
+            let mut k0 = std::mem::take(&mut self.k_v[0]);
+            let hold = accelerations(sys, t, &st.q, &st.v, u, friction, true, self, &mut k0);
+            self.k_v[0] = k0;
+            st.locked = hold.abs() <= fr.holding;
         }
-        let locked = st.locked;
+        let locked = st.locked && friction.is_some();
+        let w = self;
         w.q0.copy_from_slice(&st.q);
         w.v0.copy_from_slice(&st.v);
         w.q.copy_from_slice(&st.q);
         w.v.copy_from_slice(&st.v);
-        let mut brake = 0.0;
+        let mut force = 0.0;
         for stage in 0..4 {
+            let c = match stage {
+                0 => 0.0,
+                3 => h,
+                _ => 0.5 * h,
+            };
             if stage > 0 {
-                let c = if stage == 3 { h } else { 0.5 * h };
                 for d in 0..n {
                     w.q[d] = w.q0[d] + c * w.k_q[stage - 1][d];
                     w.v[d] = w.v0[d] + c * w.k_v[stage - 1][d];
                 }
             }
             w.k_q[stage].copy_from_slice(&w.v);
-            let t = accelerations(model, &w.q, &w.v, loads, locked, &mut w.s, &mut w.k_v[stage]);
+            let (q, v) = (std::mem::take(&mut w.q), std::mem::take(&mut w.v));
+            let mut k = std::mem::take(&mut w.k_v[stage]);
+            let used = accelerations(sys, t + c, &q, &v, u, friction, locked, w, &mut k);
+            (w.q, w.v, w.k_v[stage]) = (q, v, k);
             if stage == 0 {
-                brake = t;
+                force = used;
             }
         }
         for d in 0..n {
             st.q[d] = w.q0[d] + h / 6.0 * (w.k_q[0][d] + 2.0 * w.k_q[1][d] + 2.0 * w.k_q[2][d] + w.k_q[3][d]);
             st.v[d] = w.v0[d] + h / 6.0 * (w.k_v[0][d] + 2.0 * w.k_v[1][d] + 2.0 * w.k_v[2][d] + w.k_v[3][d]);
         }
-        if locked {
-            st.v[g] = 0.0;
-            st.q[g] = w.q0[g];
-        } else if loads.brake_capacity > 0.0 && w.v0[g] * st.v[g] <= 0.0 && w.v0[g] != 0.0 {
-            // the brake would reverse the disk: it stops instead (as OpenFAST's FixHSSBrTq)
-            st.v[g] = 0.0;
-            st.locked = true;
+        if let Some(fr) = friction {
+            let f = fr.dof;
+            if locked {
+                st.v[f] = 0.0;
+                st.q[f] = w.q0[f];
+            } else if fr.kinetic > 0.0 && w.v0[f] * st.v[f] <= 0.0 && w.v0[f] != 0.0 {
+                // the friction would reverse the DOF: it stops instead (as OpenFAST's FixHSSBrTq)
+                st.v[f] = 0.0;
+                st.locked = true;
+            }
+        } else {
+            st.locked = false;
         }
-        st.brake_torque = brake;
-        // RK4 keeps no accelerations: the next step recomputes them from the loads
-        st.applied = None;
+        st.friction_force = force;
+        // RK4 keeps no accelerations: the next step recomputes them from the inputs
+        st.applied.clear();
+        stats.steps += 1;
     }
 }

@@ -1,0 +1,545 @@
+//! The generalised-α family of implicit integrators for second-order systems, with a Newton
+//! iteration on the position increment Δ = q_{n+1} − q_n:
+//!
+//! ```text
+//! a₁ = (Δ − h·v − h²(½ − β)·a) / (β h²)        v₁ = v + h((1 − γ)·a + γ·a₁)
+//! M((1 − α_m)·a₁ + α_m·a) + (1 − α_f)·f_int(q + Δ, v₁) + α_f·f_int(q, v) = (1 − α_f)·f₁ + α_f·f₀
+//! ```
+//!
+//! - **Newmark average acceleration** (α_m = α_f = 0, β = ¼, γ = ½): the trapezoidal rule, second
+//!   order, no numerical damping, energy-conserving for an undamped linear model. The default.
+//! - **HHT-α** (α_m = 0, α_f = (1 − ρ∞)/(1 + ρ∞) ∈ [0, ⅓]): second order, damps modes with h·ω ≫ 1
+//!   to the spectral radius ρ∞ ∈ [½, 1] (Hilber, Hughes, Taylor 1977).
+//! - **Generalised-α** (Chung & Hulbert 1993): α_m = (2ρ∞ − 1)/(ρ∞ + 1), α_f = ρ∞/(ρ∞ + 1),
+//!   ρ∞ ∈ [0, 1]; least low-frequency damping for a given high-frequency damping.
+//!
+//! Forces are interpolated (α_f weights f_int at the start of the step), the form used for
+//! nonlinear structural dynamics; for a linear model it is the original method.
+//!
+//! The Coulomb friction contact (the HSS brake) is solved inside the step: for a fixed Jacobian the
+//! solution is affine in the friction force T (Δ = Δ₀ + T·(1 − α_f)·J⁻¹e_f), so T is the force that
+//! stops the DOF exactly at the end of the step if the contact can hold it (stick), else ± the
+//! kinetic capacity (slip). A stuck contact therefore never creeps and never chatters.
+
+use super::factor::{Cache, Factor, Solver, axpy_columns, padded};
+use super::state::{DynState, SolverError, Statistics};
+use super::system::{Friction, Linearity, Mass, SecondOrderSystem, external_forces};
+use nalgebra::DMatrix;
+
+/// Newton iterations before a step is given up (and halved by the driver).
+pub const MAX_ITERATIONS: usize = 50;
+
+/// A smooth nonlinear iteration has converged when the last increment is below this fraction of
+/// the step's motion (‖δ‖∞ ≤ tol·max(‖Δ‖∞, h‖v‖∞)): ten digits of the position increment.
+const INCREMENT_TOLERANCE: f64 = 1e-10;
+
+/// One step: from `t` by `h`, inputs `u0` at t and `u1` at t + h.
+#[derive(Debug, Clone, Copy)]
+pub struct Span<'a> {
+    pub t: f64,
+    pub h: f64,
+    pub u0: &'a [f64],
+    pub u1: &'a [f64],
+}
+
+/// The four parameters of the family.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Alpha {
+    pub alpha_m: f64,
+    pub alpha_f: f64,
+    pub beta: f64,
+    pub gamma: f64,
+}
+
+impl Alpha {
+    pub const NEWMARK: Self = Self {
+        alpha_m: 0.0,
+        alpha_f: 0.0,
+        beta: 0.25,
+        gamma: 0.5,
+    };
+
+    /// HHT-α with spectral radius ρ∞ ∈ [½, 1] at infinite frequency (1 = Newmark).
+    pub fn hht(rho_inf: f64) -> Result<Self, String> {
+        if !(0.5..=1.0).contains(&rho_inf) {
+            return Err(format!("HHT-alpha needs a spectral radius in [0.5, 1], got {rho_inf}"));
+        }
+        let a = (1.0 - rho_inf) / (1.0 + rho_inf);
+        Ok(Self {
+            alpha_m: 0.0,
+            alpha_f: a,
+            beta: 0.25 * (1.0 + a) * (1.0 + a),
+            gamma: 0.5 + a,
+        })
+    }
+
+    /// Generalised-α with spectral radius ρ∞ ∈ [0, 1] at infinite frequency.
+    pub fn generalised(rho_inf: f64) -> Result<Self, String> {
+        if !(0.0..=1.0).contains(&rho_inf) {
+            return Err(format!(
+                "generalised-alpha needs a spectral radius in [0, 1], got {rho_inf}"
+            ));
+        }
+        let alpha_m = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
+        let alpha_f = rho_inf / (rho_inf + 1.0);
+        let gamma = 0.5 - alpha_m + alpha_f;
+        Ok(Self {
+            alpha_m,
+            alpha_f,
+            beta: 0.25 * (1.0 - alpha_m + alpha_f).powi(2),
+            gamma,
+        })
+    }
+}
+
+/// The coefficients of one step size: the update a₁, v₁ = k_·Δ + k_·v + k_·a and the iteration
+/// matrix J = c_m·M + c_c·C_t + c_k·K_t.
+#[derive(Debug, Clone, Copy)]
+struct Coefficients {
+    h: f64,
+    ka: [f64; 3],
+    kv: [f64; 3],
+    c_m: f64,
+    c_c: f64,
+    c_k: f64,
+    am: f64,
+    af: f64,
+}
+
+impl Coefficients {
+    fn new(p: &Alpha, h: f64) -> Self {
+        let (b, g) = (p.beta, p.gamma);
+        let ka = [1.0 / (b * h * h), -1.0 / (b * h), -(0.5 - b) / b];
+        let kv = [g / (b * h), 1.0 - g / b, h * (1.0 - g / (2.0 * b))];
+        Self {
+            h,
+            ka,
+            kv,
+            c_m: (1.0 - p.alpha_m) * ka[0],
+            c_c: (1.0 - p.alpha_f) * kv[0],
+            c_k: 1.0 - p.alpha_f,
+            am: p.alpha_m,
+            af: p.alpha_f,
+        }
+    }
+
+    fn acceleration(&self, d: f64, v: f64, a: f64) -> f64 {
+        self.ka[0] * d + self.ka[1] * v + self.ka[2] * a
+    }
+
+    fn velocity(&self, d: f64, v: f64, a: f64) -> f64 {
+        self.kv[0] * d + self.kv[1] * v + self.kv[2] * a
+    }
+
+    /// The increment that brings a DOF to rest at the end of the step (v₁ = 0).
+    fn increment_to_rest(&self, v: f64, a: f64) -> f64 {
+        (-self.kv[1] * v - self.kv[2] * a) / self.kv[0]
+    }
+}
+
+/// Friction force for a step whose end speed would be `speed` without it and changes by
+/// `per_force` per unit force: the force that stops the DOF exactly if the contact can hold it
+/// (stick), else the kinetic capacity against the motion (slip).
+fn friction_force(speed: f64, per_force: f64, hold: f64, kinetic: f64) -> (f64, bool) {
+    let stick = -speed / per_force;
+    if stick.abs() <= hold {
+        (stick, true)
+    } else {
+        (kinetic * stick.signum(), false)
+    }
+}
+
+#[derive(Default)]
+struct Work {
+    f1: Vec<f64>,
+    f0: Vec<f64>,
+    fi: Vec<f64>,
+    fi0: Vec<f64>,
+    q1: Vec<f64>,
+    v1: Vec<f64>,
+    r: Vec<f64>,
+    delta: Vec<f64>,
+    step: Vec<f64>,
+    padded: Vec<f64>,
+    x: Vec<f64>,
+    key: Vec<u64>,
+    key_new: Vec<u64>,
+}
+
+impl Work {
+    fn fit(&mut self, n: usize) {
+        if self.f1.len() != n {
+            let z = vec![0.0; n];
+            *self = Self {
+                f1: z.clone(),
+                f0: z.clone(),
+                fi: z.clone(),
+                fi0: z.clone(),
+                q1: z.clone(),
+                v1: z.clone(),
+                r: z.clone(),
+                delta: z.clone(),
+                step: z.clone(),
+                padded: vec![0.0; padded(n)],
+                x: z,
+                key: Vec::new(),
+                key_new: Vec::new(),
+            };
+        }
+    }
+}
+
+/// The integrator with its cache of factorisations and scratch vectors. Cloning gives an empty
+/// cache, refilled on demand with identical factors, so snapshots stay cheap and bit-identical.
+pub struct AlphaIntegrator {
+    pub params: Alpha,
+    cache: Cache,
+    work: Work,
+}
+
+impl Clone for AlphaIntegrator {
+    fn clone(&self) -> Self {
+        Self::new(self.params)
+    }
+}
+
+impl AlphaIntegrator {
+    pub fn new(params: Alpha) -> Self {
+        Self {
+            params,
+            cache: Cache::default(),
+            work: Work::default(),
+        }
+    }
+
+    /// Forgets every factorisation (the model changed).
+    pub fn reset(&mut self) {
+        self.cache.clear();
+    }
+
+    /// Index of the cached factorisation of J for this step size and key, computed when new.
+    fn factor<S: SecondOrderSystem>(
+        &mut self,
+        sys: &S,
+        c: &Coefficients,
+        (t, q, v): (f64, &[f64], &[f64]),
+        key_from_work: bool,
+        friction_dof: Option<usize>,
+        stats: &mut Statistics,
+    ) -> Result<usize, SolverError> {
+        let key: &[u64] = if key_from_work { &self.work.key } else { &[] };
+        let linear = sys.linearity() == Linearity::Linear;
+        // a smooth nonlinear tangent changes with every iterate: never reuse it
+        if sys.linearity() != Linearity::Nonlinear
+            && let Some(i) = self.cache.find(key, c.h)
+        {
+            // a factor first built while the friction contact was open lacks its response
+            let entry = self.cache.get_mut(i);
+            if let Some(d) = friction_dof
+                && entry.friction_response.as_ref().map(|f| f.0) != Some(d)
+            {
+                entry.friction_response = Some((d, entry.solver.unit_response(sys.dofs(), d)));
+            }
+            return Ok(i);
+        }
+        let n = sys.dofs();
+        let mut j = DMatrix::zeros(n, n);
+        sys.mass().add_to(c.c_m, &mut j);
+        sys.add_tangent(t, q, v, c.c_c, c.c_k, &mut j);
+        let solver = Solver::new(j).ok_or(SolverError::SingularJacobian { time: t, step: c.h })?;
+        let inputs = super::system::input_count(sys);
+        let mut input_response = vec![0.0; n * inputs];
+        for l in sys.input_loads() {
+            let column = solver.unit_response(n, l.dof);
+            for (x, y) in input_response[l.input * n..(l.input + 1) * n].iter_mut().zip(column) {
+                *x += l.gain * y;
+            }
+        }
+        let friction_response = friction_dof.map(|d| (d, solver.unit_response(n, d)));
+        let step_map = linear.then(|| step_map(sys, c, &solver));
+        stats.factorizations += 1;
+        let key = key.to_vec();
+        Ok(self.cache.insert(Factor {
+            key,
+            h: c.h,
+            solver,
+            input_response,
+            friction_response,
+            step_map,
+        }))
+    }
+
+    /// Advances `st` over `span`. On error `st` is unchanged.
+    pub fn step<S: SecondOrderSystem>(
+        &mut self,
+        sys: &S,
+        st: &mut DynState,
+        span: &Span,
+        stats: &mut Statistics,
+    ) -> Result<(), SolverError> {
+        let Span { h, u1, .. } = *span;
+        let n = sys.dofs();
+        self.work.fit(n);
+        let c = Coefficients::new(&self.params, h);
+        let friction = sys.friction(u1).filter(|f| f.kinetic > 0.0 || f.holding > 0.0);
+        let linear = sys.linearity() == Linearity::Linear;
+        if linear {
+            self.linear_step(sys, st, c, span, friction, stats)
+        } else {
+            self.newton_step(sys, st, c, span, friction, stats)
+        }?;
+        stats.steps += 1;
+        Ok(())
+    }
+
+    /// The step of a linear system: Δ = W·[x; v; a] + J⁻¹·f with the cached step map, then the
+    /// friction, then the update. Same equations as the Newton path, none of its generality.
+    fn linear_step<S: SecondOrderSystem>(
+        &mut self,
+        sys: &S,
+        st: &mut DynState,
+        c: Coefficients,
+        span: &Span,
+        friction: Option<Friction>,
+        stats: &mut Statistics,
+    ) -> Result<(), SolverError> {
+        let Span { t, u0, u1, .. } = *span;
+        let n = sys.dofs();
+        let np = padded(n);
+        let idx = self.factor(sys, &c, (t, &st.q, &st.v), false, friction.map(|f| f.dof), stats)?;
+        stats.newton_iterations += 1;
+        let AlphaIntegrator { cache, work: w, .. } = self;
+        let factor = cache.get(idx);
+        let Some(map) = factor.step_map.as_deref() else {
+            return Err(SolverError::SingularJacobian { time: t, step: c.h });
+        };
+        let c = Coefficients { h: factor.h, ..c }; // equal to the requested h within SAME_STEP
+        let (q, v, a) = (&mut st.q[..n], &mut st.v[..n], &mut st.a[..n]);
+        let (x, delta) = (&mut w.x[..n], &mut w.padded[..np]);
+        delta.iter_mut().for_each(|d| *d = 0.0);
+        for (k, column) in factor.input_response.chunks_exact(n).enumerate() {
+            let u = (1.0 - c.af) * u1[k] + c.af * u0[k];
+            if u != 0.0 {
+                for (d, r) in delta.iter_mut().zip(column) {
+                    *d += r * u;
+                }
+            }
+        }
+        if let (Some((_, resp)), true) = (&factor.friction_response, c.af != 0.0 && st.friction_force != 0.0) {
+            for (d, r) in delta.iter_mut().zip(resp) {
+                *d += c.af * st.friction_force * r;
+            }
+        }
+        match sys.rigid_mode() {
+            Some((ratio, reference)) => {
+                for i in 0..n {
+                    x[i] = q[i] - ratio[i] * q[reference];
+                }
+            }
+            None => x.copy_from_slice(q),
+        }
+        let (mq, rest) = map.split_at(np * n);
+        let (mv, ma) = rest.split_at(np * n);
+        axpy_columns([(mq, x), (mv, v), (ma, a)], delta);
+        let mut stuck = None;
+        let mut force = 0.0;
+        if let (Some(fr), Some((f, resp))) = (friction, &factor.friction_response) {
+            let f = *f;
+            let scale = 1.0 - c.af;
+            let speed = c.velocity(delta[f], v[f], a[f]);
+            let (force_now, held) = friction_force(speed, c.kv[0] * scale * resp[f], fr.hold(st.locked), fr.kinetic);
+            force = force_now;
+            for (d, r) in delta.iter_mut().zip(resp) {
+                *d += scale * force * r;
+            }
+            if held {
+                // exactly at rest: no creep from the position update
+                delta[f] = c.increment_to_rest(v[f], a[f]);
+                stuck = Some(f);
+            }
+        }
+        for i in 0..n {
+            let d = delta[i];
+            let v_new = c.velocity(d, v[i], a[i]);
+            a[i] = c.acceleration(d, v[i], a[i]);
+            q[i] += d;
+            v[i] = v_new;
+        }
+        finish_friction(st, stuck, force, u1);
+        Ok(())
+    }
+
+    /// The Newton iteration for piecewise-linear and nonlinear systems.
+    fn newton_step<S: SecondOrderSystem>(
+        &mut self,
+        sys: &S,
+        st: &mut DynState,
+        c: Coefficients,
+        span: &Span,
+        friction: Option<Friction>,
+        stats: &mut Statistics,
+    ) -> Result<(), SolverError> {
+        let Span { t, u0, u1, .. } = *span;
+        let n = sys.dofs();
+        let t1 = t + c.h;
+        let linearity = sys.linearity();
+        let friction_dof = friction.map(|f| f.dof);
+        {
+            let w = &mut self.work;
+            external_forces(sys, u1, &mut w.f1);
+            if c.af != 0.0 {
+                external_forces(sys, u0, &mut w.f0);
+                sys.internal_forces(t, &st.q, &st.v, &mut w.fi0);
+                if let Some(f) = friction_dof {
+                    w.f0[f] += st.friction_force;
+                }
+            }
+            sys.factor_key(t, &st.q, &mut w.key);
+            w.delta.iter_mut().for_each(|x| *x = 0.0);
+        }
+        let mut idx = self.factor(sys, &c, (t1, &st.q, &st.v), true, friction_dof, stats)?;
+        let c = Coefficients {
+            h: self.cache.get(idx).h,
+            ..c
+        };
+        let mut force = 0.0;
+        let mut held = false;
+        let mut residual = f64::INFINITY;
+        for iteration in 0.. {
+            if iteration == MAX_ITERATIONS {
+                return Err(match linearity {
+                    Linearity::Nonlinear => SolverError::NewtonDiverged {
+                        time: t,
+                        iterations: iteration,
+                        residual,
+                    },
+                    _ => SolverError::ContactNotSettled {
+                        time: t,
+                        iterations: iteration,
+                    },
+                });
+            }
+            stats.newton_iterations += 1;
+            let AlphaIntegrator { cache, work: w, .. } = self;
+            let factor = cache.get(idx);
+            // r = −R(Δ) with the friction force of the current iterate
+            for d in 0..n {
+                w.q1[d] = st.q[d] + w.delta[d];
+                w.v1[d] = c.velocity(w.delta[d], st.v[d], st.a[d]);
+            }
+            sys.internal_forces(t1, &w.q1, &w.v1, &mut w.fi);
+            for d in 0..n {
+                let a1 = c.acceleration(w.delta[d], st.v[d], st.a[d]);
+                w.step[d] = (1.0 - c.am) * a1 + c.am * st.a[d];
+                w.r[d] = (1.0 - c.af) * (w.f1[d] - w.fi[d]) + c.af * (w.f0[d] - w.fi0[d]);
+            }
+            if let Some(f) = friction_dof {
+                w.r[f] += (1.0 - c.af) * force;
+            }
+            {
+                let (step, r) = (&w.step, &mut w.r);
+                sys.mass().add_product(-1.0, step, r);
+            }
+            residual = w.r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            w.step.iter_mut().for_each(|x| *x = 0.0);
+            factor.solver.add_solution(&w.r, &mut w.step);
+            for (d, s) in w.delta.iter_mut().zip(&w.step) {
+                *d += s;
+            }
+            if let (Some(fr), Some((f, resp))) = (friction, &factor.friction_response) {
+                let f = *f;
+                let scale = 1.0 - c.af;
+                let per = c.kv[0] * scale * resp[f];
+                // the speed without the current iterate's force, then the force for it
+                let free = c.velocity(w.delta[f], st.v[f], st.a[f]) - per * force;
+                let (next, stick) = friction_force(free, per, fr.hold(st.locked), fr.kinetic);
+                for (d, r) in w.delta.iter_mut().zip(resp) {
+                    *d += scale * (next - force) * r;
+                }
+                (force, held) = (next, stick);
+            }
+            let converged = match linearity {
+                Linearity::Linear => true,
+                Linearity::PiecewiseLinear => {
+                    for d in 0..n {
+                        w.q1[d] = st.q[d] + w.delta[d];
+                    }
+                    sys.factor_key(t1, &w.q1, &mut w.key_new);
+                    let same = w.key_new == w.key;
+                    std::mem::swap(&mut w.key, &mut w.key_new);
+                    same
+                }
+                Linearity::Nonlinear => {
+                    let size = w.delta.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                    let motion = st.v.iter().fold(0.0f64, |m, x| m.max(x.abs())) * c.h;
+                    let step = w.step.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                    step <= INCREMENT_TOLERANCE * size.max(motion).max(f64::MIN_POSITIVE)
+                }
+            };
+            if converged {
+                break;
+            }
+            for d in 0..n {
+                w.q1[d] = st.q[d] + w.delta[d];
+                w.v1[d] = c.velocity(w.delta[d], st.v[d], st.a[d]);
+            }
+            let (q1, v1) = (std::mem::take(&mut w.q1), std::mem::take(&mut w.v1));
+            let found = self.factor(sys, &c, (t1, &q1, &v1), true, friction_dof, stats);
+            self.work.q1 = q1;
+            self.work.v1 = v1;
+            idx = found?;
+        }
+        let w = &mut self.work;
+        let stuck = friction_dof.filter(|_| held);
+        if let Some(f) = stuck {
+            w.delta[f] = c.increment_to_rest(st.v[f], st.a[f]);
+        }
+        for d in 0..n {
+            let (dd, v, a) = (w.delta[d], st.v[d], st.a[d]);
+            st.q[d] += dd;
+            st.v[d] = c.velocity(dd, v, a);
+            st.a[d] = c.acceleration(dd, v, a);
+        }
+        finish_friction(st, stuck, force, u1);
+        Ok(())
+    }
+}
+
+/// Friction bookkeeping at the end of a step: a stuck DOF is exactly at rest.
+fn finish_friction(st: &mut DynState, stuck: Option<usize>, force: f64, u1: &[f64]) {
+    if let Some(f) = stuck {
+        st.v[f] = 0.0;
+        st.a[f] = 0.0;
+    }
+    st.locked = stuck.is_some();
+    st.friction_force = force;
+    st.applied.clear();
+    st.applied.extend_from_slice(u1);
+}
+
+/// W = [−J⁻¹K | −J⁻¹((1 − α_m)k_av·M + ((1 − α_f)k_vv + α_f)·C) | −J⁻¹(((1 − α_m)k_aa + α_m)·M +
+/// (1 − α_f)k_va·C)], rows padded for the SSE2 kernel: Δ = W·[x; v; a] + J⁻¹f for a linear system.
+fn step_map<S: SecondOrderSystem>(sys: &S, c: &Coefficients, solver: &Solver) -> Vec<f64> {
+    let n = sys.dofs();
+    let zeros = vec![0.0; n];
+    let lin = sys.linearise(&zeros, &zeros);
+    let mass = match sys.mass() {
+        Mass::Diagonal(m) => DMatrix::from_diagonal(&nalgebra::DVector::from_column_slice(m)),
+        Mass::Dense(m) => m.clone(),
+    };
+    let blocks = [
+        -&lin.stiffness,
+        -(&mass * ((1.0 - c.am) * c.ka[1]) + &lin.damping * ((1.0 - c.af) * c.kv[1] + c.af)),
+        -(&mass * ((1.0 - c.am) * c.ka[2] + c.am) + &lin.damping * ((1.0 - c.af) * c.kv[2])),
+    ];
+    let np = padded(n);
+    let mut map = vec![0.0; np * 3 * n];
+    for (b, block) in blocks.iter().enumerate() {
+        for col in 0..n {
+            let out = &mut map[(b * n + col) * np..(b * n + col) * np + n];
+            let rhs: Vec<f64> = block.column(col).iter().copied().collect();
+            solver.add_solution(&rhs, out);
+        }
+    }
+    map
+}

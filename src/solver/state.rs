@@ -1,0 +1,84 @@
+//! What an integrator advances, statistics it keeps, and how a step can fail.
+
+use serde::{Deserialize, Serialize};
+
+/// The dynamic state of a second-order system.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DynState {
+    pub q: Vec<f64>,
+    pub v: Vec<f64>,
+    /// Accelerations consistent with the inputs at the start of the next step.
+    pub a: Vec<f64>,
+    /// The friction contact holds its DOF at rest.
+    pub locked: bool,
+    /// Friction force on its DOF at the end of the last step (acting on the DOF, so negative
+    /// while it brakes a positive motion).
+    pub friction_force: f64,
+    /// The inputs `a` is consistent with (empty: not yet computed).
+    pub applied: Vec<f64>,
+}
+
+impl DynState {
+    pub fn new(q: Vec<f64>, v: Vec<f64>) -> Self {
+        let n = q.len();
+        Self {
+            q,
+            v,
+            a: vec![0.0; n],
+            locked: false,
+            friction_force: 0.0,
+            applied: Vec::new(),
+        }
+    }
+
+    pub fn is_finite(&self) -> bool {
+        self.q.iter().chain(&self.v).chain(&self.a).all(|x| x.is_finite())
+    }
+}
+
+/// Work counters, deterministic for the same calls (tests pin them instead of timings).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct Statistics {
+    /// Accepted internal steps.
+    pub steps: u64,
+    /// Linear solves inside Newton iterations (one per iteration).
+    pub newton_iterations: u64,
+    /// Jacobians factorised (the cache's misses).
+    pub factorizations: u64,
+    /// Steps that failed and were split in two.
+    pub halvings: u64,
+}
+
+/// Why a step could not be taken. Times are the start of the failing (sub)step, s.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SolverError {
+    #[error("Newton iteration did not converge at t = {time} s: residual {residual:.3e} after {iterations} iterations")]
+    NewtonDiverged {
+        time: f64,
+        iterations: usize,
+        residual: f64,
+    },
+    #[error("contact pattern did not settle at t = {time} s in {iterations} Newton iterations")]
+    ContactNotSettled { time: f64, iterations: usize },
+    #[error("the iteration matrix is singular at t = {time} s (step {step:.3e} s)")]
+    SingularJacobian { time: f64, step: f64 },
+    #[error("step {step:.3e} s exceeds the explicit method's stability limit {limit:.3e} s")]
+    AboveStabilityLimit { step: f64, limit: f64 },
+    #[error("the state became non-finite in the step from t = {time} s")]
+    NonFinite { time: f64 },
+    #[error("{cause} (after halving the step {halvings} times to {step:.3e} s)")]
+    StepTooSmall {
+        cause: Box<SolverError>,
+        halvings: u32,
+        step: f64,
+    },
+    #[error("step size {step} s is not positive and finite")]
+    BadStep { step: f64 },
+}
+
+impl SolverError {
+    /// Whether a shorter step can cure it (contact and convergence failures can; the others not).
+    pub fn is_recoverable(&self) -> bool {
+        matches!(self, Self::NewtonDiverged { .. } | Self::ContactNotSettled { .. })
+    }
+}
