@@ -21,7 +21,7 @@
 //! stops the DOF exactly at the end of the step if the contact can hold it (stick), else ± the
 //! kinetic capacity (slip). A stuck contact therefore never creeps and never chatters.
 
-use super::factor::{Cache, Factor, Solver, axpy_columns, padded};
+use super::factor::{Cache, Factor, Solver, axpy_columns, padded, same_key, same_step};
 use super::state::{DynState, SolverError, Statistics};
 use super::system::{Friction, Linearity, Mass, SecondOrderSystem, external_forces};
 use nalgebra::DMatrix;
@@ -164,9 +164,12 @@ struct Work {
     x: Vec<f64>,
     key: Vec<u64>,
     key_new: Vec<u64>,
+    /// The inputs of a linear step, interpolated to the α-point.
+    u: Vec<f64>,
 }
 
 impl Work {
+    #[inline]
     fn fit(&mut self, n: usize) {
         if self.f1.len() != n {
             let z = vec![0.0; n];
@@ -184,6 +187,7 @@ impl Work {
                 x: z,
                 key: Vec::new(),
                 key_new: Vec::new(),
+                u: Vec::new(),
             };
         }
     }
@@ -193,6 +197,8 @@ impl Work {
 /// cache, refilled on demand with identical factors, so snapshots stay cheap and bit-identical.
 pub struct AlphaIntegrator {
     pub params: Alpha,
+    /// The coefficients of the last step size (seven divisions saved per step).
+    coefficients: Option<Coefficients>,
     cache: Cache,
     work: Work,
 }
@@ -207,6 +213,7 @@ impl AlphaIntegrator {
     pub fn new(params: Alpha) -> Self {
         Self {
             params,
+            coefficients: None,
             cache: Cache::default(),
             work: Work::default(),
         }
@@ -248,10 +255,11 @@ impl AlphaIntegrator {
         sys.add_tangent(t, q, v, c.c_c, c.c_k, &mut j);
         let solver = Solver::new(j).ok_or(SolverError::SingularJacobian { time: t, step: c.h })?;
         let inputs = super::system::input_count(sys);
-        let mut input_response = vec![0.0; n * inputs];
+        let np = padded(n);
+        let mut input_response = vec![0.0; np * inputs];
         for l in sys.input_loads() {
             let column = solver.unit_response(n, l.dof);
-            for (x, y) in input_response[l.input * n..(l.input + 1) * n].iter_mut().zip(column) {
+            for (x, y) in input_response[l.input * np..l.input * np + n].iter_mut().zip(column) {
                 *x += l.gain * y;
             }
         }
@@ -280,13 +288,23 @@ impl AlphaIntegrator {
         let Span { h, u1, .. } = *span;
         let n = sys.dofs();
         self.work.fit(n);
-        let c = Coefficients::new(&self.params, h);
+        if self.work.u.len() < span.u1.len() {
+            self.work.u.resize(span.u1.len(), 0.0);
+        }
+        let c = match self.coefficients {
+            Some(c) if same_step(c.h, h) => c,
+            _ => {
+                let c = Coefficients::new(&self.params, h);
+                self.coefficients = Some(c);
+                c
+            }
+        };
         let friction = sys.friction(u1).filter(|f| f.kinetic > 0.0 || f.holding > 0.0);
         let linear = sys.linearity() == Linearity::Linear;
         if linear {
-            self.linear_step(sys, st, c, span, friction, stats)
+            self.linear_step(sys, st, &c, span, friction, stats)
         } else {
-            self.newton_step(sys, st, c, span, friction, stats)
+            self.newton_step(sys, st, &c, span, friction, stats)
         }?;
         stats.steps += 1;
         Ok(())
@@ -298,49 +316,62 @@ impl AlphaIntegrator {
         &mut self,
         sys: &S,
         st: &mut DynState,
-        c: Coefficients,
+        c: &Coefficients,
         span: &Span,
         friction: Option<Friction>,
         stats: &mut Statistics,
     ) -> Result<(), SolverError> {
         let Span { t, u0, u1, .. } = *span;
+        // a local copy: through the reference the coefficients would be reloaded after every store
+        let c = *c;
         let n = sys.dofs();
         let np = padded(n);
-        let idx = self.factor(sys, &c, (t, &st.q, &st.v), false, friction.map(|f| f.dof), stats)?;
+        let friction_dof = friction.map(|f| f.dof);
+        // the common case first: the factor of the previous step, no friction or its response held
+        let idx = match self.cache.find(&[], c.h) {
+            Some(i)
+                if friction_dof.is_none()
+                    || self.cache.get(i).friction_response.as_ref().map(|f| f.0) == friction_dof =>
+            {
+                i
+            }
+            _ => self.factor(sys, &c, (t, &st.q, &st.v), false, friction_dof, stats)?,
+        };
         stats.newton_iterations += 1;
         let AlphaIntegrator { cache, work: w, .. } = self;
         let factor = cache.get(idx);
         let Some(map) = factor.step_map.as_deref() else {
             return Err(SolverError::SingularJacobian { time: t, step: c.h });
         };
-        let c = Coefficients { h: factor.h, ..c }; // equal to the requested h within SAME_STEP
         let (q, v, a) = (&mut st.q[..n], &mut st.v[..n], &mut st.a[..n]);
         let (x, delta) = (&mut w.x[..n], &mut w.padded[..np]);
-        delta.iter_mut().for_each(|d| *d = 0.0);
-        for (k, column) in factor.input_response.chunks_exact(n).enumerate() {
-            let u = (1.0 - c.af) * u1[k] + c.af * u0[k];
-            if u != 0.0 {
-                for (d, r) in delta.iter_mut().zip(column) {
-                    *d += r * u;
-                }
-            }
-        }
-        if let (Some((_, resp)), true) = (&factor.friction_response, c.af != 0.0 && st.friction_force != 0.0) {
-            for (d, r) in delta.iter_mut().zip(resp) {
-                *d += c.af * st.friction_force * r;
-            }
+        // inputs that load no DOF (a brake command) have no column
+        let u = &mut w.u[..factor.input_response.len() / np];
+        for k in 0..u.len() {
+            u[k] = (1.0 - c.af) * u1[k] + c.af * u0[k];
         }
         match sys.rigid_mode() {
             Some((ratio, reference)) => {
+                let (ratio, q_ref) = (&ratio[..n], q[reference]);
                 for i in 0..n {
-                    x[i] = q[i] - ratio[i] * q[reference];
+                    x[i] = q[i] - ratio[i] * q_ref;
                 }
             }
             None => x.copy_from_slice(q),
         }
+        delta.iter_mut().for_each(|d| *d = 0.0);
+        if c.af != 0.0
+            && st.friction_force != 0.0
+            && let Some((_, resp)) = &factor.friction_response
+        {
+            for (d, r) in delta.iter_mut().zip(resp) {
+                *d += c.af * st.friction_force * r;
+            }
+        }
         let (mq, rest) = map.split_at(np * n);
         let (mv, ma) = rest.split_at(np * n);
-        axpy_columns([(mq, x), (mv, v), (ma, a)], delta);
+        let inputs = &factor.input_response[..];
+        axpy_columns([(mq, &*x), (mv, &*v), (ma, &*a), (inputs, &*u)], delta);
         let mut stuck = None;
         let mut force = 0.0;
         if let (Some(fr), Some((f, resp))) = (friction, &factor.friction_response) {
@@ -374,7 +405,7 @@ impl AlphaIntegrator {
         &mut self,
         sys: &S,
         st: &mut DynState,
-        c: Coefficients,
+        c: &Coefficients,
         span: &Span,
         friction: Option<Friction>,
         stats: &mut Statistics,
@@ -397,11 +428,7 @@ impl AlphaIntegrator {
             sys.factor_key(t, &st.q, &mut w.key);
             w.delta.iter_mut().for_each(|x| *x = 0.0);
         }
-        let mut idx = self.factor(sys, &c, (t1, &st.q, &st.v), true, friction_dof, stats)?;
-        let c = Coefficients {
-            h: self.cache.get(idx).h,
-            ..c
-        };
+        let mut idx = self.factor(sys, c, (t1, &st.q, &st.v), true, friction_dof, stats)?;
         let mut force = 0.0;
         let mut held = false;
         let mut residual = f64::INFINITY;
@@ -465,7 +492,7 @@ impl AlphaIntegrator {
                         w.q1[d] = st.q[d] + w.delta[d];
                     }
                     sys.factor_key(t1, &w.q1, &mut w.key_new);
-                    let same = w.key_new == w.key;
+                    let same = same_key(&w.key_new, &w.key);
                     std::mem::swap(&mut w.key, &mut w.key_new);
                     same
                 }
@@ -484,7 +511,7 @@ impl AlphaIntegrator {
                 w.v1[d] = c.velocity(w.delta[d], st.v[d], st.a[d]);
             }
             let (q1, v1) = (std::mem::take(&mut w.q1), std::mem::take(&mut w.v1));
-            let found = self.factor(sys, &c, (t1, &q1, &v1), true, friction_dof, stats);
+            let found = self.factor(sys, c, (t1, &q1, &v1), true, friction_dof, stats);
             self.work.q1 = q1;
             self.work.v1 = v1;
             idx = found?;

@@ -31,8 +31,11 @@ impl DynState {
         }
     }
 
+    /// x·0 is 0 for a finite x and NaN otherwise, so each sum is NaN exactly when some entry is not
+    /// finite: three loops that vectorise, where a chained iterator with early exit does not.
     pub fn is_finite(&self) -> bool {
-        self.q.iter().chain(&self.v).chain(&self.a).all(|x| x.is_finite())
+        let poison = |x: &[f64]| x.iter().fold(0.0, |s, v| s + v * 0.0);
+        (poison(&self.q) + poison(&self.v) + poison(&self.a)) == 0.0
     }
 }
 
