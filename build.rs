@@ -450,7 +450,7 @@ fn emit_struct(s: &mut String, name: &str, doc_text: &str, vars: &[&Var], input:
         } else {
             t.field
         };
-        write!(s, "{}    pub {}: {ty},\n", doc(v), field_name(&v.name)).unwrap();
+        writeln!(s, "{}    pub {}: {ty},", doc(v), field_name(&v.name)).unwrap();
     }
     writeln!(
         s,

@@ -134,6 +134,7 @@ fn variable_step_sizes_are_accepted() {
 #[test]
 fn rotor_and_generator_states_restore_bit_identically() {
     type Drive = fn(&Fmu, &mut Instance, usize) -> Vec<u64>;
+    type Case<'a> = (&'a str, &'a [(&'a str, &'a str)], &'a [(&'a str, f64)], Drive);
     let rotor: Drive = |fmu, inst, k| {
         set(fmu, inst, "rotor_speed", 1.6 + 0.01 * (k as f64).sin());
         vec![
@@ -148,7 +149,7 @@ fn rotor_and_generator_states_restore_bit_identically() {
             get(fmu, inst, "stator_current").to_bits(),
         ]
     };
-    let cases: [(&str, &[(&str, &str)], &[(&str, f64)], Drive); 2] = [
+    let cases: [Case; 2] = [
         (
             "rotor",
             &[("preset", "C")],
