@@ -495,246 +495,208 @@ fn emit_getter(s: &mut String, t: &TypeMap, these: &[&Var], what: &str, input: b
     s.push_str("            _ => None,\n        }\n    }\n\n");
 }
 
+/// `set_<type>`: one match arm per variable of `these` (`arm` gives the arm's expression or
+/// block), `miss` for any other value reference, `hit` after a match.
+fn emit_setter(
+    s: &mut String,
+    doc: &str,
+    signature: &str,
+    these: &[&Var],
+    arm: impl Fn(&Var) -> String,
+    miss: &str,
+    hit: &str,
+) {
+    writeln!(s, "    /// {doc}\n    pub fn {signature} {{").unwrap();
+    if these.is_empty() {
+        writeln!(s, "        {miss}\n    }}\n").unwrap();
+        return;
+    }
+    s.push_str("        match r {\n");
+    for v in these {
+        writeln!(s, "            vr::{} => {},", const_name(&v.name), arm(v)).unwrap();
+    }
+    writeln!(
+        s,
+        "            _ => return {miss},\n        }}\n        {hit}\n    }}\n"
+    )
+    .unwrap();
+}
+
+/// The range check of a Real or Integer parameter with a min or max, as a statement.
+fn range_check(v: &Var) -> String {
+    let x = match v.ty.as_str() {
+        "Real" => "value",
+        "Integer" => "f64::from(value)",
+        _ => return String::new(),
+    };
+    if v.min.is_none() && v.max.is_none() {
+        return String::new();
+    }
+    let (min, max) = (option_literal(&v.min), option_literal(&v.max));
+    format!("s::ParameterError::check_range({:?}, {x}, {min}, {max})?; ", v.name)
+}
+
+/// The variables of `vars` with type `t`.
+fn of_type<'a>(vars: &[&'a Var], t: &TypeMap) -> Vec<&'a Var> {
+    vars.iter().copied().filter(|v| v.ty == t.fmi).collect()
+}
+
 /// `Parameters`, `Inputs` and the dispatching functions of one model.
 fn generate_faces(m: &Model, s: &mut String) {
     let params: Vec<&Var> = m.vars.iter().filter(|v| v.causality == "parameter").collect();
     let inputs: Vec<&Var> = m.vars.iter().filter(|v| v.causality == "input").collect();
     let file = format!("{}.xml", m.identifier);
-    let w = |s: &mut String, text: &str| s.push_str(text);
+    let unused = |these: &[&Var], name: &'static str| {
+        if these.is_empty() {
+            format!("_{name}")
+        } else {
+            name.to_string()
+        }
+    };
 
-    emit_struct(
-        s,
-        "Parameters",
-        &format!(
-            "The parameters (causality=\"parameter\") of {file}, one field each; `Default` is the XML's\n/// start \
-             values. Real and Integer setters refuse values outside the XML's min/max."
-        ),
-        &params,
-        false,
+    let doc = format!(
+        "The parameters (causality=\"parameter\") of {file}, one field each; `Default` is the XML's\n/// start \
+         values. Real and Integer setters refuse values outside the XML's min/max."
     );
-    w(s, "impl Parameters {\n");
+    emit_struct(s, "Parameters", &doc, &params, false);
+    s.push_str("impl Parameters {\n");
     for t in &TYPES {
-        let these: Vec<&Var> = params.iter().copied().filter(|v| v.ty == t.fmi).collect();
-        let r = if these.is_empty() { "_r" } else { "r" };
+        let these = of_type(&params, t);
         emit_getter(s, t, &these, "parameter", false);
-        let range_note = if matches!(t.fmi, "Real" | "Integer") {
+        let range = if matches!(t.fmi, "Real" | "Integer") {
             " within the XML's min/max"
         } else {
             ""
         };
-        w(
+        let assign = if t.fmi == "String" {
+            "value.to_string()"
+        } else {
+            "value"
+        };
+        emit_setter(
             s,
             &format!(
-                "    /// Sets the {} parameter `r`{range_note}; `Ok(false)` when `r` is no {} parameter.\n",
-                t.fmi, t.fmi
+                "Sets the {0} parameter `r`{range}; `Ok(false)` when `r` is no {0} parameter.",
+                t.fmi
             ),
-        );
-        let value = if these.is_empty() { "_value" } else { "value" };
-        w(
-            s,
             &format!(
-                "    pub fn set_{}(&mut self, {r}: u32, {value}: {}) -> Result<bool, s::ParameterError> {{\n",
-                t.method, t.arg
+                "set_{}(&mut self, {}: u32, {}: {}) -> Result<bool, s::ParameterError>",
+                t.method,
+                unused(&these, "r"),
+                unused(&these, "value"),
+                t.arg
             ),
-        );
-        if these.is_empty() {
-            w(s, "        Ok(false)\n    }\n\n");
-            continue;
-        }
-        w(s, "        match r {\n");
-        for v in &these {
-            let f = field_name(&v.name);
-            w(s, &format!("            vr::{} => {{\n", const_name(&v.name)));
-            let as_f64 = match t.fmi {
-                "Real" => Some("value".to_string()),
-                "Integer" => Some("f64::from(value)".to_string()),
-                _ => None,
-            };
-            if let Some(x) = as_f64.filter(|_| v.min.is_some() || v.max.is_some()) {
-                w(
-                    s,
-                    &format!(
-                        "                s::ParameterError::check_range({:?}, {x}, {}, {})?;\n",
-                        v.name,
-                        option_literal(&v.min),
-                        option_literal(&v.max)
-                    ),
-                );
-            }
-            let assign = if t.fmi == "String" {
-                "value.to_string()"
-            } else {
-                "value"
-            };
-            w(s, &format!("                self.{f} = {assign};\n            }}\n"));
-        }
-        w(
-            s,
-            "            _ => return Ok(false),\n        }\n        Ok(true)\n    }\n\n",
+            &these,
+            |v| format!("{{ {}self.{} = {assign}; }}", range_check(v), field_name(&v.name)),
+            "Ok(false)",
+            "Ok(true)",
         );
     }
     s.truncate(s.trim_end().len());
-    w(s, "\n}\n");
+    s.push_str("\n}\n");
 
-    // Inputs
-    emit_struct(
-        s,
-        "Inputs",
-        &format!(
-            "The inputs (causality=\"input\") of {file}: each Real one an [`s::InputPolynomial`] (value and\n/// \
-             time derivatives of order 1 and 2 for canInterpolateInputs); `Default` is the XML's start values."
-        ),
-        &inputs,
-        true,
+    let doc = format!(
+        "The inputs (causality=\"input\") of {file}: each Real one an [`s::InputPolynomial`] (value and\n/// \
+         time derivatives of order 1 and 2 for canInterpolateInputs); `Default` is the XML's start values."
     );
-    w(s, "impl Inputs {\n");
+    emit_struct(s, "Inputs", &doc, &inputs, true);
+    s.push_str("impl Inputs {\n");
     for t in &TYPES {
-        let these: Vec<&Var> = inputs.iter().copied().filter(|v| v.ty == t.fmi).collect();
-        let r = if these.is_empty() { "_r" } else { "r" };
+        let these = of_type(&inputs, t);
         emit_getter(s, t, &these, "input", true);
-        let bounded = these
+        let bounded: Vec<&Var> = these
             .iter()
-            .any(|v| t.fmi == "Real" && (v.min.is_some() || v.max.is_some()));
-        let log = if bounded { "log" } else { "_log" };
-        let value = if these.is_empty() { "_value" } else { "value" };
+            .copied()
+            .filter(|v| t.fmi == "Real" && (v.min.is_some() || v.max.is_some()))
+            .collect();
         let note = if t.fmi == "Real" {
             " (its derivatives cleared, clamped to the XML's min/max with a warning)"
         } else {
             ""
         };
-        w(
+        emit_setter(
             s,
+            &format!("Sets the {0} input `r`{note}; false when `r` is no {0} input.", t.fmi),
             &format!(
-                "    /// Sets the {} input `r`{note}; false when `r` is no {} input.\n",
-                t.fmi, t.fmi
+                "set_{}(&mut self, {}: u32, {}: {}, {}: &mut dyn s::Log) -> bool",
+                t.method,
+                unused(&these, "r"),
+                unused(&these, "value"),
+                t.arg,
+                unused(&bounded, "log")
             ),
-        );
-        w(
-            s,
-            &format!(
-                "    pub fn set_{}(&mut self, {r}: u32, {value}: {}, {log}: &mut dyn s::Log) -> bool {{\n",
-                t.method, t.arg
-            ),
-        );
-        if these.is_empty() {
-            w(s, "        false\n    }\n\n");
-            continue;
-        }
-        w(s, "        match r {\n");
-        for v in &these {
-            let f = field_name(&v.name);
-            let stmt = match t.fmi {
-                "Real" if v.min.is_some() || v.max.is_some() => format!(
-                    "self.{f}.set(s::clamp_input({:?}, value, {}, {}, log))",
-                    v.name,
-                    option_literal(&v.min),
-                    option_literal(&v.max)
-                ),
-                "Real" => format!("self.{f}.set(value)"),
-                "String" => format!("self.{f} = value.to_string()"),
-                _ => format!("self.{f} = value"),
-            };
-            w(s, &format!("            vr::{} => {stmt},\n", const_name(&v.name)));
-        }
-        w(s, "            _ => return false,\n        }\n        true\n    }\n\n");
-    }
-    let reals: Vec<&&Var> = inputs.iter().filter(|v| v.ty == "Real").collect();
-    w(
-        s,
-        "    /// Sets the `order`-th time derivative (1 or 2) of the Real input `r`.\n",
-    );
-    if reals.is_empty() {
-        w(
-            s,
-            "    pub fn set_derivative(&mut self, r: u32, _order: i32, _value: f64) -> s::SlaveResult<()> {\n",
-        );
-        w(
-            s,
-            "        Err(s::err(format!(\"Real value reference {r} is not an input\")))\n    }\n\n",
-        );
-    } else {
-        w(
-            s,
-            "    pub fn set_derivative(&mut self, r: u32, order: i32, value: f64) -> s::SlaveResult<()> {\n        match r {\n",
-        );
-        for v in &reals {
-            w(
-                s,
-                &format!(
-                    "            vr::{} => self.{}.set_derivative(order, value),\n",
-                    const_name(&v.name),
-                    field_name(&v.name)
-                ),
-            );
-        }
-        w(
-            s,
-            "            _ => Err(s::err(format!(\"Real value reference {r} is not an input\"))),\n        }\n    }\n\n",
+            &these,
+            |v| {
+                let f = field_name(&v.name);
+                match t.fmi {
+                    "Real" if v.min.is_some() || v.max.is_some() => format!(
+                        "self.{f}.set(s::clamp_input({:?}, value, {}, {}, log))",
+                        v.name,
+                        option_literal(&v.min),
+                        option_literal(&v.max)
+                    ),
+                    "Real" => format!("self.{f}.set(value)"),
+                    "String" => format!("self.{f} = value.to_string()"),
+                    _ => format!("self.{f} = value"),
+                }
+            },
+            "false",
+            "true",
         );
     }
-    let h = if reals.is_empty() { "_h" } else { "h" };
-    w(
+    let reals: Vec<&Var> = inputs.iter().copied().filter(|v| v.ty == "Real").collect();
+    writeln!(
         s,
-        &format!(
-            "    /// Moves every Real input's expansion point forward by `h` seconds (after a step), so the\n    /// polynomials continue if nobody sets new values.\n    pub fn advance(&mut self, {h}: f64) {{\n"
-        ),
-    );
+        "    /// Sets the `order`-th time derivative (1 or 2) of the Real input `r`."
+    )
+    .unwrap();
+    let (order, value) = (unused(&reals, "order"), unused(&reals, "value"));
+    writeln!(s, "    pub fn set_derivative(&mut self, r: u32, {order}: i32, {value}: f64) -> s::SlaveResult<()> {{\n        match r {{").unwrap();
     for v in &reals {
-        w(s, &format!("        self.{}.advance(h);\n", field_name(&v.name)));
+        writeln!(
+            s,
+            "            vr::{} => self.{}.set_derivative(order, value),",
+            const_name(&v.name),
+            field_name(&v.name)
+        )
+        .unwrap();
     }
-    w(s, "    }\n}\n");
+    writeln!(
+        s,
+        "            _ => Err(s::err(format!(\"Real value reference {{r}} is not an input\"))),\n        }}\n    }}\n"
+    )
+    .unwrap();
+    writeln!(s, "    /// Moves every Real input's expansion point forward by `h` seconds (after a step), so the\n    /// polynomials continue if nobody sets new values.").unwrap();
+    writeln!(s, "    pub fn advance(&mut self, {}: f64) {{", unused(&reals, "h")).unwrap();
+    for v in &reals {
+        writeln!(s, "        self.{}.advance(h);", field_name(&v.name)).unwrap();
+    }
+    s.push_str("    }\n}\n");
 
     // dispatch to either
-    w(
+    writeln!(
         s,
-        "\n/// The refusal to read a variable the face has no getter for, naming it.\n",
-    );
-    w(
+        "\n/// The refusal to read a variable the face has no getter for, naming it."
+    )
+    .unwrap();
+    writeln!(
         s,
-        "pub fn no_getter(ty: VarType, r: u32) -> s::SlaveError {\n    s::no_getter(variable(ty, r), ty, r)\n}\n",
-    );
+        "pub fn no_getter(ty: VarType, r: u32) -> s::SlaveError {{\n    s::no_getter(variable(ty, r), ty, r)\n}}"
+    )
+    .unwrap();
     for t in &TYPES {
-        let to_owned = if t.fmi == "String" { ".map(str::to_string)" } else { "" };
-        let a = if t.fmi == "Integer" { "An" } else { "A" };
-        w(
+        let (m, f) = (t.method, t.fmi);
+        let a = if f == "Integer" { "An" } else { "A" };
+        let to_owned = if f == "String" { ".map(str::to_string)" } else { "" };
+        writeln!(
             s,
-            &format!(
-                "\n/// {a} {} parameter or input by value reference (None for calculated parameters and outputs).\n",
-                t.fmi
-            ),
-        );
-        w(
-            s,
-            &format!(
-                "pub fn get_{m}(p: &Parameters, i: &Inputs, r: u32) -> Option<{o}> {{\n    p.get_{m}(r).or_else(|| i.get_{m}(r)){to_owned}\n}}\n",
-                m = t.method,
-                o = t.owned
-            ),
-        );
-        w(
-            s,
-            &format!(
-                "\n/// Sets a {f} parameter or input by value reference (see [`Parameters::set_{m}`] and\n/// [`Inputs::set_{m}`]); anything else is refused by name.\n",
-                f = t.fmi,
-                m = t.method
-            ),
-        );
-        w(
-            s,
-            &format!(
-                "pub fn set_{m}(p: &mut Parameters, i: &mut Inputs, r: u32, value: {a}, log: &mut dyn s::Log) -> s::SlaveResult<s::Changed> {{\n",
-                m = t.method,
-                a = t.arg
-            ),
-        );
-        w(
-            s,
-            &format!(
-                "    if i.set_{m}(r, value, log) {{\n        Ok(s::Changed::Input)\n    }} else if p.set_{m}(r, value)? {{\n        Ok(s::Changed::Parameter)\n    }} else {{\n        Err(s::cannot_set(variable(VarType::{f}, r), VarType::{f}, r))\n    }}\n}}\n",
-                m = t.method,
-                f = t.fmi
-            ),
-        );
+            "\n/// {a} {f} parameter or input by value reference (None for calculated parameters and outputs)."
+        )
+        .unwrap();
+        writeln!(s, "pub fn get_{m}(p: &Parameters, i: &Inputs, r: u32) -> Option<{}> {{\n    p.get_{m}(r).or_else(|| i.get_{m}(r)){to_owned}\n}}", t.owned).unwrap();
+        writeln!(s, "\n/// Sets {} {f} parameter or input by value reference (see [`Parameters::set_{m}`] and\n/// [`Inputs::set_{m}`]); anything else is refused by name.", a.to_lowercase()).unwrap();
+        writeln!(s, "pub fn set_{m}(p: &mut Parameters, i: &mut Inputs, r: u32, value: {}, log: &mut dyn s::Log) -> s::SlaveResult<s::Changed> {{", t.arg).unwrap();
+        writeln!(s, "    if i.set_{m}(r, value, log) {{\n        Ok(s::Changed::Input)\n    }} else if p.set_{m}(r, value)? {{\n        Ok(s::Changed::Parameter)\n    }} else {{\n        Err(s::cannot_set(variable(VarType::{f}, r), VarType::{f}, r))\n    }}\n}}").unwrap();
     }
 }
 
