@@ -1,6 +1,11 @@
 //! Reads every `modelDescription/<name>.xml`, checks its ModelStructure against its variables and
 //! generates `$OUT_DIR/model_<name>.rs`: value-reference constants, the variable table with start
 //! values, the GUID and the final XML. The binary and the XML therefore cannot drift apart.
+//! Per FMU it also generates the typed `Parameters` struct (every causality="parameter" variable,
+//! `Default` = the XML's start values, get/set by value reference within the XML's min/max), the
+//! `Inputs` struct (Real inputs as input polynomials) and `get_*`/`set_*` functions that dispatch a
+//! value reference to either, so a face only writes its outputs and its model. Read the result in
+//! `$OUT_DIR/model_<name>.rs`.
 //! With the `cli` feature it also compiles the master's C logger shim.
 
 use quick_xml::events::{BytesStart, Event};
@@ -18,6 +23,8 @@ struct Var {
     start: Option<String>,
     min: Option<String>,
     max: Option<String>,
+    description: Option<String>,
+    unit: Option<String>,
 }
 
 struct Model {
@@ -72,6 +79,8 @@ fn parse(path: &Path, xml: &str) -> Model {
                         start: None,
                         min: None,
                         max: None,
+                        description: a.get("description").cloned(),
+                        unit: None,
                     }),
                     "Real" | "Integer" | "Boolean" | "String" if !model.vars.is_empty() && section.is_empty() => {
                         let v = model.vars.last_mut().unwrap();
@@ -79,6 +88,7 @@ fn parse(path: &Path, xml: &str) -> Model {
                         v.start = a.get("start").cloned();
                         v.min = a.get("min").cloned();
                         v.max = a.get("max").cloned();
+                        v.unit = a.get("unit").cloned();
                     }
                     "Outputs" | "InitialUnknowns" | "Derivatives" => section = tag.clone(),
                     "Unknown" => {
@@ -227,6 +237,7 @@ fn generate(m: &Model, xml: &str, guid: &str) -> String {
         "use crate::fmi2::variables::{{Causality, Start, VarType, Variability, Variable}};"
     )
     .unwrap();
+    writeln!(s, "use crate::fmi2::slave as s;").unwrap();
     writeln!(s, "pub const MODEL_IDENTIFIER: &str = {:?};", m.identifier).unwrap();
     writeln!(s, "pub const GUID: &str = {guid:?};").unwrap();
     writeln!(
@@ -305,7 +316,388 @@ fn generate(m: &Model, xml: &str, guid: &str) -> String {
     )
     .unwrap();
     writeln!(s, "}}").unwrap();
+    generate_faces(m, &mut s);
     s
+}
+
+/// How one FMI type appears in the generated Rust.
+struct TypeMap {
+    /// FMI type name and the suffix of the generated methods.
+    fmi: &'static str,
+    method: &'static str,
+    /// Rust type of a parameter field, of a setter's argument, of a getter's result and of the
+    /// combined getter's result.
+    field: &'static str,
+    arg: &'static str,
+    get: &'static str,
+    owned: &'static str,
+}
+
+const TYPES: [TypeMap; 4] = [
+    TypeMap {
+        fmi: "Real",
+        method: "real",
+        field: "f64",
+        arg: "f64",
+        get: "f64",
+        owned: "f64",
+    },
+    TypeMap {
+        fmi: "Integer",
+        method: "integer",
+        field: "i32",
+        arg: "i32",
+        get: "i32",
+        owned: "i32",
+    },
+    TypeMap {
+        fmi: "Boolean",
+        method: "boolean",
+        field: "bool",
+        arg: "bool",
+        get: "bool",
+        owned: "bool",
+    },
+    TypeMap {
+        fmi: "String",
+        method: "string",
+        field: "String",
+        arg: "&str",
+        get: "&str",
+        owned: "String",
+    },
+];
+
+const KEYWORDS: &[&str] = &[
+    "as", "break", "const", "continue", "crate", "else", "enum", "extern", "false", "fn", "for", "if", "impl", "in",
+    "let", "loop", "match", "mod", "move", "mut", "pub", "ref", "return", "self", "static", "struct", "super", "trait",
+    "true", "type", "unsafe", "use", "where", "while", "async", "await", "dyn", "gen", "box", "try",
+];
+
+fn field_name(name: &str) -> String {
+    let f = name.to_lowercase().replace(['.', '[', ']', ' '], "_");
+    if KEYWORDS.contains(&f.as_str()) {
+        format!("r#{f}")
+    } else {
+        f
+    }
+}
+
+/// A field's doc comment: the XML description, unit and range.
+fn doc(v: &Var) -> String {
+    let mut extra = Vec::new();
+    if let Some(u) = &v.unit {
+        extra.push(format!("unit {u}"));
+    }
+    match (&v.min, &v.max) {
+        (Some(a), Some(b)) => extra.push(format!("{a} ..= {b}")),
+        (Some(a), None) => extra.push(format!(">= {a}")),
+        (None, Some(b)) => extra.push(format!("<= {b}")),
+        (None, None) => {}
+    }
+    let mut d = v.description.clone().unwrap_or_else(|| v.name.clone());
+    if !extra.is_empty() {
+        write!(d, " [{}]", extra.join("; ")).unwrap();
+    }
+    format!("    /// {}\n", d.replace('\n', " "))
+}
+
+fn option_literal(b: &Option<String>) -> String {
+    b.as_deref()
+        .map_or("None".into(), |x| format!("Some({})", real_literal(x)))
+}
+
+/// The start value of a parameter or input as a Rust expression of its field type.
+fn start_expr(v: &Var, input: bool) -> String {
+    let x = v
+        .start
+        .as_deref()
+        .unwrap_or_else(|| panic!("{} has no start value", v.name));
+    let value = match v.ty.as_str() {
+        "Real" => real_literal(x),
+        "Integer" => x
+            .parse::<i32>()
+            .unwrap_or_else(|_| panic!("{}: not an Integer: {x}", v.name))
+            .to_string(),
+        "Boolean" => (x == "true" || x == "1").to_string(),
+        _ => format!("{x:?}.to_string()"),
+    };
+    if input && v.ty == "Real" {
+        format!("s::InputPolynomial::new({value})")
+    } else {
+        value
+    }
+}
+
+/// `pub struct <name>` with a field per variable (Real inputs as input polynomials) and its
+/// `Default` of the XML's start values.
+fn emit_struct(s: &mut String, name: &str, doc_text: &str, vars: &[&Var], input: bool) {
+    let copy = if vars.iter().any(|v| v.ty == "String") {
+        ""
+    } else {
+        "Copy, "
+    };
+    write!(
+        s,
+        "\n/// {doc_text}\n#[derive(Debug, Clone, {copy}PartialEq, serde::Serialize, serde::Deserialize)]\n"
+    )
+    .unwrap();
+    writeln!(s, "pub struct {name} {{").unwrap();
+    for v in vars {
+        let t = TYPES.iter().find(|t| t.fmi == v.ty).unwrap();
+        let ty = if input && v.ty == "Real" {
+            "s::InputPolynomial"
+        } else {
+            t.field
+        };
+        writeln!(s, "{}    pub {}: {ty},", doc(v), field_name(&v.name)).unwrap();
+    }
+    writeln!(
+        s,
+        "}}\n\nimpl Default for {name} {{\n    fn default() -> Self {{\n        Self {{"
+    )
+    .unwrap();
+    for v in vars {
+        writeln!(s, "            {}: {},", field_name(&v.name), start_expr(v, input)).unwrap();
+    }
+    s.push_str("        }\n    }\n}\n\n");
+}
+
+/// `get_<type>(r)`: the value of the `what` (parameter or input) with value reference `r`.
+fn emit_getter(s: &mut String, t: &TypeMap, these: &[&Var], what: &str, input: bool) {
+    let r = if these.is_empty() { "_r" } else { "r" };
+    writeln!(
+        s,
+        "    /// The {} {what} with value reference `r`, if it is one.",
+        t.fmi
+    )
+    .unwrap();
+    writeln!(
+        s,
+        "    pub fn get_{}(&self, {r}: u32) -> Option<{}> {{",
+        t.method, t.get
+    )
+    .unwrap();
+    if these.is_empty() {
+        s.push_str("        None\n    }\n\n");
+        return;
+    }
+    s.push_str("        match r {\n");
+    for v in these {
+        let f = field_name(&v.name);
+        let get = match t.fmi {
+            "Real" if input => format!("self.{f}.value()"),
+            "String" => format!("self.{f}.as_str()"),
+            _ => format!("self.{f}"),
+        };
+        writeln!(s, "            vr::{} => Some({get}),", const_name(&v.name)).unwrap();
+    }
+    s.push_str("            _ => None,\n        }\n    }\n\n");
+}
+
+/// `set_<type>`: one match arm per variable of `these` (`arm` gives the arm's expression or
+/// block), `miss` for any other value reference, `hit` after a match.
+fn emit_setter(
+    s: &mut String,
+    doc: &str,
+    signature: &str,
+    these: &[&Var],
+    arm: impl Fn(&Var) -> String,
+    miss: &str,
+    hit: &str,
+) {
+    writeln!(s, "    /// {doc}\n    pub fn {signature} {{").unwrap();
+    if these.is_empty() {
+        writeln!(s, "        {miss}\n    }}\n").unwrap();
+        return;
+    }
+    s.push_str("        match r {\n");
+    for v in these {
+        writeln!(s, "            vr::{} => {},", const_name(&v.name), arm(v)).unwrap();
+    }
+    writeln!(
+        s,
+        "            _ => return {miss},\n        }}\n        {hit}\n    }}\n"
+    )
+    .unwrap();
+}
+
+/// The range check of a Real or Integer parameter with a min or max, as a statement.
+fn range_check(v: &Var) -> String {
+    let x = match v.ty.as_str() {
+        "Real" => "value",
+        "Integer" => "f64::from(value)",
+        _ => return String::new(),
+    };
+    if v.min.is_none() && v.max.is_none() {
+        return String::new();
+    }
+    let (min, max) = (option_literal(&v.min), option_literal(&v.max));
+    format!("s::ParameterError::check_range({:?}, {x}, {min}, {max})?; ", v.name)
+}
+
+/// The variables of `vars` with type `t`.
+fn of_type<'a>(vars: &[&'a Var], t: &TypeMap) -> Vec<&'a Var> {
+    vars.iter().copied().filter(|v| v.ty == t.fmi).collect()
+}
+
+/// `Parameters`, `Inputs` and the dispatching functions of one model.
+fn generate_faces(m: &Model, s: &mut String) {
+    let params: Vec<&Var> = m.vars.iter().filter(|v| v.causality == "parameter").collect();
+    let inputs: Vec<&Var> = m.vars.iter().filter(|v| v.causality == "input").collect();
+    let file = format!("{}.xml", m.identifier);
+    let unused = |these: &[&Var], name: &'static str| {
+        if these.is_empty() {
+            format!("_{name}")
+        } else {
+            name.to_string()
+        }
+    };
+
+    let doc = format!(
+        "The parameters (causality=\"parameter\") of {file}, one field each; `Default` is the XML's\n/// start \
+         values. Real and Integer setters refuse values outside the XML's min/max."
+    );
+    emit_struct(s, "Parameters", &doc, &params, false);
+    s.push_str("impl Parameters {\n");
+    for t in &TYPES {
+        let these = of_type(&params, t);
+        emit_getter(s, t, &these, "parameter", false);
+        let range = if matches!(t.fmi, "Real" | "Integer") {
+            " within the XML's min/max"
+        } else {
+            ""
+        };
+        let assign = if t.fmi == "String" {
+            "value.to_string()"
+        } else {
+            "value"
+        };
+        emit_setter(
+            s,
+            &format!(
+                "Sets the {0} parameter `r`{range}; `Ok(false)` when `r` is no {0} parameter.",
+                t.fmi
+            ),
+            &format!(
+                "set_{}(&mut self, {}: u32, {}: {}) -> Result<bool, s::ParameterError>",
+                t.method,
+                unused(&these, "r"),
+                unused(&these, "value"),
+                t.arg
+            ),
+            &these,
+            |v| format!("{{ {}self.{} = {assign}; }}", range_check(v), field_name(&v.name)),
+            "Ok(false)",
+            "Ok(true)",
+        );
+    }
+    s.truncate(s.trim_end().len());
+    s.push_str("\n}\n");
+
+    let doc = format!(
+        "The inputs (causality=\"input\") of {file}: each Real one an [`s::InputPolynomial`] (value and\n/// \
+         time derivatives of order 1 and 2 for canInterpolateInputs); `Default` is the XML's start values."
+    );
+    emit_struct(s, "Inputs", &doc, &inputs, true);
+    s.push_str("impl Inputs {\n");
+    for t in &TYPES {
+        let these = of_type(&inputs, t);
+        emit_getter(s, t, &these, "input", true);
+        let bounded: Vec<&Var> = these
+            .iter()
+            .copied()
+            .filter(|v| t.fmi == "Real" && (v.min.is_some() || v.max.is_some()))
+            .collect();
+        let note = if t.fmi == "Real" {
+            " (its derivatives cleared, clamped to the XML's min/max with a warning)"
+        } else {
+            ""
+        };
+        emit_setter(
+            s,
+            &format!("Sets the {0} input `r`{note}; false when `r` is no {0} input.", t.fmi),
+            &format!(
+                "set_{}(&mut self, {}: u32, {}: {}, {}: &mut dyn s::Log) -> bool",
+                t.method,
+                unused(&these, "r"),
+                unused(&these, "value"),
+                t.arg,
+                unused(&bounded, "log")
+            ),
+            &these,
+            |v| {
+                let f = field_name(&v.name);
+                match t.fmi {
+                    "Real" if v.min.is_some() || v.max.is_some() => format!(
+                        "self.{f}.set(s::clamp_input({:?}, value, {}, {}, log))",
+                        v.name,
+                        option_literal(&v.min),
+                        option_literal(&v.max)
+                    ),
+                    "Real" => format!("self.{f}.set(value)"),
+                    "String" => format!("self.{f} = value.to_string()"),
+                    _ => format!("self.{f} = value"),
+                }
+            },
+            "false",
+            "true",
+        );
+    }
+    let reals: Vec<&Var> = inputs.iter().copied().filter(|v| v.ty == "Real").collect();
+    writeln!(
+        s,
+        "    /// Sets the `order`-th time derivative (1 or 2) of the Real input `r`."
+    )
+    .unwrap();
+    let (order, value) = (unused(&reals, "order"), unused(&reals, "value"));
+    writeln!(s, "    pub fn set_derivative(&mut self, r: u32, {order}: i32, {value}: f64) -> s::SlaveResult<()> {{\n        match r {{").unwrap();
+    for v in &reals {
+        writeln!(
+            s,
+            "            vr::{} => self.{}.set_derivative(order, value),",
+            const_name(&v.name),
+            field_name(&v.name)
+        )
+        .unwrap();
+    }
+    writeln!(
+        s,
+        "            _ => Err(s::err(format!(\"Real value reference {{r}} is not an input\"))),\n        }}\n    }}\n"
+    )
+    .unwrap();
+    writeln!(s, "    /// Moves every Real input's expansion point forward by `h` seconds (after a step), so the\n    /// polynomials continue if nobody sets new values.").unwrap();
+    writeln!(s, "    pub fn advance(&mut self, {}: f64) {{", unused(&reals, "h")).unwrap();
+    for v in &reals {
+        writeln!(s, "        self.{}.advance(h);", field_name(&v.name)).unwrap();
+    }
+    s.push_str("    }\n}\n");
+
+    // dispatch to either
+    writeln!(
+        s,
+        "\n/// The refusal to read a variable the face has no getter for, naming it."
+    )
+    .unwrap();
+    writeln!(
+        s,
+        "pub fn no_getter(ty: VarType, r: u32) -> s::SlaveError {{\n    s::no_getter(variable(ty, r), ty, r)\n}}"
+    )
+    .unwrap();
+    for t in &TYPES {
+        let (m, f) = (t.method, t.fmi);
+        let a = if f == "Integer" { "An" } else { "A" };
+        let to_owned = if f == "String" { ".map(str::to_string)" } else { "" };
+        writeln!(
+            s,
+            "\n/// {a} {f} parameter or input by value reference (None for calculated parameters and outputs)."
+        )
+        .unwrap();
+        writeln!(s, "pub fn get_{m}(p: &Parameters, i: &Inputs, r: u32) -> Option<{}> {{\n    p.get_{m}(r).or_else(|| i.get_{m}(r)){to_owned}\n}}", t.owned).unwrap();
+        writeln!(s, "\n/// Sets {} {f} parameter or input by value reference (see [`Parameters::set_{m}`] and\n/// [`Inputs::set_{m}`]); anything else is refused by name.", a.to_lowercase()).unwrap();
+        writeln!(s, "pub fn set_{m}(p: &mut Parameters, i: &mut Inputs, r: u32, value: {}, log: &mut dyn s::Log) -> s::SlaveResult<s::Changed> {{", t.arg).unwrap();
+        writeln!(s, "    if i.set_{m}(r, value, log) {{\n        Ok(s::Changed::Input)\n    }} else if p.set_{m}(r, value)? {{\n        Ok(s::Changed::Parameter)\n    }} else {{\n        Err(s::cannot_set(variable(VarType::{f}, r), VarType::{f}, r))\n    }}\n}}").unwrap();
+    }
 }
 
 fn main() {

@@ -356,3 +356,28 @@ fn generator_refuses_absurd_parameters_and_steps() {
         "{err}"
     );
 }
+
+/// Issue 16: an Integer parameter outside the XML's min/max (`poles`, 0..=400) answered fmi2OK.
+#[test]
+fn generator_integer_parameters_outside_their_range_are_refused() {
+    let fmu = Fmu::open(&fmu_path("generator")).expect("the packed generator FMU opens");
+    let poles = fmu.vr("poles").unwrap();
+    let mut inst = fmu.instantiate("gen", true).unwrap();
+    for (bad, words) in [(-2, "below its minimum 0"), (402, "above its maximum 400")] {
+        inst.reset().unwrap();
+        inst.setup_experiment(0.0, None).unwrap();
+        let s = unsafe { (fmu.api.set_integer)(inst.raw(), [poles].as_ptr(), 1, [bad].as_ptr()) };
+        expect_error(
+            &inst,
+            s,
+            &["fmi2SetInteger", &format!("parameter poles = {bad}"), words],
+        );
+    }
+    inst.reset().unwrap();
+    inst.setup_experiment(0.0, None).unwrap();
+    inst.set_integer(&[poles], &[4]).unwrap();
+    inst.enter_initialization_mode().unwrap();
+    let mut v = [0];
+    inst.get_integer(&[poles], &mut v).unwrap();
+    assert_eq!(v[0], 4);
+}

@@ -2,16 +2,11 @@
 //! conservation of the undamped implicit integrator, brake stiction without creep, backlash and
 //! time-varying mesh stiffness at the physical mesh frequency. Runs the FMU's Rust face directly.
 
-use windrive::fmi2::slave::{Log, Slave};
+use windrive::fmi2::slave::{NoLog as Quiet, Slave};
 use windrive::models::torsional::vr;
 use windrive::physics::drivetrain::{Drivetrain, PRESETS, Stage};
 use windrive::slaves::torsional::TorsionalSlave;
 
-struct Quiet;
-impl Log for Quiet {
-    fn warning(&mut self, _: &str) {}
-    fn event(&mut self, _: &str) {}
-}
 
 fn slave(preset: &str, fidelity: &str, reals: &[(u32, f64)]) -> TorsionalSlave {
     let mut s = TorsionalSlave::instantiate(None);

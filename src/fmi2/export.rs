@@ -418,7 +418,7 @@ fn known<S: Slave>(ty: VarType, vr: u32) -> Result<&'static Variable, String> {
     S::variable(ty, vr).ok_or_else(|| format!("unknown {ty:?} value reference {vr}"))
 }
 
-/// Checks that a variable may be set now (FMI 2.0 §4.2.4 and the XML's min/max for parameters).
+/// Checks that a variable may be set now (FMI 2.0 §4.2.4).
 fn settable(v: &Variable, state: ModelState) -> Result<(), String> {
     let ok = match v.causality {
         Causality::Input => matches!(state, Instantiated | InitializationMode | StepComplete),
@@ -441,17 +441,11 @@ fn settable(v: &Variable, state: ModelState) -> Result<(), String> {
     }
 }
 
+/// Refuses NaN and infinities. The XML's min/max are the model's to check: the generated
+/// `models::<name>::Parameters` setters refuse a parameter outside them, Real and Integer alike.
 fn check_real(v: &Variable, value: f64) -> Result<(), String> {
     if !value.is_finite() {
         return Err(format!("{} = {value} rejected: not a finite number", v.name));
-    }
-    if v.causality == Causality::Parameter {
-        if let Some(min) = v.min.filter(|m| value < *m) {
-            return Err(format!("parameter {} = {value} is below its minimum {min}", v.name));
-        }
-        if let Some(max) = v.max.filter(|m| value > *m) {
-            return Err(format!("parameter {} = {value} is above its maximum {max}", v.name));
-        }
     }
     Ok(())
 }

@@ -2,7 +2,7 @@
 //! pointers. The adapter (export.rs) owns the state machine, argument checks and logging.
 
 use super::variables::{VarType, Variable};
-use serde::{Serialize, de::DeserializeOwned};
+use serde::{Deserialize, Serialize, de::DeserializeOwned};
 use std::path::Path;
 
 /// An error a model reports; the adapter logs the message and answers fmi2Error.
@@ -18,6 +18,140 @@ impl SlaveError {
 
 pub type SlaveResult<T> = Result<T, SlaveError>;
 
+/// A [`SlaveError`] with this message.
+pub fn err(msg: impl Into<String>) -> SlaveError {
+    SlaveError::new(msg)
+}
+
+/// Parameters a model refuses: the XML's range, a value the model does not know, a combination
+/// that does not go together, or what the physics said. Faces build their models with it; it
+/// crosses to the adapter as a [`SlaveError`].
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ParameterError {
+    #[error("parameter {name} = {value} is below its minimum {min}")]
+    BelowMinimum { name: &'static str, value: f64, min: f64 },
+    #[error("parameter {name} = {value} is above its maximum {max}")]
+    AboveMaximum { name: &'static str, value: f64, max: f64 },
+    /// `value` as the user gave it (strings quoted).
+    #[error("parameter {name} = {value}: {reason}")]
+    Invalid {
+        name: &'static str,
+        value: String,
+        reason: String,
+    },
+    /// Parameters that do not go together; the message names them.
+    #[error("{0}")]
+    Conflict(String),
+    /// The physics refused the parameters; the message says why.
+    #[error("{0}")]
+    Model(String),
+}
+
+impl ParameterError {
+    /// A value of parameter `name` the model does not accept, with what it accepts.
+    pub fn invalid(name: &'static str, value: &impl std::fmt::Debug, reason: impl Into<String>) -> Self {
+        Self::Invalid {
+            name,
+            value: format!("{value:?}"),
+            reason: reason.into(),
+        }
+    }
+
+    /// Checks a Real or Integer parameter against the XML's min and max (generated setters call it).
+    pub fn check_range(name: &'static str, value: f64, min: Option<f64>, max: Option<f64>) -> Result<(), Self> {
+        if let Some(min) = min.filter(|m| value < *m) {
+            return Err(Self::BelowMinimum { name, value, min });
+        }
+        if let Some(max) = max.filter(|m| value > *m) {
+            return Err(Self::AboveMaximum { name, value, max });
+        }
+        Ok(())
+    }
+}
+
+impl From<ParameterError> for SlaveError {
+    fn from(e: ParameterError) -> Self {
+        Self(e.to_string())
+    }
+}
+
+/// What setting a parameter or input by value reference changed (generated `set_*` functions).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Changed {
+    /// A parameter: whatever was built from the parameters is stale.
+    Parameter,
+    /// An input value (its derivatives are cleared).
+    Input,
+}
+
+/// The refusal to set a variable that is neither a parameter nor an input, naming it.
+pub fn cannot_set(var: Option<&Variable>, ty: VarType, vr: u32) -> SlaveError {
+    match var {
+        Some(v) => err(format!("{} ({:?} {ty:?}) cannot be set", v.name, v.causality)),
+        None => err(format!("{ty:?} value reference {vr} cannot be set")),
+    }
+}
+
+/// The refusal to read a variable the model has no getter for, naming it.
+pub fn no_getter(var: Option<&Variable>, ty: VarType, vr: u32) -> SlaveError {
+    match var {
+        Some(v) => err(format!("{} ({:?} {ty:?}) has no getter", v.name, v.causality)),
+        None => err(format!("{ty:?} value reference {vr} has no getter")),
+    }
+}
+
+/// Clamps an input to the XML's min/max, with a warning naming it when it was outside.
+pub fn clamp_input(name: &str, value: f64, min: Option<f64>, max: Option<f64>, log: &mut dyn Log) -> f64 {
+    let (lo, hi) = (min.unwrap_or(f64::NEG_INFINITY), max.unwrap_or(f64::INFINITY));
+    if (lo..=hi).contains(&value) {
+        return value;
+    }
+    log.warning(&format!("{name} = {value} outside [{lo}, {hi}], clamped"));
+    value.clamp(lo, hi)
+}
+
+/// One Real input with the time derivatives a master may send (fmi2SetRealInputDerivatives,
+/// orders 1 and 2): u(τ) = u + u'·τ + u''·τ²/2 after the communication point. Setting the value
+/// clears the derivatives; a step moves the expansion point along the polynomial.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub struct InputPolynomial(pub [f64; 3]);
+
+impl InputPolynomial {
+    pub fn new(value: f64) -> Self {
+        Self([value, 0.0, 0.0])
+    }
+
+    pub fn value(&self) -> f64 {
+        self.0[0]
+    }
+
+    pub fn set(&mut self, value: f64) {
+        self.0 = [value, 0.0, 0.0];
+    }
+
+    pub fn set_derivative(&mut self, order: i32, value: f64) -> SlaveResult<()> {
+        match order {
+            1 | 2 => {
+                self.0[order as usize] = value;
+                Ok(())
+            }
+            _ => Err(err(format!("derivative order {order} not supported (1 or 2)"))),
+        }
+    }
+
+    /// u(τ)
+    pub fn at(&self, tau: f64) -> f64 {
+        let w = self.0;
+        w[0] + tau * w[1] + 0.5 * tau * tau * w[2]
+    }
+
+    /// Moves the expansion point forward by `h`.
+    pub fn advance(&mut self, h: f64) {
+        let w = self.0;
+        self.0 = [self.at(h), w[1] + h * w[2], w[2]];
+    }
+}
+
 /// What a model may say through the host's logger while it works.
 pub trait Log {
     /// A warning (category logStatusWarning); the call that emits it answers fmi2Warning.
@@ -26,8 +160,19 @@ pub trait Log {
     fn event(&mut self, msg: &str);
 }
 
+/// A logger that drops everything: for models driven from Rust (tests, the command line).
+pub struct NoLog;
+
+impl Log for NoLog {
+    fn warning(&mut self, _: &str) {}
+    fn event(&mut self, _: &str) {}
+}
+
 /// A Co-Simulation model. Value references reaching these methods already exist in `VARIABLES`
 /// with the right type, and the call is legal in the current FMI state; Real values are finite.
+/// What most FMUs refuse (types they have no variable of, setting outputs) has a default that
+/// refuses by the variable's name; parameters and inputs are dispatched by the generated
+/// `models::<name>::{get_*, set_*}` functions.
 pub trait Slave: Sized + Clone + Send + Serialize + DeserializeOwned + 'static {
     const MODEL_IDENTIFIER: &'static str;
     const GUID: &'static str;
@@ -42,12 +187,27 @@ pub trait Slave: Sized + Clone + Send + Serialize + DeserializeOwned + 'static {
 
     fn get_real(&mut self, vr: u32) -> SlaveResult<f64>;
     fn set_real(&mut self, vr: u32, value: f64, log: &mut dyn Log) -> SlaveResult<()>;
-    fn get_integer(&mut self, vr: u32) -> SlaveResult<i32>;
-    fn set_integer(&mut self, vr: u32, value: i32, log: &mut dyn Log) -> SlaveResult<()>;
-    fn get_boolean(&mut self, vr: u32) -> SlaveResult<bool>;
-    fn set_boolean(&mut self, vr: u32, value: bool, log: &mut dyn Log) -> SlaveResult<()>;
-    fn get_string(&mut self, vr: u32) -> SlaveResult<String>;
-    fn set_string(&mut self, vr: u32, value: &str, log: &mut dyn Log) -> SlaveResult<()>;
+    fn get_integer(&mut self, vr: u32) -> SlaveResult<i32> {
+        Err(no_getter(Self::variable(VarType::Integer, vr), VarType::Integer, vr))
+    }
+    fn set_integer(&mut self, vr: u32, value: i32, log: &mut dyn Log) -> SlaveResult<()> {
+        let _ = (value, log);
+        Err(cannot_set(Self::variable(VarType::Integer, vr), VarType::Integer, vr))
+    }
+    fn get_boolean(&mut self, vr: u32) -> SlaveResult<bool> {
+        Err(no_getter(Self::variable(VarType::Boolean, vr), VarType::Boolean, vr))
+    }
+    fn set_boolean(&mut self, vr: u32, value: bool, log: &mut dyn Log) -> SlaveResult<()> {
+        let _ = (value, log);
+        Err(cannot_set(Self::variable(VarType::Boolean, vr), VarType::Boolean, vr))
+    }
+    fn get_string(&mut self, vr: u32) -> SlaveResult<String> {
+        Err(no_getter(Self::variable(VarType::String, vr), VarType::String, vr))
+    }
+    fn set_string(&mut self, vr: u32, value: &str, log: &mut dyn Log) -> SlaveResult<()> {
+        let _ = (value, log);
+        Err(cannot_set(Self::variable(VarType::String, vr), VarType::String, vr))
+    }
 
     /// Checks the parameters and builds the model; called by fmi2ExitInitializationMode.
     fn initialize(&mut self, start_time: f64, log: &mut dyn Log) -> SlaveResult<()>;
@@ -62,24 +222,4 @@ pub trait Slave: Sized + Clone + Send + Serialize + DeserializeOwned + 'static {
 
     /// Advances from `t` to `t + h`; `t` already matches the model's time.
     fn do_step(&mut self, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()>;
-}
-
-/// Applies every start value of the model's XML table to a fresh model (importers do not apply them),
-/// so code and XML cannot disagree. A start value the model refuses is left at its default.
-pub fn apply_start_values<S: Slave>(model: &mut S) {
-    struct Quiet;
-    impl Log for Quiet {
-        fn warning(&mut self, _: &str) {}
-        fn event(&mut self, _: &str) {}
-    }
-    use super::variables::Start;
-    for v in S::VARIABLES {
-        let _ = match v.start {
-            Start::Real(x) => model.set_real(v.vr, x, &mut Quiet),
-            Start::Integer(x) => model.set_integer(v.vr, x, &mut Quiet),
-            Start::Boolean(x) => model.set_boolean(v.vr, x, &mut Quiet),
-            Start::String(x) => model.set_string(v.vr, x, &mut Quiet),
-            Start::None => Ok(()),
-        };
-    }
 }

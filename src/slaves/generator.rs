@@ -3,31 +3,19 @@
 //! equilibrium at the speed input of that moment (re-built while the speed is still being set
 //! during initialisation).
 
-use crate::fmi2::slave::{Log, Slave, SlaveError, SlaveResult};
+use crate::fmi2::slave::{Changed, Log, ParameterError, Slave, SlaveResult, err};
+use crate::fmi2::variables::VarType;
 use crate::models::generator as xml;
 use crate::models::generator::vr;
 use crate::physics::generator::presets::{self, Kind, Overrides};
 use crate::physics::generator::{GenState, Generator, Machine};
-use crate::slaves::InputPolynomial;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-pub struct Params {
-    pub preset: String,
-    pub kind: String,
-    pub initial_torque: f64,
-    pub trip_time_constant: f64,
-    pub stiffness_frequency: f64,
-    pub o: Overrides,
-}
-
+/// Every parameter of generator.xml (generated from it).
+pub type Params = xml::Parameters;
 /// The speed input with its time derivatives (orders 1 and 2), and the grid connection.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
-pub struct Inputs {
-    pub speed: InputPolynomial,
-    pub connected: bool,
-}
+pub type Inputs = xml::Inputs;
 
 /// A built model, its state and what the calculated parameters report.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize)]
@@ -51,19 +39,37 @@ pub struct GeneratorSlave {
 /// Most RK4 sub-steps one doStep may take (≈ 0.1 s of work).
 const MAX_SUBSTEPS: f64 = 1e6;
 
-fn err(msg: impl Into<String>) -> SlaveError {
-    SlaveError::new(msg)
-}
-
 impl Params {
-    fn build(&self, speed: f64) -> SlaveResult<Built> {
-        let kind = Kind::parse(&self.kind).ok_or_else(|| {
-            err(format!(
-                "parameter kind = {:?}: use spring, fixed, dfig or pmg",
-                self.kind
-            ))
-        })?;
-        let generator = presets::build(&self.preset, kind, &self.o).map_err(err)?;
+    /// What the physics calls overrides of the preset: every electrical and control parameter.
+    fn overrides(&self) -> Overrides {
+        Overrides {
+            stiffness: self.stiffness,
+            damping: self.damping,
+            synchronous_speed: self.synchronous_speed,
+            poles: self.poles,
+            frequency: self.frequency,
+            stator_resistance: self.stator_resistance,
+            rotor_resistance: self.rotor_resistance,
+            stator_leakage: self.stator_leakage,
+            rotor_leakage: self.rotor_leakage,
+            mutual_inductance: self.mutual_inductance,
+            line_inductance: self.line_inductance,
+            current_bandwidth: self.current_bandwidth,
+            torque_control: self.torque_control.clone(),
+            reference_speed: self.reference_speed,
+            region2_gain: self.region2_gain,
+            cut_in_speed: self.cut_in_speed,
+            transition_slip: self.transition_slip,
+            max_torque: self.max_torque,
+            speed_filter_frequency: self.speed_filter_frequency,
+            speed_bandwidth: self.speed_bandwidth,
+        }
+    }
+
+    fn build(&self, speed: f64) -> Result<Built, ParameterError> {
+        let kind = Kind::parse(&self.kind)
+            .ok_or_else(|| ParameterError::invalid("kind", &self.kind, "use spring, fixed, dfig or pmg"))?;
+        let generator = presets::build(&self.preset, kind, &self.overrides()).map_err(ParameterError::Model)?;
         let dt = crate::physics::drivetrain::Drivetrain::preset(&self.preset).expect("checked by presets::build");
         let rated_speed = dt.rated_rotor_speed * dt.gear_ratio();
         let state = generator.initial_state(speed, self.initial_torque);
@@ -86,38 +92,16 @@ impl Params {
 impl GeneratorSlave {
     fn ensure(&mut self) -> SlaveResult<&mut Built> {
         if self.model.is_none() {
-            self.model = Some(self.params.build(self.inputs.speed.value())?);
+            self.model = Some(self.params.build(self.inputs.generator_speed.value())?);
         }
         Ok(self.model.as_mut().expect("just built"))
     }
 
-    fn real_param(&mut self, r: u32) -> Option<&mut f64> {
-        let p = &mut self.params;
-        let o = &mut p.o;
-        Some(match r {
-            vr::STIFFNESS => &mut o.stiffness,
-            vr::DAMPING => &mut o.damping,
-            vr::SYNCHRONOUS_SPEED => &mut o.synchronous_speed,
-            vr::INITIAL_TORQUE => &mut p.initial_torque,
-            vr::TRIP_TIME_CONSTANT => &mut p.trip_time_constant,
-            vr::FREQUENCY => &mut o.frequency,
-            vr::STATOR_RESISTANCE => &mut o.stator_resistance,
-            vr::ROTOR_RESISTANCE => &mut o.rotor_resistance,
-            vr::STATOR_LEAKAGE => &mut o.stator_leakage,
-            vr::ROTOR_LEAKAGE => &mut o.rotor_leakage,
-            vr::MUTUAL_INDUCTANCE => &mut o.mutual_inductance,
-            vr::LINE_INDUCTANCE => &mut o.line_inductance,
-            vr::CURRENT_BANDWIDTH => &mut o.current_bandwidth,
-            vr::REFERENCE_SPEED => &mut o.reference_speed,
-            vr::REGION2_GAIN => &mut o.region2_gain,
-            vr::CUT_IN_SPEED => &mut o.cut_in_speed,
-            vr::TRANSITION_SLIP => &mut o.transition_slip,
-            vr::MAX_TORQUE => &mut o.max_torque,
-            vr::SPEED_FILTER_FREQUENCY => &mut o.speed_filter_frequency,
-            vr::SPEED_BANDWIDTH => &mut o.speed_bandwidth,
-            vr::STIFFNESS_FREQUENCY => &mut p.stiffness_frequency,
-            _ => return None,
-        })
+    /// A parameter change rebuilds the model; so does a speed change until the first step.
+    fn changed(&mut self, what: Changed) {
+        if what == Changed::Parameter || !self.stepped {
+            self.model = None;
+        }
     }
 }
 
@@ -125,24 +109,19 @@ impl Slave for GeneratorSlave {
     crate::slave_interface_from_xml!();
 
     fn instantiate(_resources: Option<&Path>) -> Self {
-        let mut s = Self {
+        Self {
             params: Params::default(),
             inputs: Inputs::default(),
             model: None,
             stepped: false,
-        };
-        crate::fmi2::slave::apply_start_values(&mut s);
-        s
+        }
     }
 
     fn get_real(&mut self, r: u32) -> SlaveResult<f64> {
-        if r == vr::GENERATOR_SPEED {
-            return Ok(self.inputs.speed.value());
+        if let Some(v) = xml::get_real(&self.params, &self.inputs, r) {
+            return Ok(v);
         }
-        if let Some(v) = self.real_param(r) {
-            return Ok(*v);
-        }
-        let omega = self.inputs.speed.value();
+        let omega = self.inputs.generator_speed.value();
         let b = *self.ensure()?;
         let out = b.generator.outputs(&b.state, omega);
         Ok(match r {
@@ -162,57 +141,31 @@ impl Slave for GeneratorSlave {
             vr::SLIP => out.slip,
             vr::STATOR_CURRENT => out.stator_current,
             vr::ROTOR_CURRENT => out.rotor_current,
-            _ => return Err(err(format!("Real value reference {r} has no getter"))),
+            _ => return Err(xml::no_getter(VarType::Real, r)),
         })
     }
 
-    fn set_real(&mut self, r: u32, value: f64, _: &mut dyn Log) -> SlaveResult<()> {
-        if r == vr::GENERATOR_SPEED {
-            self.inputs.speed.set(value);
-            if !self.stepped {
-                self.model = None;
-            }
-            return Ok(());
-        }
-        let slot = self
-            .real_param(r)
-            .ok_or_else(|| err(format!("Real value reference {r} cannot be set")))?;
-        *slot = value;
-        self.model = None;
-        Ok(())
+    fn set_real(&mut self, r: u32, value: f64, log: &mut dyn Log) -> SlaveResult<()> {
+        xml::set_real(&mut self.params, &mut self.inputs, r, value, log).map(|what| self.changed(what))
     }
 
     fn get_integer(&mut self, r: u32) -> SlaveResult<i32> {
-        match r {
-            vr::POLES => Ok(self.params.o.poles),
-            _ => Err(err(format!("Integer value reference {r} has no getter"))),
-        }
+        xml::get_integer(&self.params, &self.inputs, r).ok_or_else(|| xml::no_getter(VarType::Integer, r))
     }
 
-    fn set_integer(&mut self, r: u32, value: i32, _: &mut dyn Log) -> SlaveResult<()> {
-        match r {
-            vr::POLES => {
-                self.params.o.poles = value;
-                self.model = None;
-                Ok(())
-            }
-            _ => Err(err(format!("Integer value reference {r} cannot be set"))),
-        }
+    fn set_integer(&mut self, r: u32, value: i32, log: &mut dyn Log) -> SlaveResult<()> {
+        xml::set_integer(&mut self.params, &mut self.inputs, r, value, log).map(|what| self.changed(what))
     }
 
     fn get_boolean(&mut self, r: u32) -> SlaveResult<bool> {
-        match r {
-            vr::CONNECTED => Ok(self.inputs.connected),
-            _ => Err(err(format!("Boolean value reference {r} has no getter"))),
-        }
+        xml::get_boolean(&self.params, &self.inputs, r).ok_or_else(|| xml::no_getter(VarType::Boolean, r))
     }
 
     fn set_boolean(&mut self, r: u32, value: bool, log: &mut dyn Log) -> SlaveResult<()> {
-        if r != vr::CONNECTED {
-            return Err(err(format!("Boolean value reference {r} cannot be set")));
-        }
+        let was = self.inputs.connected;
+        xml::set_boolean(&mut self.params, &mut self.inputs, r, value, log)?;
         if let Some(b) = &mut self.model {
-            if value && !self.inputs.connected {
+            if value && !was {
                 b.state.connected_fraction = 1.0;
                 if let Machine::Spring(_) = b.generator.machine {
                     // resynchronised at reconnection: the spring starts untwisted
@@ -221,33 +174,19 @@ impl Slave for GeneratorSlave {
                 } else {
                     log.event("reconnected to the grid");
                 }
-            } else if !value && self.inputs.connected {
+            } else if !value && was {
                 log.event("tripped: generator torque decays with trip_time_constant");
             }
         }
-        self.inputs.connected = value;
         Ok(())
     }
 
     fn get_string(&mut self, r: u32) -> SlaveResult<String> {
-        Ok(match r {
-            vr::PRESET => self.params.preset.clone(),
-            vr::KIND => self.params.kind.clone(),
-            vr::TORQUE_CONTROL => self.params.o.torque_control.clone(),
-            _ => return Err(err(format!("String value reference {r} has no getter"))),
-        })
+        xml::get_string(&self.params, &self.inputs, r).ok_or_else(|| xml::no_getter(VarType::String, r))
     }
 
-    fn set_string(&mut self, r: u32, value: &str, _: &mut dyn Log) -> SlaveResult<()> {
-        let slot = match r {
-            vr::PRESET => &mut self.params.preset,
-            vr::KIND => &mut self.params.kind,
-            vr::TORQUE_CONTROL => &mut self.params.o.torque_control,
-            _ => return Err(err(format!("String value reference {r} cannot be set"))),
-        };
-        *slot = value.to_string();
-        self.model = None;
-        Ok(())
+    fn set_string(&mut self, r: u32, value: &str, log: &mut dyn Log) -> SlaveResult<()> {
+        xml::set_string(&mut self.params, &mut self.inputs, r, value, log).map(|what| self.changed(what))
     }
 
     fn initialize(&mut self, _start_time: f64, log: &mut dyn Log) -> SlaveResult<()> {
@@ -261,16 +200,16 @@ impl Slave for GeneratorSlave {
     }
 
     fn set_input_derivative(&mut self, r: u32, order: i32, value: f64) -> SlaveResult<()> {
-        if r != vr::GENERATOR_SPEED {
-            return Err(err(format!("value reference {r} is not a Real input")));
-        }
-        self.inputs.speed.set_derivative(order, value)
+        self.inputs.set_derivative(r, order, value)
     }
 
     fn do_step(&mut self, _t: f64, h: f64, _log: &mut dyn Log) -> SlaveResult<()> {
-        let Inputs { speed: w, connected } = self.inputs;
+        let Inputs {
+            generator_speed: w,
+            connected,
+        } = self.inputs;
         let tau = self.params.trip_time_constant;
-        let bandwidth = self.params.o.current_bandwidth;
+        let bandwidth = self.params.current_bandwidth;
         let b = self.ensure()?;
         // a step of hours with a 1 ms current loop would never return: refuse it instead
         let n = b.generator.substeps(h);
@@ -289,7 +228,7 @@ impl Slave for GeneratorSlave {
         }
         self.stepped = true;
         // the input polynomial continues from the new communication point
-        self.inputs.speed.advance(h);
+        self.inputs.advance(h);
         Ok(())
     }
 }

@@ -1,6 +1,7 @@
 //! The `rotor` FMU: variables of modelDescription/rotor.xml mapped onto [`RotorModel`].
 
-use crate::fmi2::slave::{Log, Slave, SlaveError, SlaveResult};
+use crate::fmi2::slave::{Changed, Log, ParameterError, Slave, SlaveError, SlaveResult};
+use crate::fmi2::variables::VarType;
 use crate::models::rotor as xml;
 use crate::models::rotor::vr;
 use crate::physics::aero::{PitchController, PitchState, Rotor};
@@ -9,61 +10,13 @@ use crate::physics::rotor::{
     PitchTarget, RotorModel, RotorOutputs, Shutdown, Source, TiltModel, TorqueSeries, preset_rotor, rated_wind_speed,
 };
 use crate::physics::turbulence::{TurbulenceModel, TurbulenceSeries, iec_sigma, kaimal_length};
-use crate::slaves::InputPolynomial;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-/// The Real parameters, in the order `Params::reals` stores them.
-const REAL_PARAMS: [u32; 21] = [
-    vr::WIND_SPEED,
-    vr::TURBULENCE_INTENSITY,
-    vr::RADIUS,
-    vr::HUB_HEIGHT,
-    vr::SHEAR_EXPONENT,
-    vr::ROTOR_MASS,
-    vr::OVERHANG,
-    vr::PITCH_KP,
-    vr::PITCH_KI,
-    vr::PITCH_GAIN_HALVING,
-    vr::PITCH_MAX_RATE,
-    vr::PITCH_MAX,
-    vr::SPEED_SETPOINT,
-    vr::SOURCE_ROTOR_DIAMETER,
-    vr::SHUTDOWN_TIME,
-    vr::FEATHER_RATE,
-    vr::TRIP_DELAY,
-    vr::BRAKE_DELAY,
-    vr::BRAKE_RAMP_TIME,
-    vr::POWER_KP,
-    vr::POWER_KI,
-];
-const STRING_PARAMS: [u32; 9] = [
-    vr::PRESET,
-    vr::SOURCE_PRESET,
-    vr::MODE,
-    vr::TURBULENCE,
-    vr::TURBULENCE_CLASS,
-    vr::SERIES,
-    vr::SERIES_UNIT,
-    vr::INTERPOLATION,
-    vr::PITCH_CONTROL,
-];
-
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-pub struct Params {
-    pub reals: Vec<f64>,
-    pub strings: Vec<String>,
-    pub seed: i32,
-}
-
-impl Params {
-    fn real(&self, r: u32) -> f64 {
-        self.reals[REAL_PARAMS.iter().position(|&x| x == r).expect("a Real parameter")]
-    }
-    fn string(&self, r: u32) -> &str {
-        &self.strings[STRING_PARAMS.iter().position(|&x| x == r).expect("a String parameter")]
-    }
-}
+/// Every parameter of rotor.xml (generated from it).
+pub type Params = xml::Parameters;
+/// The rotor speed input with its time derivatives (canInterpolateInputs; used at the step's midpoint).
+pub type Inputs = xml::Inputs;
 
 /// What a set of parameters builds, with the numbers the calculated parameters report.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -75,12 +28,30 @@ struct Built {
     sigma: f64,
 }
 
-fn err(msg: impl Into<String>) -> SlaveError {
-    SlaveError::new(msg)
+/// A torque series the rotor cannot play back, naming the file and line.
+#[derive(Debug, thiserror::Error)]
+pub enum SeriesError {
+    #[error("series {}: {source}", path.display())]
+    Read { path: PathBuf, source: std::io::Error },
+    #[error("series {} line {line}: time {time} does not increase", path.display())]
+    NotIncreasing { path: PathBuf, line: usize, time: f64 },
+    #[error("series {} line {line}: expected time,torque[,pitching moment] numbers", path.display())]
+    Malformed { path: PathBuf, line: usize },
+    #[error("series {}: fewer than two samples", path.display())]
+    TooShort { path: PathBuf },
 }
 
-fn read_series(path: &Path, scale: f64, cubic: bool) -> SlaveResult<TorqueSeries> {
-    let text = std::fs::read_to_string(path).map_err(|e| err(format!("series {}: {e}", path.display())))?;
+impl From<SeriesError> for SlaveError {
+    fn from(e: SeriesError) -> Self {
+        SlaveError::new(e.to_string())
+    }
+}
+
+fn read_series(path: &Path, scale: f64, cubic: bool) -> Result<TorqueSeries, SeriesError> {
+    let text = std::fs::read_to_string(path).map_err(|source| SeriesError::Read {
+        path: path.into(),
+        source,
+    })?;
     let (mut time, mut torque, mut pm) = (Vec::new(), Vec::new(), Vec::new());
     for (n, line) in text.lines().enumerate() {
         let fields: Vec<&str> = line.split(',').map(str::trim).collect();
@@ -91,12 +62,11 @@ fn read_series(path: &Path, scale: f64, cubic: bool) -> SlaveResult<TorqueSeries
         match nums {
             Ok(v) if v.len() >= 2 && v.iter().all(|x| x.is_finite()) => {
                 if time.last().is_some_and(|&t: &f64| v[0] <= t) {
-                    return Err(err(format!(
-                        "series {} line {}: time {} does not increase",
-                        path.display(),
-                        n + 1,
-                        v[0]
-                    )));
+                    return Err(SeriesError::NotIncreasing {
+                        path: path.into(),
+                        line: n + 1,
+                        time: v[0],
+                    });
                 }
                 time.push(v[0]);
                 torque.push(v[1] * scale);
@@ -104,16 +74,15 @@ fn read_series(path: &Path, scale: f64, cubic: bool) -> SlaveResult<TorqueSeries
             }
             _ if time.is_empty() => continue, // header lines before the data
             _ => {
-                return Err(err(format!(
-                    "series {} line {}: expected time,torque[,pitching moment] numbers",
-                    path.display(),
-                    n + 1
-                )));
+                return Err(SeriesError::Malformed {
+                    path: path.into(),
+                    line: n + 1,
+                });
             }
         }
     }
     if time.len() < 2 {
-        return Err(err(format!("series {}: fewer than two samples", path.display())));
+        return Err(SeriesError::TooShort { path: path.into() });
     }
     let has_pm = text.lines().any(|l| l.split(',').count() >= 3);
     Ok(TorqueSeries {
@@ -126,48 +95,46 @@ fn read_series(path: &Path, scale: f64, cubic: bool) -> SlaveResult<TorqueSeries
 
 impl Params {
     fn build(&self, resources: Option<&Path>) -> SlaveResult<Built> {
-        let preset = self.string(vr::PRESET);
-        let drivetrain = Drivetrain::preset(preset).ok_or_else(|| {
-            err(format!(
-                "parameter preset = {preset:?}: unknown drivetrain, use A, B, C or D"
-            ))
-        })?;
+        let preset = self.preset.as_str();
+        let drivetrain = Drivetrain::preset(preset)
+            .ok_or_else(|| ParameterError::invalid("preset", &preset, "unknown drivetrain, use A, B, C or D"))?;
         let (r0, h0) = preset_rotor(&drivetrain, preset);
         let pick = |x: f64, default: f64| if x > 0.0 { x } else { default };
-        let radius = pick(self.real(vr::RADIUS), r0);
-        let hub_height = pick(self.real(vr::HUB_HEIGHT), h0);
+        let radius = pick(self.radius, r0);
+        let hub_height = pick(self.hub_height, h0);
         let rotor = Rotor {
             radius,
             lambda_min: 0.5,
         };
         let rated_speed = drivetrain.rated_rotor_speed;
         let rated_torque = drivetrain.rated_rotor_torque();
-        let rated_wind = rated_wind_speed(&rotor, drivetrain.rated_power, rated_speed).map_err(err)?;
+        let rated_wind =
+            rated_wind_speed(&rotor, drivetrain.rated_power, rated_speed).map_err(ParameterError::Model)?;
         let shutdown = Shutdown {
-            time: self.real(vr::SHUTDOWN_TIME),
-            feather_rate: self.real(vr::FEATHER_RATE),
-            trip_delay: self.real(vr::TRIP_DELAY),
-            brake_delay: self.real(vr::BRAKE_DELAY),
-            brake_ramp_time: self.real(vr::BRAKE_RAMP_TIME),
+            time: self.shutdown_time,
+            feather_rate: self.feather_rate,
+            trip_delay: self.trip_delay,
+            brake_delay: self.brake_delay,
+            brake_ramp_time: self.brake_ramp_time,
         };
         let mut sigma = 0.0;
-        let source = match self.string(vr::MODE).trim() {
+        let source = match self.mode.trim() {
             "aero" => {
-                let mean_wind = pick(self.real(vr::WIND_SPEED), rated_wind);
-                let class = self.string(vr::TURBULENCE_CLASS).trim().to_ascii_uppercase();
+                let mean_wind = pick(self.wind_speed, rated_wind);
+                let class = self.turbulence_class.trim().to_ascii_uppercase();
                 let i_ref = match class.as_str() {
                     "A" => 0.16,
                     "B" => 0.14,
                     "C" => 0.12,
-                    other => return Err(err(format!("parameter turbulence_class = {other:?}: use A, B or C"))),
+                    other => return Err(ParameterError::invalid("turbulence_class", &other, "use A, B or C").into()),
                 };
-                let model = match self.string(vr::TURBULENCE).trim() {
+                let model = match self.turbulence.trim() {
                     "none" => None,
                     "ntm" => Some(TurbulenceModel::Ntm),
                     "etm" => Some(TurbulenceModel::Etm),
-                    other => return Err(err(format!("parameter turbulence = {other:?}: use none, ntm or etm"))),
+                    other => return Err(ParameterError::invalid("turbulence", &other, "use none, ntm or etm").into()),
                 };
-                let ti = self.real(vr::TURBULENCE_INTENSITY);
+                let ti = self.turbulence_intensity;
                 sigma = match model {
                     None => 0.0,
                     Some(_) if ti > 0.0 => ti * mean_wind,
@@ -185,18 +152,14 @@ impl Params {
                     )
                 });
                 let gear_ratio = drivetrain.gear_ratio();
-                let (target, kp, ki) = match self.string(vr::PITCH_CONTROL).trim() {
+                let (target, kp, ki) = match self.pitch_control.trim() {
                     "speed" => (
-                        PitchTarget::Speed(pick(self.real(vr::SPEED_SETPOINT), rated_speed * gear_ratio)),
-                        self.real(vr::PITCH_KP),
-                        self.real(vr::PITCH_KI),
+                        PitchTarget::Speed(pick(self.speed_setpoint, rated_speed * gear_ratio)),
+                        self.pitch_kp,
+                        self.pitch_ki,
                     ),
-                    "power" => (
-                        PitchTarget::Power(drivetrain.rated_power),
-                        self.real(vr::POWER_KP),
-                        self.real(vr::POWER_KI),
-                    ),
-                    other => return Err(err(format!("parameter pitch_control = {other:?}: use speed or power"))),
+                    "power" => (PitchTarget::Power(drivetrain.rated_power), self.power_kp, self.power_ki),
+                    other => return Err(ParameterError::invalid("pitch_control", &other, "use speed or power").into()),
                 };
                 Source::Aero {
                     rotor,
@@ -205,28 +168,23 @@ impl Params {
                     pitch: PitchController {
                         kp,
                         ki,
-                        gain_halving_pitch: self.real(vr::PITCH_GAIN_HALVING),
+                        gain_halving_pitch: self.pitch_gain_halving,
                         min_pitch: 0.0,
-                        max_pitch: self.real(vr::PITCH_MAX),
-                        max_rate: self.real(vr::PITCH_MAX_RATE),
+                        max_pitch: self.pitch_max,
+                        max_rate: self.pitch_max_rate,
                     },
                     target,
-                    tilt: TiltModel::new(
-                        radius,
-                        hub_height,
-                        self.real(vr::SHEAR_EXPONENT),
-                        self.real(vr::ROTOR_MASS),
-                        self.real(vr::OVERHANG),
-                    ),
+                    tilt: TiltModel::new(radius, hub_height, self.shear_exponent, self.rotor_mass, self.overhang),
                     gear_ratio,
                 }
             }
             "playback" => {
-                let name = self.string(vr::SERIES).trim();
+                let name = self.series.trim();
                 if name.is_empty() {
-                    return Err(err(
-                        "mode = playback needs the parameter series (a CSV file of time, torque)",
-                    ));
+                    return Err(ParameterError::Conflict(
+                        "mode = playback needs the parameter series (a CSV file of time, torque)".into(),
+                    )
+                    .into());
                 }
                 let mut path = PathBuf::from(name);
                 if path.is_relative()
@@ -234,30 +192,33 @@ impl Params {
                 {
                     path = dir.join(name);
                 }
-                let per_unit = match self.string(vr::SERIES_UNIT).trim() {
+                let per_unit = match self.series_unit.trim() {
                     "pu" => true,
                     "N.m" | "Nm" => false,
-                    other => return Err(err(format!("parameter series_unit = {other:?}: use pu or N.m"))),
+                    other => return Err(ParameterError::invalid("series_unit", &other, "use pu or N.m").into()),
                 };
-                let d_source = self.real(vr::SOURCE_ROTOR_DIAMETER);
-                let source_preset = self.string(vr::SOURCE_PRESET).trim();
+                let d_source = self.source_rotor_diameter;
+                let source_preset = self.source_preset.trim();
                 // (torque per unit, rotor diameter) of the turbine the series was recorded on
                 let (unit_scale, d_source) = if source_preset.is_empty() {
                     if d_source > 0.0 && per_unit {
-                        return Err(err(
+                        return Err(ParameterError::Conflict(
                             "source_rotor_diameter scales an absolute series (series_unit = N.m); a per-unit series \
-                             is already scaled by the preset's rated rotor torque (or give source_preset)",
-                        ));
+                             is already scaled by the preset's rated rotor torque (or give source_preset)"
+                                .into(),
+                        )
+                        .into());
                     }
                     (if per_unit { rated_torque } else { 1.0 }, d_source)
                 } else {
                     if d_source > 0.0 {
-                        return Err(err("give source_preset or source_rotor_diameter, not both"));
+                        return Err(ParameterError::Conflict(
+                            "give source_preset or source_rotor_diameter, not both".into(),
+                        )
+                        .into());
                     }
                     let source = Drivetrain::preset(source_preset).ok_or_else(|| {
-                        err(format!(
-                            "parameter source_preset = {source_preset:?}: use A, B, C or D (or leave it empty)"
-                        ))
+                        ParameterError::invalid("source_preset", &source_preset, "use A, B, C or D (or leave it empty)")
                     })?;
                     let (r_source, _) = preset_rotor(&source, source_preset);
                     (if per_unit { source.rated_rotor_torque() } else { 1.0 }, 2.0 * r_source)
@@ -267,14 +228,14 @@ impl Params {
                 } else {
                     1.0
                 };
-                let cubic = match self.string(vr::INTERPOLATION).trim() {
+                let cubic = match self.interpolation.trim() {
                     "linear" => false,
                     "cubic" => true,
-                    other => return Err(err(format!("parameter interpolation = {other:?}: use linear or cubic"))),
+                    other => return Err(ParameterError::invalid("interpolation", &other, "use linear or cubic").into()),
                 };
                 Source::Playback(read_series(&path, unit_scale * diameter_scale, cubic)?)
             }
-            other => return Err(err(format!("parameter mode = {other:?}: use aero or playback"))),
+            other => return Err(ParameterError::invalid("mode", &other, "use aero or playback").into()),
         };
         Ok(Built {
             model: RotorModel {
@@ -294,8 +255,7 @@ impl Params {
 #[derive(Clone, Serialize, Deserialize)]
 pub struct RotorSlave {
     pub params: Params,
-    /// Rotor speed and its time derivatives (canInterpolateInputs; used at the step's midpoint).
-    pub speed: InputPolynomial,
+    pub inputs: Inputs,
     resources: Option<PathBuf>,
     built: Option<Built>,
     start_time: f64,
@@ -305,6 +265,14 @@ pub struct RotorSlave {
 }
 
 impl RotorSlave {
+    /// A parameter change rebuilds the model; an input change only drops the cached outputs.
+    fn changed(&mut self, what: Changed) {
+        if what == Changed::Parameter {
+            self.built = None;
+        }
+        self.cache = None;
+    }
+
     fn ensure(&mut self) -> SlaveResult<&mut Built> {
         if self.built.is_none() {
             let mut b = self.params.build(self.resources.as_deref())?;
@@ -319,30 +287,21 @@ impl Slave for RotorSlave {
     crate::slave_interface_from_xml!();
 
     fn instantiate(resources: Option<&Path>) -> Self {
-        let mut s = Self {
-            params: Params {
-                reals: vec![0.0; REAL_PARAMS.len()],
-                strings: vec![String::new(); STRING_PARAMS.len()],
-                seed: 1,
-            },
-            speed: InputPolynomial::default(),
+        Self {
+            params: Params::default(),
+            inputs: Inputs::default(),
             resources: resources.map(Path::to_path_buf),
             built: None,
             start_time: 0.0,
             cache: None,
-        };
-        crate::fmi2::slave::apply_start_values(&mut s);
-        s
+        }
     }
 
     fn get_real(&mut self, r: u32) -> SlaveResult<f64> {
-        if let Some(i) = REAL_PARAMS.iter().position(|&x| x == r) {
-            return Ok(self.params.reals[i]);
+        if let Some(v) = xml::get_real(&self.params, &self.inputs, r) {
+            return Ok(v);
         }
-        if r == vr::ROTOR_SPEED {
-            return Ok(self.speed.value());
-        }
-        let omega = self.speed.value();
+        let omega = self.inputs.rotor_speed.value();
         let cache = self.cache;
         let b = self.ensure()?;
         let out = match cache {
@@ -362,44 +321,22 @@ impl Slave for RotorSlave {
             vr::WIND_SPEED_HUB => out.wind_speed,
             vr::THRUST => out.thrust,
             vr::AERODYNAMIC_POWER => out.torque * omega,
-            _ => return Err(err(format!("Real value reference {r} has no getter"))),
+            _ => return Err(xml::no_getter(VarType::Real, r)),
         };
         self.cache = Some((time, omega, out));
         Ok(value)
     }
 
-    fn set_real(&mut self, r: u32, value: f64, _: &mut dyn Log) -> SlaveResult<()> {
-        if r == vr::ROTOR_SPEED {
-            self.speed.set(value);
-            return Ok(());
-        }
-        let i = REAL_PARAMS
-            .iter()
-            .position(|&x| x == r)
-            .ok_or_else(|| err(format!("Real value reference {r} cannot be set")))?;
-        self.params.reals[i] = value;
-        self.built = None;
-        self.cache = None;
-        Ok(())
+    fn set_real(&mut self, r: u32, value: f64, log: &mut dyn Log) -> SlaveResult<()> {
+        xml::set_real(&mut self.params, &mut self.inputs, r, value, log).map(|what| self.changed(what))
     }
 
     fn get_integer(&mut self, r: u32) -> SlaveResult<i32> {
-        match r {
-            vr::SEED => Ok(self.params.seed),
-            _ => Err(err(format!("Integer value reference {r} has no getter"))),
-        }
+        xml::get_integer(&self.params, &self.inputs, r).ok_or_else(|| xml::no_getter(VarType::Integer, r))
     }
 
-    fn set_integer(&mut self, r: u32, value: i32, _: &mut dyn Log) -> SlaveResult<()> {
-        match r {
-            vr::SEED => {
-                self.params.seed = value;
-                self.built = None;
-                self.cache = None;
-                Ok(())
-            }
-            _ => Err(err(format!("Integer value reference {r} cannot be set"))),
-        }
+    fn set_integer(&mut self, r: u32, value: i32, log: &mut dyn Log) -> SlaveResult<()> {
+        xml::set_integer(&mut self.params, &mut self.inputs, r, value, log).map(|what| self.changed(what))
     }
 
     fn get_boolean(&mut self, r: u32) -> SlaveResult<bool> {
@@ -408,31 +345,16 @@ impl Slave for RotorSlave {
                 let b = self.ensure()?;
                 Ok(b.model.shutdown.generator_connected(b.model.time))
             }
-            _ => Err(err(format!("Boolean value reference {r} has no getter"))),
+            _ => Err(xml::no_getter(VarType::Boolean, r)),
         }
     }
 
-    fn set_boolean(&mut self, r: u32, _: bool, _: &mut dyn Log) -> SlaveResult<()> {
-        Err(err(format!("Boolean value reference {r} cannot be set")))
-    }
-
     fn get_string(&mut self, r: u32) -> SlaveResult<String> {
-        STRING_PARAMS
-            .iter()
-            .position(|&x| x == r)
-            .map(|i| self.params.strings[i].clone())
-            .ok_or_else(|| err(format!("String value reference {r} has no getter")))
+        xml::get_string(&self.params, &self.inputs, r).ok_or_else(|| xml::no_getter(VarType::String, r))
     }
 
-    fn set_string(&mut self, r: u32, value: &str, _: &mut dyn Log) -> SlaveResult<()> {
-        let i = STRING_PARAMS
-            .iter()
-            .position(|&x| x == r)
-            .ok_or_else(|| err(format!("String value reference {r} cannot be set")))?;
-        self.params.strings[i] = value.to_string();
-        self.built = None;
-        self.cache = None;
-        Ok(())
+    fn set_string(&mut self, r: u32, value: &str, log: &mut dyn Log) -> SlaveResult<()> {
+        xml::set_string(&mut self.params, &mut self.inputs, r, value, log).map(|what| self.changed(what))
     }
 
     fn initialize(&mut self, start_time: f64, _log: &mut dyn Log) -> SlaveResult<()> {
@@ -443,14 +365,11 @@ impl Slave for RotorSlave {
     }
 
     fn set_input_derivative(&mut self, r: u32, order: i32, value: f64) -> SlaveResult<()> {
-        if r != vr::ROTOR_SPEED {
-            return Err(err(format!("value reference {r} is not a Real input")));
-        }
-        self.speed.set_derivative(order, value)
+        self.inputs.set_derivative(r, order, value)
     }
 
     fn do_step(&mut self, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
-        let w = self.speed;
+        let w = self.inputs.rotor_speed;
         let b = self.ensure()?;
         let sd = b.model.shutdown;
         let (before, after) = (t, t + h);
@@ -468,7 +387,7 @@ impl Slave for RotorSlave {
         }
         // the controller sees the speed at the middle of the step (second order in h)
         b.model.advance(w.at(h / 2.0), h);
-        self.speed.advance(h);
+        self.inputs.advance(h);
         Ok(())
     }
 }

@@ -1,12 +1,15 @@
 //! The `torsional` FMU: variables of modelDescription/torsional.xml mapped onto [`TorsionalModel`]
 //! and the integrators of [`crate::solver`].
 
-use crate::fmi2::slave::{Log, Slave, SlaveError, SlaveResult};
+use crate::fmi2::slave::{Changed, Log, ParameterError, Slave, SlaveResult, err};
+use crate::fmi2::variables::VarType;
 use crate::models::torsional as xml;
 use crate::models::torsional::vr;
 use crate::physics::brake::DiskBrake;
 use crate::physics::drivetrain::Drivetrain;
-use crate::physics::torsional::{Fidelity, INPUT_COUNT, ModelOptions, TorsionalModel};
+use crate::physics::torsional::{
+    Fidelity, INPUT_BRAKE_COMMAND, INPUT_COUNT, INPUT_GENERATOR_TORQUE, INPUT_ROTOR_TORQUE, ModelOptions, TorsionalModel,
+};
 use crate::solver::alpha::Alpha;
 use crate::solver::{Driver, DynState, Method, Statistics, rk4};
 use serde::{Deserialize, Serialize};
@@ -19,59 +22,18 @@ pub enum Integrator {
     Rk4,
 }
 
-/// Every parameter of the XML, at its start value after instantiation.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-pub struct Params {
-    pub preset: String,
-    pub fidelity: String,
-    pub integrator: String,
-    pub max_internal_step: f64,
-    pub shaft_damping_ratio: f64,
-    pub mesh_damping_ratio: f64,
-    pub damping_scale: f64,
-    pub mesh_backlash: f64,
-    pub mesh_stiffness_variation: f64,
-    pub contact_ratio: f64,
-    pub brake_torque_max: f64,
-    pub brake_static_ratio: f64,
-    pub initial_speed_ratio: f64,
-    pub initial_rotor_torque: f64,
-}
-
+/// Every parameter of torsional.xml (generated from it), at its start value by default.
+pub type Params = xml::Parameters;
 /// Input values and their time derivatives (set by fmi2SetRealInputDerivatives, orders 1 and 2).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
-pub struct Inputs {
-    pub values: [f64; 3],
-    pub derivatives: [[f64; 2]; 3],
-}
+pub type Inputs = xml::Inputs;
 
 impl Inputs {
-    fn index(vr: u32) -> Option<usize> {
-        match vr {
-            vr::ROTOR_TORQUE => Some(0),
-            vr::GENERATOR_TORQUE => Some(1),
-            vr::BRAKE_COMMAND => Some(2),
-            _ => None,
-        }
-    }
-
-    /// Input values `dt` seconds after the current communication point (Taylor polynomial).
-    fn at(&self, dt: f64) -> [f64; 3] {
-        std::array::from_fn(|i| self.values[i] + dt * self.derivatives[i][0] + 0.5 * dt * dt * self.derivatives[i][1])
-    }
-
     /// The model's inputs `dt` seconds after the communication point (rotor torque, generator torque,
     /// brake command; the model clamps the command to [0, 1]).
     fn write(&self, dt: f64, u: &mut [f64]) {
-        u.copy_from_slice(&self.at(dt));
-    }
-
-    /// Moves the expansion point forward by `h` so the polynomial continues if nobody sets new values.
-    fn advance(&mut self, h: f64) {
-        self.values = self.at(h);
-        for d in &mut self.derivatives {
-            d[0] += h * d[1];
-        }
+        u[INPUT_ROTOR_TORQUE] = self.rotor_torque.at(dt);
+        u[INPUT_GENERATOR_TORQUE] = self.generator_torque.at(dt);
+        u[INPUT_BRAKE_COMMAND] = self.brake_command.at(dt);
     }
 }
 
@@ -112,38 +74,30 @@ fn implicit_driver() -> Driver {
     Driver::new(Method::Implicit(Alpha::NEWMARK))
 }
 
-fn err(msg: impl Into<String>) -> SlaveError {
-    SlaveError::new(msg)
-}
-
 impl Params {
     pub fn build(&self) -> SlaveResult<Built> {
-        let drivetrain = Drivetrain::preset(&self.preset).ok_or_else(|| {
-            err(format!(
-                "parameter preset = {:?}: unknown drivetrain, use A, B, C or D",
-                self.preset
-            ))
-        })?;
+        let drivetrain = Drivetrain::preset(&self.preset)
+            .ok_or_else(|| ParameterError::invalid("preset", &self.preset, "unknown drivetrain, use A, B, C or D"))?;
         let fidelity = Fidelity::parse(&self.fidelity)
-            .ok_or_else(|| err(format!("parameter fidelity = {:?}: use 2, 5 or full", self.fidelity)))?;
+            .ok_or_else(|| ParameterError::invalid("fidelity", &self.fidelity, "use 2, 5 or full"))?;
         let integrator = match self.integrator.trim().to_ascii_lowercase().as_str() {
             "implicit" | "newmark" | "trapezoidal" => Integrator::Implicit,
             "rk4" | "explicit" => Integrator::Rk4,
-            other => {
-                return Err(err(format!("parameter integrator = {other:?}: use implicit or rk4")));
-            }
+            other => return Err(ParameterError::invalid("integrator", &other, "use implicit or rk4").into()),
         };
         let nonlinear = self.mesh_backlash > 0.0 || self.mesh_stiffness_variation > 0.0;
         if nonlinear && fidelity != Fidelity::Full {
-            return Err(err(
-                "mesh_backlash and mesh_stiffness_variation need fidelity = full (meshes are rigid below it)",
-            ));
+            return Err(ParameterError::Conflict(
+                "mesh_backlash and mesh_stiffness_variation need fidelity = full (meshes are rigid below it)".into(),
+            )
+            .into());
         }
         if self.mesh_stiffness_variation * (self.contact_ratio - 1.0) >= 1.0 {
-            return Err(err(format!(
+            return Err(ParameterError::Conflict(format!(
                 "mesh_stiffness_variation {} with contact_ratio {} makes the single-contact stiffness negative",
                 self.mesh_stiffness_variation, self.contact_ratio
-            )));
+            ))
+            .into());
         }
         let options = ModelOptions {
             shaft_damping_ratio: self.shaft_damping_ratio,
@@ -154,7 +108,7 @@ impl Params {
             contact_ratio: self.contact_ratio,
             ..ModelOptions::default()
         };
-        let mut model = TorsionalModel::new(&drivetrain, fidelity, &options).map_err(err)?;
+        let mut model = TorsionalModel::new(&drivetrain, fidelity, &options).map_err(ParameterError::Model)?;
         let brake_torque_max = if self.brake_torque_max > 0.0 {
             self.brake_torque_max
         } else {
@@ -213,6 +167,13 @@ impl TorsionalSlave {
         self.state = None;
     }
 
+    /// A parameter change rebuilds the model and its state; inputs are read at the next step.
+    fn changed(&mut self, what: Changed) {
+        if what == Changed::Parameter {
+            self.invalidate();
+        }
+    }
+
     fn element_output(built: &Built, st: &DynState, out: Option<crate::physics::torsional::ForceOutput>) -> f64 {
         built.model.element_output(out, &st.q, &st.v)
     }
@@ -237,28 +198,11 @@ impl Slave for TorsionalSlave {
     crate::slave_interface_from_xml!();
 
     fn instantiate(_resources: Option<&Path>) -> Self {
-        let mut s = Self::blank();
-        crate::fmi2::slave::apply_start_values(&mut s);
-        s
+        Self::blank()
     }
 
     fn get_real(&mut self, r: u32) -> SlaveResult<f64> {
-        let p = &self.params;
-        let direct = match r {
-            vr::MAX_INTERNAL_STEP => Some(p.max_internal_step),
-            vr::SHAFT_DAMPING_RATIO => Some(p.shaft_damping_ratio),
-            vr::MESH_DAMPING_RATIO => Some(p.mesh_damping_ratio),
-            vr::DAMPING_SCALE => Some(p.damping_scale),
-            vr::MESH_BACKLASH => Some(p.mesh_backlash),
-            vr::MESH_STIFFNESS_VARIATION => Some(p.mesh_stiffness_variation),
-            vr::CONTACT_RATIO => Some(p.contact_ratio),
-            vr::BRAKE_TORQUE_MAX => Some(p.brake_torque_max),
-            vr::BRAKE_STATIC_RATIO => Some(p.brake_static_ratio),
-            vr::INITIAL_SPEED_RATIO => Some(p.initial_speed_ratio),
-            vr::INITIAL_ROTOR_TORQUE => Some(p.initial_rotor_torque),
-            _ => Inputs::index(r).map(|i| self.inputs.values[i]),
-        };
-        if let Some(v) = direct {
+        if let Some(v) = xml::get_real(&self.params, &self.inputs, r) {
             return Ok(v);
         }
         let (b, st) = self.ensure()?;
@@ -283,82 +227,34 @@ impl Slave for TorsionalSlave {
             }
             r if (ANGLE_FIRST..ANGLE_FIRST + BODY_COUNT).contains(&r) => body(r - ANGLE_FIRST, false),
             r if (SPEED_FIRST..SPEED_FIRST + BODY_COUNT).contains(&r) => body(r - SPEED_FIRST, true),
-            _ => return Err(err(format!("Real value reference {r} has no getter"))),
+            _ => return Err(xml::no_getter(VarType::Real, r)),
         })
     }
 
     fn set_real(&mut self, r: u32, value: f64, log: &mut dyn Log) -> SlaveResult<()> {
-        if let Some(i) = Inputs::index(r) {
-            let mut value = value;
-            if r == vr::BRAKE_COMMAND && !(0.0..=1.0).contains(&value) {
-                log.warning(&format!("brake_command = {value} outside [0, 1], clamped"));
-                value = value.clamp(0.0, 1.0);
-            }
-            self.inputs.values[i] = value;
-            self.inputs.derivatives[i] = [0.0; 2];
-            return Ok(());
-        }
-        let p = &mut self.params;
-        let slot = match r {
-            vr::MAX_INTERNAL_STEP => &mut p.max_internal_step,
-            vr::SHAFT_DAMPING_RATIO => &mut p.shaft_damping_ratio,
-            vr::MESH_DAMPING_RATIO => &mut p.mesh_damping_ratio,
-            vr::DAMPING_SCALE => &mut p.damping_scale,
-            vr::MESH_BACKLASH => &mut p.mesh_backlash,
-            vr::MESH_STIFFNESS_VARIATION => &mut p.mesh_stiffness_variation,
-            vr::CONTACT_RATIO => &mut p.contact_ratio,
-            vr::BRAKE_TORQUE_MAX => &mut p.brake_torque_max,
-            vr::BRAKE_STATIC_RATIO => &mut p.brake_static_ratio,
-            vr::INITIAL_SPEED_RATIO => &mut p.initial_speed_ratio,
-            vr::INITIAL_ROTOR_TORQUE => &mut p.initial_rotor_torque,
-            _ => return Err(err(format!("Real value reference {r} cannot be set"))),
-        };
-        *slot = value;
-        self.invalidate();
-        Ok(())
+        xml::set_real(&mut self.params, &mut self.inputs, r, value, log).map(|what| self.changed(what))
     }
 
     fn get_integer(&mut self, r: u32) -> SlaveResult<i32> {
         match r {
             vr::DOF_COUNT => Ok(self.ensure()?.0.model.dofs() as i32),
-            _ => Err(err(format!("Integer value reference {r} has no getter"))),
+            _ => Err(xml::no_getter(VarType::Integer, r)),
         }
-    }
-
-    fn set_integer(&mut self, r: u32, _: i32, _: &mut dyn Log) -> SlaveResult<()> {
-        Err(err(format!("Integer value reference {r} cannot be set")))
     }
 
     fn get_boolean(&mut self, r: u32) -> SlaveResult<bool> {
         match r {
             vr::BRAKE_LOCKED => Ok(self.ensure()?.1.locked),
-            _ => Err(err(format!("Boolean value reference {r} has no getter"))),
+            _ => Err(xml::no_getter(VarType::Boolean, r)),
         }
     }
 
-    fn set_boolean(&mut self, r: u32, _: bool, _: &mut dyn Log) -> SlaveResult<()> {
-        Err(err(format!("Boolean value reference {r} cannot be set")))
-    }
-
     fn get_string(&mut self, r: u32) -> SlaveResult<String> {
-        Ok(match r {
-            vr::PRESET => self.params.preset.clone(),
-            vr::FIDELITY => self.params.fidelity.clone(),
-            vr::INTEGRATOR => self.params.integrator.clone(),
-            _ => return Err(err(format!("String value reference {r} has no getter"))),
-        })
+        xml::get_string(&self.params, &self.inputs, r).ok_or_else(|| xml::no_getter(VarType::String, r))
     }
 
-    fn set_string(&mut self, r: u32, value: &str, _: &mut dyn Log) -> SlaveResult<()> {
-        let slot = match r {
-            vr::PRESET => &mut self.params.preset,
-            vr::FIDELITY => &mut self.params.fidelity,
-            vr::INTEGRATOR => &mut self.params.integrator,
-            _ => return Err(err(format!("String value reference {r} cannot be set"))),
-        };
-        *slot = value.to_string();
-        self.invalidate();
-        Ok(())
+    fn set_string(&mut self, r: u32, value: &str, log: &mut dyn Log) -> SlaveResult<()> {
+        xml::set_string(&mut self.params, &mut self.inputs, r, value, log).map(|what| self.changed(what))
     }
 
     fn initialize(&mut self, _start_time: f64, _log: &mut dyn Log) -> SlaveResult<()> {
@@ -374,14 +270,7 @@ impl Slave for TorsionalSlave {
     }
 
     fn set_input_derivative(&mut self, r: u32, order: i32, value: f64) -> SlaveResult<()> {
-        let i = Inputs::index(r).ok_or_else(|| err("not an input"))?;
-        match order {
-            1 | 2 => {
-                self.inputs.derivatives[i][(order - 1) as usize] = value;
-                Ok(())
-            }
-            _ => Err(err(format!("derivative order {order} not supported (1 or 2)"))),
-        }
+        self.inputs.set_derivative(r, order, value)
     }
 
     fn do_step(&mut self, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
