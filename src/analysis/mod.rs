@@ -9,6 +9,7 @@ pub mod gear;
 pub mod hertz;
 pub mod ldd;
 pub mod life;
+pub mod lifetime;
 pub mod limits;
 pub mod matrix;
 pub mod rainflow;
