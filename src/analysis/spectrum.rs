@@ -45,6 +45,19 @@ pub fn dominant_frequency(f: &[f64], a: &[f64], f_min: f64) -> Option<f64> {
     Some(refine(f, a, k).0)
 }
 
+/// The dominant frequency (above `f_min`) of `x` sampled at times `t` over the window [from, to),
+/// with the spectrum it came from: (frequency, frequencies, amplitudes). None when the window holds 16
+/// samples or fewer. The sampling step is taken from the first two samples.
+pub fn dominant_in_window(t: &[f64], x: &[f64], from: f64, to: f64, f_min: f64) -> Option<(f64, Vec<f64>, Vec<f64>)> {
+    let i0 = t.partition_point(|&v| v < from);
+    let i1 = t.partition_point(|&v| v < to);
+    if i1 <= i0 + 16 {
+        return None;
+    }
+    let (f, amp) = amplitude_spectrum(&x[i0..i1], t[1] - t[0]);
+    dominant_frequency(&f, &amp, f_min).map(|d| (d, f, amp))
+}
+
 /// The `count` largest local maxima with f_min ≤ f ≤ f_max, as refined (frequency, amplitude),
 /// largest first. A maximum must exceed both neighbours; a peak's window side lobes are 31 dB
 /// down (Hann) and rarely local maxima above the noise.
@@ -88,6 +101,29 @@ mod tests {
         assert!((peak - 2.51).abs() < 0.005, "{peak}");
         let amp = a.iter().cloned().fold(0.0, f64::max);
         assert!((amp - 3.0).abs() < 0.1, "{amp}");
+    }
+
+    /// A decaying ring after a quiet start: the window picks the ring's frequency, a window of 16
+    /// samples or fewer gives none.
+    #[test]
+    fn dominant_frequency_in_a_window() {
+        let dt = 1e-3;
+        let t: Vec<f64> = (0..10_000).map(|k| k as f64 * dt).collect();
+        let x: Vec<f64> = t
+            .iter()
+            .map(|&t| {
+                if t < 2.0 {
+                    0.1 * (std::f64::consts::TAU * 9.0 * t).sin()
+                } else {
+                    (-(t - 2.0) / 4.0).exp() * (std::f64::consts::TAU * 2.61 * t).sin()
+                }
+            })
+            .collect();
+        let (f, _, _) = dominant_in_window(&t, &x, 2.0, f64::INFINITY, 0.3).unwrap();
+        assert!((f - 2.61).abs() < 0.01, "{f}");
+        let (f, _, _) = dominant_in_window(&t, &x, 0.0, 2.0, 0.3).unwrap();
+        assert!((f - 9.0).abs() < 0.01, "{f}");
+        assert!(dominant_in_window(&t, &x, 1.0, 1.016, 0.3).is_none());
     }
 
     /// Two sines and noise-free: the two peaks, largest first, at their frequencies and amplitudes.
