@@ -30,11 +30,11 @@ pub fn error_chain(e: &anyhow::Error) -> String {
         and the torque-ratio summary under results/c-shutdown/:\n  \
         windrive shutdown --preset C\n\n\
         Typical session:\n  \
-        windrive pack                                      build and pack every FMU into target/fmu/\n  \
+        windrive pack                                       build and pack every FMU into target/fmu/\n  \
         windrive modes --preset D --fidelity 2 --generator connected\n  \
-        windrive step-response --preset D                  rated-torque step through the FMU, modes beside it\n  \
-        windrive bench torsional                           speed and accuracy of the FMU, with baselines\n  \
-        windrive run scenes/d-grid-step --algorithm jacobi a scene through the co-simulation master"
+        windrive step-response --preset D                   rated-torque step through the FMU, modes beside it\n  \
+        windrive bench torsional                            speed and accuracy of the FMU, with baselines\n  \
+        windrive run scenes/d-grid-step --algorithm jacobi  a scene through the co-simulation master"
 )]
 pub struct Cli {
     #[command(subcommand)]

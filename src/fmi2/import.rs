@@ -305,11 +305,7 @@ impl Fmu {
         let lib = match open_library(path) {
             Err(why) if needs_python(&why) => match python_runtime() {
                 Ok(runtime) => {
-                    eprintln!(
-                        "note: {} needs the Python runtime: loaded {}",
-                        path.display(),
-                        runtime
-                    );
+                    eprintln!("note: {} needs the Python runtime: loaded {}", path.display(), runtime);
                     open_library(path)
                 }
                 Err(no_runtime) => Err(format!(
