@@ -2,6 +2,33 @@
 //! real FFT (realfft), amplitudes corrected for the window's coherent gain so a sine of amplitude A
 //! shows a peak of ≈ A.
 
+/// Why a window of a series cannot give a spectrum.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum WindowError {
+    #[error("the window {from}..{to} s holds {samples} samples; a spectrum needs at least 16")]
+    TooShort { from: f64, to: f64, samples: usize },
+    #[error("the time steps are not uniform within 0.1 % (decimate or resample first)")]
+    NotUniform,
+}
+
+/// The samples of times `t` within [from, to] as an index range, with their (uniform) time step.
+pub fn window(t: &[f64], from: f64, to: f64) -> Result<(std::ops::Range<usize>, f64), WindowError> {
+    let i0 = t.partition_point(|&v| v < from);
+    let i1 = t.partition_point(|&v| v <= to);
+    if i1 < i0 + 16 {
+        return Err(WindowError::TooShort {
+            from,
+            to,
+            samples: i1.saturating_sub(i0),
+        });
+    }
+    let dt = (t[i1 - 1] - t[i0]) / (i1 - 1 - i0) as f64;
+    if t[i0..i1].windows(2).any(|w| ((w[1] - w[0]) / dt - 1.0).abs() > 1e-3) {
+        return Err(WindowError::NotUniform);
+    }
+    Ok((i0..i1, dt))
+}
+
 /// (frequencies in Hz, amplitudes) of `x` sampled every `dt` seconds.
 pub fn amplitude_spectrum(x: &[f64], dt: f64) -> (Vec<f64>, Vec<f64>) {
     let n = x.len();
@@ -124,6 +151,14 @@ mod tests {
         let (f, _, _) = dominant_in_window(&t, &x, 0.0, 2.0, 0.3).unwrap();
         assert!((f - 9.0).abs() < 0.01, "{f}");
         assert!(dominant_in_window(&t, &x, 1.0, 1.016, 0.3).is_none());
+        assert_eq!(window(&t, 2.0, 2.5).unwrap().0, 2000..2501);
+        assert!(matches!(
+            window(&t, 2.0, 2.01),
+            Err(WindowError::TooShort { samples: 11, .. })
+        ));
+        let mut uneven = t.clone();
+        uneven[100] += 0.5e-3;
+        assert_eq!(window(&uneven, 0.0, 1.0), Err(WindowError::NotUniform));
     }
 
     /// Two sines and noise-free: the two peaks, largest first, at their frequencies and amplitudes.
