@@ -153,8 +153,8 @@ mod tests {
         assert!(dominant_in_window(&t, &x, 1.0, 1.016, 0.3).is_none());
         assert_eq!(window(&t, 2.0, 2.5).unwrap().0, 2000..2501);
         assert!(matches!(
-            window(&t, 2.0, 2.01),
-            Err(WindowError::TooShort { samples: 11, .. })
+            window(&t, 2.0, 2.0095),
+            Err(WindowError::TooShort { samples: 10, .. })
         ));
         let mut uneven = t.clone();
         uneven[100] += 0.5e-3;
