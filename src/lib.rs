@@ -11,6 +11,7 @@
 pub mod analysis;
 pub mod fmi2;
 pub mod physics;
+pub mod reference;
 pub mod slaves;
 pub mod solver;
 

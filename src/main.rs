@@ -1,8 +1,19 @@
 use clap::Parser;
 use windrive::cli::{Cli, Command};
 
-fn main() -> anyhow::Result<()> {
-    let cli = Cli::parse();
+/// Errors reach the user as their message and causes, one per line: never a stack backtrace, even
+/// with `RUST_BACKTRACE` set (anyhow's `Debug` form, which `fn main() -> Result` prints, appends one).
+fn main() -> std::process::ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {}", windrive::cli::error_chain(&e));
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Pack { names } => {
             let root = windrive::pack::workspace_root()?;

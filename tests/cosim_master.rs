@@ -5,8 +5,8 @@
 
 mod common;
 
-use windrive::cli::coupling::run_grid_step;
 use windrive::cosim::{Algorithm, Options};
+use windrive::reference::grid_step::compare as run_grid_step;
 
 fn error(algorithm: Algorithm, order: usize, step: f64, stop: f64) -> Option<f64> {
     let (_guard, dir) = common::scene_copy("d-grid-step");

@@ -12,9 +12,11 @@
 
 mod common;
 
-use windrive::cli::shutdown::{dominant, lowest_mode, range};
+use windrive::analysis::metrics::range;
+use windrive::analysis::spectrum::dominant_in_window;
 use windrive::cosim::{Algorithm, Master, Options, Record, Scene, System};
 use windrive::physics::modes::Boundary;
+use windrive::reference::modes::lowest_mode;
 
 struct Run {
     t: Vec<f64>,
@@ -126,8 +128,8 @@ fn check(scene: &str, preset: &str) {
     let dt = windrive::physics::drivetrain::Drivetrain::preset(preset).unwrap();
     let peak = r.lss.iter().fold(0.0f64, |m, v| m.max(v.abs())) / dt.rated_rotor_torque();
     println!("{scene}: max |LSS torque| / rated = {peak:.3} (design factor 1.35)");
-    let slipping = dominant(&r.t, &r.hss, 6.2, t_lock - 0.1).unwrap().0;
-    let held_f = dominant(&r.t, &r.hss, t_lock + 0.5, 30.0).unwrap().0;
+    let slipping = dominant_in_window(&r.t, &r.hss, 6.2, t_lock - 0.1, 0.3).unwrap().0;
+    let held_f = dominant_in_window(&r.t, &r.hss, t_lock + 0.5, 30.0, 0.3).unwrap().0;
     let free = lowest_mode(preset, Boundary::Disconnected).unwrap();
     let locked = lowest_mode(preset, Boundary::HssLocked).unwrap();
     println!(

@@ -81,9 +81,29 @@ pub fn crossings(orders: &[Order], modes_hz: &[f64], rpm_min: f64, rpm_max: f64)
     out
 }
 
+/// The natural frequencies a Campbell diagram draws: non-zero, up to `f_max`, repeated modes (the
+/// planet modes of a symmetric stage) as one line with their multiplicity. `frequencies_hz` ascending.
+pub fn distinct_modes(frequencies_hz: &[f64], f_max: f64) -> Vec<(f64, usize)> {
+    let mut out: Vec<(f64, usize)> = Vec::new();
+    for f in frequencies_hz.iter().cloned().filter(|f| *f > 1e-6 && *f <= f_max) {
+        match out.last_mut() {
+            Some((last, k)) if (f / *last - 1.0).abs() < 1e-6 => *k += 1,
+            _ => out.push((f, 1)),
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Rigid-body and out-of-range modes drop out; a repeated pair becomes one line of multiplicity 2.
+    #[test]
+    fn repeated_modes_are_one_line() {
+        let m = distinct_modes(&[0.0, 2.5, 40.0, 40.0 * (1.0 + 1e-9), 70.0, 900.0], 100.0);
+        assert_eq!(m, vec![(2.5, 1), (40.0, 2), (70.0, 1)]);
+    }
 
     /// PARAMETERS.md §1, Table 4.8 of the thesis: C 174×, 648×, 2664× (thesis convention) with the
     /// physical first stage 145×; A 146× and 730× (thesis) for the two planetary stages.

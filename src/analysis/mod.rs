@@ -3,16 +3,20 @@
 //! Miner's sum, ISO 281 bearing life, Hertz line contact, operating hours from wind distributions,
 //! spectra and Campbell diagrams. Everything reads plain series; nothing here needs an FMU.
 
+pub mod bode;
 pub mod campbell;
 pub mod damage;
 pub mod gear;
 pub mod hertz;
 pub mod ldd;
 pub mod life;
+pub mod lifetime;
 pub mod limits;
 pub mod matrix;
+pub mod metrics;
 pub mod rainflow;
 pub mod series;
+pub mod shutdown;
 pub mod spectrum;
 pub mod tooth_root;
 pub mod wind;

@@ -2,6 +2,33 @@
 //! real FFT (realfft), amplitudes corrected for the window's coherent gain so a sine of amplitude A
 //! shows a peak of ≈ A.
 
+/// Why a window of a series cannot give a spectrum.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum WindowError {
+    #[error("the window {from}..{to} s holds {samples} samples; a spectrum needs at least 16")]
+    TooShort { from: f64, to: f64, samples: usize },
+    #[error("the time steps are not uniform within 0.1 % (decimate or resample first)")]
+    NotUniform,
+}
+
+/// The samples of times `t` within [from, to] as an index range, with their (uniform) time step.
+pub fn window(t: &[f64], from: f64, to: f64) -> Result<(std::ops::Range<usize>, f64), WindowError> {
+    let i0 = t.partition_point(|&v| v < from);
+    let i1 = t.partition_point(|&v| v <= to);
+    if i1 < i0 + 16 {
+        return Err(WindowError::TooShort {
+            from,
+            to,
+            samples: i1.saturating_sub(i0),
+        });
+    }
+    let dt = (t[i1 - 1] - t[i0]) / (i1 - 1 - i0) as f64;
+    if t[i0..i1].windows(2).any(|w| ((w[1] - w[0]) / dt - 1.0).abs() > 1e-3) {
+        return Err(WindowError::NotUniform);
+    }
+    Ok((i0..i1, dt))
+}
+
 /// (frequencies in Hz, amplitudes) of `x` sampled every `dt` seconds.
 pub fn amplitude_spectrum(x: &[f64], dt: f64) -> (Vec<f64>, Vec<f64>) {
     let n = x.len();
@@ -43,6 +70,19 @@ pub fn dominant_frequency(f: &[f64], a: &[f64], f_min: f64) -> Option<f64> {
         .filter(|&k| f[k] >= f_min)
         .max_by(|&i, &j| a[i].total_cmp(&a[j]))?;
     Some(refine(f, a, k).0)
+}
+
+/// The dominant frequency (above `f_min`) of `x` sampled at times `t` over the window [from, to),
+/// with the spectrum it came from: (frequency, frequencies, amplitudes). None when the window holds 16
+/// samples or fewer. The sampling step is taken from the first two samples.
+pub fn dominant_in_window(t: &[f64], x: &[f64], from: f64, to: f64, f_min: f64) -> Option<(f64, Vec<f64>, Vec<f64>)> {
+    let i0 = t.partition_point(|&v| v < from);
+    let i1 = t.partition_point(|&v| v < to);
+    if i1 <= i0 + 16 {
+        return None;
+    }
+    let (f, amp) = amplitude_spectrum(&x[i0..i1], t[1] - t[0]);
+    dominant_frequency(&f, &amp, f_min).map(|d| (d, f, amp))
 }
 
 /// The `count` largest local maxima with f_min ≤ f ≤ f_max, as refined (frequency, amplitude),
@@ -88,6 +128,37 @@ mod tests {
         assert!((peak - 2.51).abs() < 0.005, "{peak}");
         let amp = a.iter().cloned().fold(0.0, f64::max);
         assert!((amp - 3.0).abs() < 0.1, "{amp}");
+    }
+
+    /// A decaying ring after a quiet start: the window picks the ring's frequency, a window of 16
+    /// samples or fewer gives none.
+    #[test]
+    fn dominant_frequency_in_a_window() {
+        let dt = 1e-3;
+        let t: Vec<f64> = (0..10_000).map(|k| k as f64 * dt).collect();
+        let x: Vec<f64> = t
+            .iter()
+            .map(|&t| {
+                if t < 2.0 {
+                    0.1 * (std::f64::consts::TAU * 9.0 * t).sin()
+                } else {
+                    (-(t - 2.0) / 4.0).exp() * (std::f64::consts::TAU * 2.61 * t).sin()
+                }
+            })
+            .collect();
+        let (f, _, _) = dominant_in_window(&t, &x, 2.0, f64::INFINITY, 0.3).unwrap();
+        assert!((f - 2.61).abs() < 0.01, "{f}");
+        let (f, _, _) = dominant_in_window(&t, &x, 0.0, 2.0, 0.3).unwrap();
+        assert!((f - 9.0).abs() < 0.01, "{f}");
+        assert!(dominant_in_window(&t, &x, 1.0, 1.016, 0.3).is_none());
+        assert_eq!(window(&t, 2.0, 2.5).unwrap().0, 2000..2501);
+        assert!(matches!(
+            window(&t, 2.0, 2.0095),
+            Err(WindowError::TooShort { samples: 10, .. })
+        ));
+        let mut uneven = t.clone();
+        uneven[100] += 0.5e-3;
+        assert_eq!(window(&uneven, 0.0, 1.0), Err(WindowError::NotUniform));
     }
 
     /// Two sines and noise-free: the two peaks, largest first, at their frequencies and amplitudes.

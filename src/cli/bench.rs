@@ -1,10 +1,12 @@
-//! `windrive bench torsional`: drivetrain D at full fidelity, a rated-torque step, 30 s at a 1 ms
-//! communication step through the FMI boundary. Baselines measured in the same run: the same model
+//! `windrive bench torsional`: a drivetrain (D by default) at full fidelity, a rated-torque step
+//! ([`crate::reference::step`]), 30 s at a 1 ms communication step through the FMI boundary. Baselines measured in the same run: the same model
 //! without FMI (the boundary's overhead), RK4 at 90 % of its stability limit (the explicit
 //! alternative), and a converged reference (RK4, fourth order, at a quarter of its stability limit,
 //! checked against half the limit) for the accuracy figures.
 
-use super::step::{Scenario, run_fmi, run_native, torsional_fmu};
+use super::step::torsional_fmu;
+use crate::analysis::metrics::{peak_and_rms_errors as errors, trajectory_error};
+use crate::reference::step::{Scenario, rk4_step_limit, run_fmi, run_native};
 use anyhow::bail;
 use std::path::PathBuf;
 
@@ -41,27 +43,6 @@ pub struct BenchArgs {
     pub samples: usize,
 }
 
-fn peak(x: &[f64]) -> f64 {
-    x.iter().map(|v| v.abs()).fold(0.0, f64::max)
-}
-
-fn rms(x: &[f64]) -> f64 {
-    (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
-}
-
-/// Largest deviation along the run, relative to the reference's peak.
-fn trajectory_error(x: &[f64], reference: &[f64]) -> f64 {
-    x.iter().zip(reference).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / peak(reference)
-}
-
-/// Relative errors of peak and RMS against the reference.
-fn errors(x: &[f64], reference: &[f64]) -> (f64, f64) {
-    (
-        (peak(x) - peak(reference)).abs() / peak(reference),
-        (rms(x) - rms(reference)).abs() / rms(reference),
-    )
-}
-
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     match args.target.as_str() {
         "torsional" => {}
@@ -95,10 +76,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
 
     // Accuracy reference: RK4 (fourth order, independent of the implicit method under test) at a
     // quarter of its stability limit, checked against half the limit.
-    let limit = {
-        let mut s = <crate::slaves::torsional::TorsionalSlave as crate::fmi2::slave::Slave>::instantiate(None);
-        s.built().map_err(|e| anyhow::anyhow!(e.0))?.rk4_step_limit
-    };
+    let limit = rk4_step_limit()?;
     let rk4_at = |fraction: f64| Scenario {
         integrator: "rk4".into(),
         max_internal_step: fraction * limit,
@@ -196,6 +174,11 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Title of the work–precision chart: the preset and simulated time that were run.
+pub fn work_precision_title(preset: &str, stop_time: f64) -> String {
+    format!("Drivetrain {preset}, {stop_time} s rated-torque step: HSS torque error vs CPU time")
+}
+
 /// Error of the peak HSS torque against CPU time for a sweep of internal steps of both integrators.
 fn work_precision(base: &Scenario, reference: &[f64], rk4_limit: f64, path: &std::path::Path) -> anyhow::Result<()> {
     println!();
@@ -235,7 +218,7 @@ fn work_precision(base: &Scenario, reference: &[f64], rk4_limit: f64, path: &std
         .collect();
     match super::plot::lines(
         path,
-        "Drivetrain D, 30 s rated-torque step: HSS torque error vs CPU time",
+        &work_precision_title(&base.preset, base.stop_time),
         "log10 CPU time / s",
         "log10 (max |error| / peak)",
         &series,
@@ -299,4 +282,15 @@ fn rainflow(args: &BenchArgs) -> anyhow::Result<()> {
             "sum_count": count, "del": {"3": dels[0], "6": dels[1], "9": dels[2]}})
     );
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    /// The chart names what was run, not the defaults.
+    #[test]
+    fn work_precision_title_follows_the_arguments() {
+        let title = super::work_precision_title("B", 12.5);
+        assert!(title.starts_with("Drivetrain B, 12.5 s rated-torque step"), "{title}");
+        assert!(super::work_precision_title("D", 30.0).starts_with("Drivetrain D, 30 s "));
+    }
 }

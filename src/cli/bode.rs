@@ -1,6 +1,7 @@
 //! `windrive bode`: frequency response of the linear drivetrain between a torque and a speed or
 //! shaft torque (the thesis's eigenfrequency analysis: LSS torque in, generator speed out).
 
+use crate::analysis::bode::{Bode, log_spaced};
 use crate::cli::plot;
 use crate::physics::drivetrain::Drivetrain;
 use crate::physics::modes::{Boundary, modes};
@@ -69,13 +70,10 @@ pub fn run(args: &BodeArgs) -> anyhow::Result<()> {
         "lss-torque" => Output::Shaft(0),
         _ => Output::Shaft(model.shafts.iter().rposition(|s| s.is_some()).unwrap_or(0)),
     };
-    let (lo, hi) = (args.range[0].ln(), args.range[1].ln());
-    let f: Vec<f64> = (0..args.points)
-        .map(|i| (lo + (hi - lo) * i as f64 / (args.points - 1) as f64).exp())
-        .collect();
+    let f = log_spaced(args.range[0], args.range[1], args.points);
     let r = frequency_response(&model, boundary, dt.k_generator, input, output, &f).map_err(|e| anyhow!(e))?;
-    let mag: Vec<f64> = r.iter().map(|(a, b)| a.hypot(*b)).collect();
-    let phase: Vec<f64> = r.iter().map(|(a, b)| b.atan2(*a).to_degrees()).collect();
+    let bode = Bode::new(f, &r);
+    let (f, mag, phase) = (&bode.frequency_hz, &bode.magnitude, &bode.phase_deg);
     let modes_hz: Vec<f64> = modes(&model, boundary, dt.k_generator)
         .frequencies_hz
         .into_iter()
@@ -84,7 +82,7 @@ pub fn run(args: &BodeArgs) -> anyhow::Result<()> {
     if let Some(path) = &args.plot {
         let pts: Vec<(f64, f64)> = f
             .iter()
-            .zip(&mag)
+            .zip(mag)
             .map(|(x, m)| (x.log10(), 20.0 * m.max(1e-300).log10()))
             .collect();
         let marks: Vec<(f64, String)> = modes_hz.iter().map(|m| (m.log10(), format!("{m:.2} Hz"))).collect();
@@ -119,11 +117,7 @@ pub fn run(args: &BodeArgs) -> anyhow::Result<()> {
         "drivetrain {} ({} model, generator {}): {} torque → {} [{unit}]",
         dt.name, args.fidelity, args.generator, args.input, args.output
     );
-    // the response's resonance peaks: local maxima of the magnitude
-    let peaks: Vec<usize> = (1..mag.len() - 1)
-        .filter(|&i| mag[i] > mag[i - 1] && mag[i] >= mag[i + 1])
-        .collect();
-    for i in peaks {
+    for i in bode.peaks() {
         println!(
             "  peak at {:>9.3} Hz: {:.4e} ({:+.1} dB, phase {:+.1}°)",
             f[i],

@@ -1,7 +1,7 @@
 //! `windrive campbell --preset C`: natural frequencies against rotor speed with the excitation orders,
 //! and the crossings inside the operating range.
 
-use crate::analysis::campbell::{crossings, excitation_orders};
+use crate::analysis::campbell::{crossings, distinct_modes, excitation_orders};
 use crate::cli::{modes, plot};
 use crate::physics::drivetrain::operating_speed_range_rpm;
 use std::path::PathBuf;
@@ -44,18 +44,7 @@ pub fn run(args: &CampbellArgs) -> anyhow::Result<()> {
     if f_max.is_nan() || f_max <= 0.0 {
         anyhow::bail!("--max-frequency {f_max}: must be positive");
     }
-    // repeated modes (planet modes of a symmetric stage) are one line, with their multiplicity
-    let mut modes_hz: Vec<f64> = Vec::new();
-    let mut multiplicity: Vec<usize> = Vec::new();
-    for f in m.frequencies_hz.iter().cloned().filter(|f| *f > 1e-6 && *f <= f_max) {
-        match modes_hz.last() {
-            Some(last) if (f / last - 1.0).abs() < 1e-6 => *multiplicity.last_mut().expect("paired") += 1,
-            _ => {
-                modes_hz.push(f);
-                multiplicity.push(1);
-            }
-        }
-    }
+    let (modes_hz, multiplicity): (Vec<f64>, Vec<usize>) = distinct_modes(&m.frequencies_hz, f_max).into_iter().unzip();
     let cross = crossings(&orders, &modes_hz, lo, hi);
     if let Some(path) = &args.plot {
         plot::campbell(

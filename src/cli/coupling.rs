@@ -1,76 +1,10 @@
-//! The d-grid-step scene's exact solution, and `windrive bench coupling`: error against wall time
-//! of every co-simulation algorithm on it (a work–precision chart), with the step where each fails.
+//! `windrive bench coupling`: error against wall time of every co-simulation algorithm on the
+//! d-grid-step scene against its exact solution ([`crate::reference::grid_step`]), as a
+//! work–precision chart, with the step where each fails.
 
-use crate::cosim::{Algorithm, Master, Options, Record, Scene, System};
-use crate::physics::modes::{Boundary, undamped_step_response};
-use crate::slaves::torsional::Params;
+use crate::cosim::{Algorithm, Options, Scene};
+use crate::reference::grid_step::compare as run_grid_step;
 use std::path::Path;
-
-/// Rotor torque the scene applies at t = 0, N·m (scenes/d-grid-step/torsional.ssv).
-pub const GRID_STEP_ROTOR_TORQUE: f64 = 385_000.0;
-
-/// Generator torque of the d-grid-step scene from the exact modal solution of the undamped
-/// 2-mass drivetrain D with its generator spring to ground: K_gen · q_generator(t).
-pub fn grid_step_exact_torque(times: &[f64]) -> Vec<f64> {
-    let params = Params {
-        preset: "D".into(),
-        fidelity: "2".into(),
-        integrator: "implicit".into(),
-        damping_scale: 0.0,
-        contact_ratio: 1.6,
-        ..Params::default()
-    };
-    let built = params.build().expect("preset D builds");
-    let (m, k_gen) = (&built.model, built.drivetrain.k_generator);
-    undamped_step_response(m, Boundary::Connected, k_gen, m.rotor, GRID_STEP_ROTOR_TORQUE, times)
-        .iter()
-        .map(|q| k_gen * q[m.generator])
-        .collect()
-}
-
-/// One run of the scene: the largest deviation of the generator torque from the exact solution
-/// relative to its peak (None when the run failed), the wall time and the master's statistics.
-pub struct Outcome {
-    pub error: Option<f64>,
-    pub failure: Option<String>,
-    pub wall_s: f64,
-    pub stats: crate::cosim::Stats,
-}
-
-pub fn run_grid_step(scene_dir: &Path, opts: Options) -> anyhow::Result<Outcome> {
-    let scene = Scene::open(scene_dir)?;
-    let record = Record::Only(vec!["generator.generator_torque".into()]);
-    let mut system = System::build(&scene, &[], &record)?;
-    system.initialize(Some(opts.stop_time))?;
-    let (u, i) = (system.recorded[0].1, system.recorded[0].2);
-    let (mut t, mut y) = (Vec::new(), Vec::new());
-    let wall = std::time::Instant::now();
-    let mut master = Master::new(&mut system, opts)?;
-    let result = master.run(|time, sys| {
-        t.push(time);
-        y.push(sys.units[u].values[i]);
-        Ok(())
-    });
-    let wall_s = wall.elapsed().as_secs_f64();
-    let stats = master.stats.clone();
-    let exact = grid_step_exact_torque(&t);
-    let peak = exact.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let error = y.iter().zip(&exact).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / peak;
-    Ok(match result {
-        Ok(()) => Outcome {
-            error: Some(error),
-            failure: None,
-            wall_s,
-            stats,
-        },
-        Err(e) => Outcome {
-            error: None,
-            failure: Some(e.to_string()),
-            wall_s,
-            stats,
-        },
-    })
-}
 
 /// The fixed-step variants the chart compares: (label, algorithm, input order).
 fn variants() -> Vec<(String, Algorithm, usize)> {

@@ -291,24 +291,9 @@ pub fn run_spectrum(args: &SpectrumArgs) -> anyhow::Result<()> {
         Some(w) => (w[0], w[1]),
         None => (t[0], t[t.len() - 1]),
     };
-    let i0 = t.partition_point(|&v| v < t0);
-    let i1 = t.partition_point(|&v| v <= t1);
-    if i1 < i0 + 16 {
-        anyhow::bail!(
-            "{}: the window {t0}..{t1} s holds {} samples; a spectrum needs at least 16",
-            args.file.display(),
-            i1.saturating_sub(i0)
-        );
-    }
-    let dt = (t[i1 - 1] - t[i0]) / (i1 - 1 - i0) as f64;
-    let uneven = t[i0..i1].windows(2).any(|w| ((w[1] - w[0]) / dt - 1.0).abs() > 1e-3);
-    if uneven {
-        anyhow::bail!(
-            "{}: the time steps are not uniform (decimate or resample first)",
-            args.file.display()
-        );
-    }
-    let (f, a) = spectrum::amplitude_spectrum(&x[i0..i1], dt);
+    let (samples, dt) = spectrum::window(&t, t0, t1).map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?;
+    let n = samples.len();
+    let (f, a) = spectrum::amplitude_spectrum(&x[samples], dt);
     let (lo, hi) = args.band.as_ref().map_or((0.2, f64::INFINITY), |b| (b[0], b[1]));
     let peaks = spectrum::peaks(&f, &a, lo, hi, args.peaks);
     let df = f[1] - f[0];
@@ -342,8 +327,7 @@ pub fn run_spectrum(args: &SpectrumArgs) -> anyhow::Result<()> {
     }
     println!(
         "{}: {} samples at {dt} s over {t0}..{t1} s, resolution {df:.4} Hz",
-        args.channel,
-        i1 - i0
+        args.channel, n
     );
     for (k, (pf, pa)) in peaks.iter().enumerate() {
         println!("  peak {}: {pf:.4} Hz, amplitude {pa:.6e}", k + 1);

@@ -15,18 +15,26 @@ pub mod step;
 
 use clap::{Parser, Subcommand};
 
+/// An error and its causes on one line, "outer: inner: ...", without a backtrace.
+pub fn error_chain(e: &anyhow::Error) -> String {
+    format!("{e:#}")
+}
+
 #[derive(Parser)]
 #[command(
     name = "windrive",
     version,
     about = "Wind-turbine drivetrain FMUs (FMI 2.0 Co-Simulation), their master and analysis",
     long_about = "Wind-turbine drivetrain FMUs (FMI 2.0 Co-Simulation), their master and analysis.\n\n\
+        The main job: drivetrain C's normal operation and shutdown through the master, with CSVs, plots\n\
+        and the torque-ratio summary under results/c-shutdown/:\n  \
+        windrive shutdown --preset C\n\n\
         Typical session:\n  \
-        windrive pack                                   build and pack every FMU into target/fmu/\n  \
+        windrive pack                                       build and pack every FMU into target/fmu/\n  \
         windrive modes --preset D --fidelity 2 --generator connected\n  \
-        windrive step-response --preset D               rated-torque step through the FMU, modes beside it\n  \
-        windrive bench torsional                        speed and accuracy of the FMU, with baselines\n  \
-        windrive run scenes/d-step --algorithm jacobi   a scene through the co-simulation master"
+        windrive step-response --preset D                   rated-torque step through the FMU, modes beside it\n  \
+        windrive bench torsional                            speed and accuracy of the FMU, with baselines\n  \
+        windrive run scenes/d-grid-step --algorithm jacobi  a scene through the co-simulation master"
 )]
 pub struct Cli {
     #[command(subcommand)]

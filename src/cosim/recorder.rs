@@ -1,38 +1,76 @@
 //! Results as CSV in fmpy's layout: `time,<component>.<variable>,...`, one row per recorded
 //! communication point. Rows are written as they come (buffered, flushed on finish and on drop),
-//! so a run that fails keeps every row up to its last good step.
+//! so a run that fails keeps every row up to its last good step. [`CsvWriter`] is the one writer of
+//! that layout; every command that writes a CSV goes through it.
 
 use super::master::{MasterError, read_recorded};
 use super::system::System;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-pub struct Recorder {
+/// Writes a CSV in fmpy's layout: a header `time,<name>,...`, then one row of numbers per call,
+/// each in its shortest text that reads back to the same bits.
+pub struct CsvWriter {
     out: std::io::BufWriter<std::fs::File>,
+    line: String,
+}
+
+impl CsvWriter {
+    /// Creates the file (and its folder) and writes the header: `time`, then `columns`.
+    pub fn create<'a>(path: &Path, columns: impl IntoIterator<Item = &'a str>) -> std::io::Result<Self> {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir)
+                .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", dir.display())))?;
+        }
+        let file = std::fs::File::create(path)
+            .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", path.display())))?;
+        let mut out = std::io::BufWriter::with_capacity(1 << 16, file);
+        let mut header = String::from("time");
+        for name in columns {
+            header.push(',');
+            header.push_str(name);
+        }
+        writeln!(out, "{header}")?;
+        Ok(Self {
+            out,
+            line: String::new(),
+        })
+    }
+
+    /// Writes one row: the time, then the values in the header's order.
+    pub fn row(&mut self, time: f64, values: impl IntoIterator<Item = f64>) -> std::io::Result<()> {
+        // ryu: the shortest text that reads back to the same bits (exponent form for very small
+        // and large magnitudes), much faster than core::fmt
+        let mut buf = ryu::Buffer::new();
+        self.line.clear();
+        self.line.push_str(buf.format(time));
+        for v in values {
+            self.line.push(',');
+            self.line.push_str(buf.format(v));
+        }
+        self.line.push('\n');
+        self.out.write_all(self.line.as_bytes())
+    }
+
+    pub fn flush(&mut self) -> std::io::Result<()> {
+        self.out.flush()
+    }
+}
+
+pub struct Recorder {
+    out: CsvWriter,
     path: PathBuf,
     every: u64,
     seen: u64,
     pub rows: u64,
     last_time: f64,
-    line: String,
 }
 
 impl Recorder {
     /// Creates the file and writes the header. `every` = keep one communication point in `every`
     /// (the last one is always kept by [`Recorder::finish`]).
     pub fn create(path: &Path, system: &System, every: u64) -> std::io::Result<Self> {
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir)?;
-        }
-        let file = std::fs::File::create(path)
-            .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", path.display())))?;
-        let mut out = std::io::BufWriter::with_capacity(1 << 16, file);
-        let mut header = String::from("time");
-        for (name, _, _) in &system.recorded {
-            header.push(',');
-            header.push_str(name);
-        }
-        writeln!(out, "{header}")?;
+        let out = CsvWriter::create(path, system.recorded.iter().map(|(name, _, _)| name.as_str()))?;
         Ok(Self {
             out,
             path: path.to_path_buf(),
@@ -40,7 +78,6 @@ impl Recorder {
             seen: 0,
             rows: 0,
             last_time: f64::NAN,
-            line: String::new(),
         })
     }
 
@@ -66,17 +103,8 @@ impl Recorder {
     }
 
     fn write(&mut self, time: f64, system: &System) -> std::io::Result<()> {
-        // ryu: the shortest text that reads back to the same bits (exponent form for very small
-        // and large magnitudes), much faster than core::fmt
-        let mut buf = ryu::Buffer::new();
-        self.line.clear();
-        self.line.push_str(buf.format(time));
-        for (_, u, i) in &system.recorded {
-            self.line.push(',');
-            self.line.push_str(buf.format(system.units[*u].values[*i]));
-        }
-        self.line.push('\n');
-        self.out.write_all(self.line.as_bytes())?;
+        let values = system.recorded.iter().map(|(_, u, i)| system.units[*u].values[*i]);
+        self.out.row(time, values)?;
         self.rows += 1;
         self.last_time = time;
         Ok(())

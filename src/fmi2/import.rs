@@ -40,6 +40,92 @@ fn log_suffix(log: &[String]) -> String {
     }
 }
 
+/// dlopen of an FMU binary; the error text carries dlerror's (missing library, undefined symbol).
+fn open_library(path: &Path) -> Result<Library, String> {
+    // SAFETY: loading runs the library's initialisers; an FMU binary is trusted code by design.
+    unsafe { Library::new(path) }.map_err(|e| {
+        let why = std::error::Error::source(&e).map(|w| w.to_string()).unwrap_or_default();
+        format!("{e}: {why}")
+    })
+}
+
+/// Whether a dlopen failure is the Python C API missing from the process.
+fn needs_python(dlerror: &str) -> bool {
+    dlerror.contains("undefined symbol: Py") || dlerror.contains("undefined symbol: _Py")
+}
+
+/// The Python interpreter whose runtime PythonFMU binaries get: the active virtual environment's
+/// (`VIRTUAL_ENV`), else `python3` on PATH.
+fn python_interpreter() -> PathBuf {
+    std::env::var_os("VIRTUAL_ENV")
+        .map(|venv| PathBuf::from(venv).join("bin").join("python3"))
+        .filter(|p| p.is_file())
+        .unwrap_or_else(|| PathBuf::from("python3"))
+}
+
+/// What the interpreter reports: its shared libpython candidates and its module search path.
+const PYTHON_QUERY: &str = "import os, sys, sysconfig\n\
+    v = sysconfig.get_config_var\n\
+    print(v('LIBDIR') or '')\n\
+    print(v('INSTSONAME') or '')\n\
+    print(v('LDLIBRARY') or '')\n\
+    print(os.pathsep.join(p for p in sys.path if p))";
+
+/// Loads the Python runtime into the process once, with its symbols global so that a PythonFMU
+/// binary loaded afterwards binds to them, and puts the interpreter's module path (its standard
+/// library and site-packages, the virtual environment's included) on PYTHONPATH so the runtime the
+/// binary starts finds pythonfmu. Returns what it did, for the log; the outcome is kept for later
+/// FMUs. The manual way (LD_PRELOAD and PYTHONPATH set by the user) still works: a preloaded runtime
+/// never reaches here.
+fn python_runtime() -> Result<String, String> {
+    static RUNTIME: std::sync::OnceLock<Result<String, String>> = std::sync::OnceLock::new();
+    RUNTIME.get_or_init(load_python_runtime).clone()
+}
+
+fn load_python_runtime() -> Result<String, String> {
+    use libloading::os::unix::{Library as UnixLibrary, RTLD_GLOBAL, RTLD_NOW};
+    let python = python_interpreter();
+    let out = std::process::Command::new(&python)
+        .args(["-c", PYTHON_QUERY])
+        .output()
+        .map_err(|e| format!("cannot run {}: {e}", python.display()))?;
+    if !out.status.success() {
+        return Err(format!(
+            "{} failed: {}",
+            python.display(),
+            String::from_utf8_lossy(&out.stderr).trim()
+        ));
+    }
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    let lines: Vec<&str> = text.lines().collect();
+    let [libdir, instsoname, ldlibrary, module_path] = lines[..] else {
+        return Err(format!("{} answered {text:?}", python.display()));
+    };
+    let lib = [instsoname, ldlibrary]
+        .iter()
+        .filter(|name| name.contains(".so"))
+        .map(|name| Path::new(libdir).join(name))
+        .find(|p| p.is_file())
+        .ok_or_else(|| format!("{} has no shared libpython in {libdir:?}", python.display()))?;
+    // SAFETY: libpython's initialisers only set up its own statics. It stays loaded for the life of
+    // the process (forgotten below): FMU binaries bind to its symbols.
+    let runtime = unsafe { UnixLibrary::open(Some(&lib), RTLD_NOW | RTLD_GLOBAL) }
+        .map_err(|e| format!("{}: {e}", lib.display()))?;
+    std::mem::forget(runtime);
+    let joined = match std::env::var_os("PYTHONPATH").filter(|p| !p.is_empty()) {
+        Some(user) => format!("{}:{module_path}", user.to_string_lossy()),
+        None => module_path.to_string(),
+    };
+    // SAFETY: FMUs are loaded while the system is built, before the master starts worker threads;
+    // nothing else in the process reads or writes the environment concurrently then.
+    unsafe { std::env::set_var("PYTHONPATH", &joined) };
+    Ok(format!(
+        "{} of {} with RTLD_GLOBAL, PYTHONPATH={joined}",
+        lib.display(),
+        python.display()
+    ))
+}
+
 /// A temporary directory removed on drop.
 #[derive(Debug)]
 pub struct TempDir(PathBuf);
@@ -213,22 +299,26 @@ impl Fmu {
         })
     }
 
-    /// Loads a binary and resolves the 34 functions.
+    /// Loads a binary and resolves the 34 functions. A binary that needs the Python runtime in the
+    /// host (PythonFMU's: not linked to libpython on Linux) gets it: see [`python_runtime`].
     pub fn load_library(path: &Path) -> Result<Api, ImportError> {
-        // SAFETY: loading runs the library's initialisers; an FMU binary is trusted code by design.
-        let lib = unsafe { Library::new(path) }.map_err(|e| ImportError::Library {
-            path: path.to_path_buf(),
-            // the dlerror text (missing library, undefined symbol) is the error's source
-            message: {
-                let why = std::error::Error::source(&e).map(|w| w.to_string()).unwrap_or_default();
-                let hint = if why.contains("undefined symbol: _Py") || why.contains("undefined symbol: Py") {
-                    " (an FMU made by PythonFMU expects the Python runtime in the host process: run with \
-                     LD_PRELOAD=<path>/libpython3.X.so and PYTHONPATH=<site-packages holding pythonfmu>)"
-                } else {
-                    ""
-                };
-                format!("{e}: {why}{hint}")
+        let lib = match open_library(path) {
+            Err(why) if needs_python(&why) => match python_runtime() {
+                Ok(runtime) => {
+                    eprintln!("note: {} needs the Python runtime: loaded {}", path.display(), runtime);
+                    open_library(path)
+                }
+                Err(no_runtime) => Err(format!(
+                    "{why} (an FMU made by PythonFMU expects the Python runtime in the host process, and \
+                     loading it failed: {no_runtime}; run with LD_PRELOAD=<path>/libpython3.X.so and \
+                     PYTHONPATH=<site-packages holding pythonfmu>)"
+                )),
             },
+            other => other,
+        }
+        .map_err(|message| ImportError::Library {
+            path: path.to_path_buf(),
+            message,
         })?;
         // SAFETY: the symbols of an FMI 2.0 binary have the standard signatures.
         unsafe { Api::resolve(lib, path) }

@@ -113,3 +113,55 @@ def test_bad_rotor_series_is_named(windrive, tmp_path, content, words):
     assert str(series) in out.stderr, out.stderr
     for w in words:
         assert w in out.stderr, out.stderr
+
+
+@pytest.mark.parametrize("args,culprit", [
+    (["modes", "--preset", "Z"], "Z"),
+    (["run", "/nonexistent/scene"], "/nonexistent/scene"),
+    (["life", "--normal", "/nonexistent/n.csv", "--channel", "x"], "/nonexistent/n.csv"),
+    (["step-response", "--fmu", "/nonexistent/x.fmu", "--out", "/tmp/windrive-x.csv"], "/nonexistent/x.fmu"),
+])
+def test_user_errors_print_no_backtrace(windrive, tmp_path, args, culprit):
+    """Rust users often keep RUST_BACKTRACE set: a user error is still its message and causes only."""
+    env = {**__import__("os").environ, "RUST_BACKTRACE": "1", "RUST_LIB_BACKTRACE": "1"}
+    out = subprocess.run([windrive, *args], capture_output=True, text=True, cwd=tmp_path, env=env)
+    assert out.returncode != 0 and out.stderr.startswith("error: "), out.stderr
+    assert "backtrace" not in out.stderr.lower(), out.stderr
+    assert culprit in out.stderr, out.stderr
+
+
+def help_examples(windrive):
+    """Every example command line shown in `windrive --help` and the commands' `--help` texts."""
+    top = subprocess.run([windrive, "--help"], capture_output=True, text=True, check=True).stdout
+    verbs = [line.split()[0] for line in top.split("Commands:")[1].split("Options:")[0].splitlines()
+             if line.strip() and line.startswith("  ") and not line.startswith("   ")]
+    texts = [top] + [subprocess.run([windrive, v, "--help"], capture_output=True, text=True, check=True).stdout
+                     for v in verbs if v != "help"]
+    examples = []
+    for text in texts:
+        for line in text.splitlines():
+            words = line.strip().split("  ")[0].split()
+            if len(words) > 1 and words[0] == "windrive" and not words[1].startswith("<"):
+                examples.append(words[1:])
+    return verbs, top, examples
+
+
+def test_help_examples_exist_and_run(windrive, tmp_path):
+    """The main job is in `--help`; every example names a command that exists and scene paths that
+    exist; the cheap ones run as shown (a scene for 0.05 s), the others parse (their own --help)."""
+    verbs, top, examples = help_examples(windrive)
+    assert "windrive shutdown --preset C" in top
+    assert len(examples) >= 5, examples
+    for args in examples:
+        assert args[0] in verbs, args
+        for a in args[1:]:
+            if a.startswith("scenes/"):
+                assert (ROOT / a).exists(), f"--help names {a}, which does not exist"
+        if args[0] == "modes":
+            extra = []
+        elif args[0] == "run":
+            extra = ["--stop-time", "0.05", "--out", str(tmp_path / "x.csv"), "--quiet"]
+        else:
+            extra = ["--help"]
+        out = subprocess.run([windrive, *args, *extra], capture_output=True, text=True, cwd=ROOT)
+        assert out.returncode == 0, (args, out.stderr)
