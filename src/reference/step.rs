@@ -6,7 +6,7 @@
 //! against; [`run_fmi`] runs the same scenario through the FMI boundary.
 
 use super::ReferenceError;
-use crate::fmi2::slave::{Log, Slave};
+use crate::fmi2::slave::{NoLog, Slave};
 use crate::models::torsional::vr;
 use crate::physics::drivetrain::Drivetrain;
 use crate::slaves::torsional::TorsionalSlave;
@@ -120,31 +120,25 @@ pub fn run_fmi(fmu: &crate::fmi2::import::Fmu, sc: &Scenario, record: bool) -> R
     Ok((rows, wall))
 }
 
-struct Silent;
-impl Log for Silent {
-    fn warning(&mut self, _: &str) {}
-    fn event(&mut self, _: &str) {}
-}
-
 /// The same scenario on the model directly, without FMI: the HSS torque at every communication point
 /// (the start included) and the wall time of the stepping, s.
 pub fn run_native(sc: &Scenario) -> Result<(Vec<f64>, f64), ReferenceError> {
     let rated = sc.rated_torques()?;
     let mut s = TorsionalSlave::instantiate(None);
-    s.set_string(vr::PRESET, &sc.preset, &mut Silent)?;
-    s.set_string(vr::FIDELITY, &sc.fidelity, &mut Silent)?;
-    s.set_string(vr::INTEGRATOR, &sc.integrator, &mut Silent)?;
-    s.set_real(vr::MAX_INTERNAL_STEP, sc.max_internal_step, &mut Silent)?;
-    s.initialize(0.0, &mut Silent)?;
+    s.set_string(vr::PRESET, &sc.preset, &mut NoLog)?;
+    s.set_string(vr::FIDELITY, &sc.fidelity, &mut NoLog)?;
+    s.set_string(vr::INTEGRATOR, &sc.integrator, &mut NoLog)?;
+    s.set_real(vr::MAX_INTERNAL_STEP, sc.max_internal_step, &mut NoLog)?;
+    s.initialize(0.0, &mut NoLog)?;
     let steps = sc.steps();
     let mut hss = Vec::with_capacity(steps.len() + 1);
     hss.push(s.get_real(vr::HSS_TORQUE)?);
     let started = std::time::Instant::now();
     for &(t, h) in &steps {
         let (rotor, generator) = sc.inputs(t, rated);
-        s.set_real(vr::ROTOR_TORQUE, rotor, &mut Silent)?;
-        s.set_real(vr::GENERATOR_TORQUE, generator, &mut Silent)?;
-        s.do_step(t, h, &mut Silent)?;
+        s.set_real(vr::ROTOR_TORQUE, rotor, &mut NoLog)?;
+        s.set_real(vr::GENERATOR_TORQUE, generator, &mut NoLog)?;
+        s.do_step(t, h, &mut NoLog)?;
         hss.push(s.get_real(vr::HSS_TORQUE)?);
     }
     Ok((hss, started.elapsed().as_secs_f64()))
