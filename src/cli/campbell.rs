@@ -36,7 +36,7 @@ pub fn run(args: &CampbellArgs) -> anyhow::Result<()> {
     if args.harmonics == 0 {
         anyhow::bail!("--harmonics 0: at least the mesh frequency itself (1)");
     }
-    let (dt, m) = modes::compute(&args.preset, &args.fidelity, &args.generator)?;
+    let (dt, m) = modes::compute(&args.preset, &args.fidelity, &args.generator, "physical")?;
     let (lo, hi) = operating_speed_range_rpm(&dt.name).expect("every preset has a speed range");
     let orders = excitation_orders(&dt, args.harmonics);
     let top = orders.iter().map(|o| o.order).fold(0.0, f64::max) * hi / 60.0;

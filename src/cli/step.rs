@@ -105,7 +105,7 @@ pub fn run(args: &StepArgs) -> anyhow::Result<()> {
     );
     println!("  dominant HSS-torque frequency: {f_dom:.3} Hz");
     for boundary in ["disconnected", "connected", "locked"] {
-        let (_, m) = super::modes::compute(&args.preset, &args.fidelity, boundary)?;
+        let (_, m) = super::modes::compute(&args.preset, &args.fidelity, boundary, "physical")?;
         let list: Vec<String> = m.frequencies_hz.iter().take(5).map(|f| format!("{f:.3}")).collect();
         println!("  modes, generator {boundary:<12}: {} Hz ...", list.join(", "));
     }

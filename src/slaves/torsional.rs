@@ -8,19 +8,14 @@ use crate::models::torsional::vr;
 use crate::physics::brake::DiskBrake;
 use crate::physics::drivetrain::Drivetrain;
 use crate::physics::torsional::{
-    Fidelity, INPUT_BRAKE_COMMAND, INPUT_COUNT, INPUT_GENERATOR_TORQUE, INPUT_ROTOR_TORQUE, ModelOptions, TorsionalModel,
+    Fidelity, INPUT_BRAKE_COMMAND, INPUT_COUNT, INPUT_GENERATOR_TORQUE, INPUT_ROTOR_TORQUE, Lumping, ModelOptions,
+    TorsionalModel,
 };
 use crate::solver::alpha::Alpha;
 use crate::solver::{Driver, DynState, Method, Statistics, rk4};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::Arc;
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Integrator {
-    Implicit,
-    Rk4,
-}
 
 /// Every parameter of torsional.xml (generated from it), at its start value by default.
 pub type Params = xml::Parameters;
@@ -42,20 +37,10 @@ impl Inputs {
 pub struct Built {
     pub drivetrain: Drivetrain,
     pub model: TorsionalModel,
-    pub integrator: Integrator,
+    /// The integrator and its parameters (`integrator`, `spectral_radius`).
+    pub method: Method,
     pub brake_torque_max: f64,
     pub rk4_step_limit: f64,
-}
-
-impl Built {
-    fn method(&self) -> Method {
-        match self.integrator {
-            Integrator::Implicit => Method::Implicit(Alpha::NEWMARK),
-            Integrator::Rk4 => Method::Rk4 {
-                stability_limit: self.rk4_step_limit,
-            },
-        }
-    }
 }
 
 #[derive(Clone, Serialize, Deserialize)]
@@ -80,10 +65,26 @@ impl Params {
             .ok_or_else(|| ParameterError::invalid("preset", &self.preset, "unknown drivetrain, use A, B, C or D"))?;
         let fidelity = Fidelity::parse(&self.fidelity)
             .ok_or_else(|| ParameterError::invalid("fidelity", &self.fidelity, "use 2, 5 or full"))?;
-        let integrator = match self.integrator.trim().to_ascii_lowercase().as_str() {
-            "implicit" | "newmark" | "trapezoidal" => Integrator::Implicit,
-            "rk4" | "explicit" => Integrator::Rk4,
-            other => return Err(ParameterError::invalid("integrator", &other, "use implicit or rk4").into()),
+        let lumping = Lumping::parse(&self.lumping)
+            .ok_or_else(|| ParameterError::invalid("lumping", &self.lumping, "use physical or thesis"))?;
+        let rho = self.spectral_radius;
+        let radius =
+            |alpha: Result<Alpha, String>| alpha.map_err(|e| ParameterError::invalid("spectral_radius", &rho, &e));
+        let integrator = self.integrator.trim().to_ascii_lowercase();
+        // RK4's limit is known once the model is built; it is filled in below
+        let mut method = match integrator.as_str() {
+            "implicit" | "newmark" | "trapezoidal" => Method::Implicit(Alpha::NEWMARK),
+            "hht" | "hht-alpha" => Method::Implicit(radius(Alpha::hht(rho))?),
+            "generalized-alpha" | "generalised-alpha" => Method::Implicit(radius(Alpha::generalised(rho))?),
+            "rk4" | "explicit" => Method::Rk4 { stability_limit: 0.0 },
+            other => {
+                return Err(ParameterError::invalid(
+                    "integrator",
+                    &other,
+                    "use implicit, hht, generalized-alpha or rk4",
+                )
+                .into());
+            }
         };
         let nonlinear = self.mesh_backlash > 0.0 || self.mesh_stiffness_variation > 0.0;
         if nonlinear && fidelity != Fidelity::Full {
@@ -106,7 +107,7 @@ impl Params {
             mesh_backlash: self.mesh_backlash,
             mesh_stiffness_variation: self.mesh_stiffness_variation,
             contact_ratio: self.contact_ratio,
-            ..ModelOptions::default()
+            lumping,
         };
         let mut model = TorsionalModel::new(&drivetrain, fidelity, &options).map_err(ParameterError::Model)?;
         let brake_torque_max = if self.brake_torque_max > 0.0 {
@@ -119,10 +120,13 @@ impl Params {
             static_ratio: self.brake_static_ratio,
         };
         let rk4_step_limit = rk4::stability_limit(model.max_angular_frequency());
+        if let Method::Rk4 { stability_limit } = &mut method {
+            *stability_limit = rk4_step_limit;
+        }
         Ok(Built {
             drivetrain,
             model,
-            integrator,
+            method,
             brake_torque_max,
             rk4_step_limit,
         })
@@ -152,7 +156,7 @@ impl TorsionalSlave {
     pub fn ensure(&mut self) -> SlaveResult<(&Built, &mut DynState)> {
         if self.built.is_none() {
             let built = self.params.build()?;
-            self.driver = Driver::new(built.method());
+            self.driver = Driver::new(built.method);
             self.built = Some(Arc::new(built));
         }
         let built = self.built.as_ref().unwrap();
