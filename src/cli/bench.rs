@@ -12,7 +12,8 @@ use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct BenchArgs {
-    /// What to benchmark: torsional (the FMU), rainflow (counting and DELs), coupling (every
+    /// What to benchmark: torsional (the FMU), rainflow (counting and DELs), solvers (explicit
+    /// inverse, dense LU and sparse LU on gearbox-shaped iteration matrices), coupling (every
     /// co-simulation algorithm on scenes/d-grid-step against its exact solution), master (our
     /// master's overhead per FMU-step against the bare FMI calls)
     pub target: String,
@@ -47,6 +48,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     match args.target.as_str() {
         "torsional" => {}
         "rainflow" => return rainflow(args),
+        "solvers" => return linear_solvers(),
         "coupling" => return super::coupling::run(args.stop_time, args.work_precision.as_deref()),
         "master" => {
             let scene = args
@@ -55,7 +57,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
                 .unwrap_or_else(|| std::path::PathBuf::from("scenes/bench-d-grid"));
             return super::overhead::run(&scene, args.macro_steps);
         }
-        other => bail!("unknown benchmark {other:?}: available: torsional, rainflow, coupling, master"),
+        other => bail!("unknown benchmark {other:?}: available: torsional, rainflow, coupling, master, solvers"),
     }
     let fmu = torsional_fmu(args.fmu.as_deref())?;
     let base = Scenario {
@@ -232,6 +234,66 @@ fn work_precision(base: &Scenario, reference: &[f64], rk4_limit: f64, path: &std
 
 /// Rainflow counting plus DELs (m = 3, 6, 9 at 1 Hz over a 1 s sample spacing) of a long series.
 /// Prints one JSON line: seconds (best of 3, counting and DELs only), cycle count and checksums.
+/// Seconds per call of `f`, the best of three 0.1 s batches (the machine is shared).
+fn seconds_per_call(mut f: impl FnMut()) -> f64 {
+    (0..3)
+        .map(|_| {
+            let t = std::time::Instant::now();
+            let mut calls = 0u32;
+            while t.elapsed().as_secs_f64() < 0.1 {
+                f();
+                calls += 1;
+            }
+            t.elapsed().as_secs_f64() / f64::from(calls)
+        })
+        .fold(f64::MAX, f64::min)
+}
+
+/// The three factorisations of `solver::factor` on block-sparse iteration matrices of 6-DOF bodies
+/// (each coupled to the next and to a carrier): factorise + one solve (what a Newton iteration with
+/// a fresh Jacobian costs) and one solve with a kept factorisation (a step with a cached one), as
+/// ratios against dense LU, and the kind the automatic choice takes.
+fn linear_solvers() -> anyhow::Result<()> {
+    use crate::solver::factor::{Kind, Solver, block_sparse};
+    println!("block-sparse iteration matrices of 6-DOF bodies; times per call, ratios against dense LU (> 1: faster)");
+    println!(
+        "{:>5} {:>6} {:>13} {:>10} {:>10} {:>12} {:>10} {:>10}  chosen (reused / once)",
+        "DOFs", "fill", "LU f+s / µs", "inverse", "sparse", "LU s / µs", "inverse", "sparse"
+    );
+    for bodies in [2, 4, 8, 11, 16, 21, 24, 32, 48, 64] {
+        let j = block_sparse(bodies, 1);
+        let n = j.nrows();
+        let nonzeros = j.iter().filter(|x| **x != 0.0).count();
+        let r: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
+        let mut x = vec![0.0; n];
+        let kinds = [Kind::DenseLu, Kind::Inverse, Kind::SparseLu];
+        let mut factor_solve = [0.0; 3];
+        let mut solve = [0.0; 3];
+        for (k, kind) in kinds.into_iter().enumerate() {
+            factor_solve[k] = seconds_per_call(|| {
+                let s = Solver::with_kind(j.clone(), kind).expect("the reference matrix is regular");
+                s.add_solution(&r, &mut x);
+            });
+            let s = Solver::with_kind(j.clone(), kind).expect("the reference matrix is regular");
+            solve[k] = seconds_per_call(|| s.add_solution(&r, &mut x));
+        }
+        println!(
+            "{:>5} {:>5.1}% {:>13.1} {:>10.2} {:>10.2} {:>12.2} {:>10.2} {:>10.2}  {:?} / {:?}",
+            n,
+            100.0 * nonzeros as f64 / (n * n) as f64,
+            factor_solve[0] * 1e6,
+            factor_solve[0] / factor_solve[1],
+            factor_solve[0] / factor_solve[2],
+            solve[0] * 1e6,
+            solve[0] / solve[1],
+            solve[0] / solve[2],
+            Kind::for_matrix(n, nonzeros, true),
+            Kind::for_matrix(n, nonzeros, false)
+        );
+    }
+    Ok(())
+}
+
 fn rainflow(args: &BenchArgs) -> anyhow::Result<()> {
     use crate::analysis::{damage::DamageSums, rainflow};
     let x: Vec<f64> = match &args.input {

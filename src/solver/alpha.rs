@@ -253,7 +253,8 @@ impl AlphaIntegrator {
         let mut j = DMatrix::zeros(n, n);
         sys.mass().add_to(c.c_m, &mut j);
         sys.add_tangent(t, q, v, c.c_c, c.c_k, &mut j);
-        let solver = Solver::new(j).ok_or(SolverError::SingularJacobian { time: t, step: c.h })?;
+        let reused = sys.linearity() != Linearity::Nonlinear;
+        let solver = Solver::new(j, reused).ok_or(SolverError::SingularJacobian { time: t, step: c.h })?;
         let inputs = super::system::input_count(sys);
         let np = padded(n);
         let mut input_response = vec![0.0; np * inputs];

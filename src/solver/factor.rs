@@ -1,14 +1,30 @@
 //! Factorised iteration matrices J = c_M·M + c_C·C_t + c_K·K_t and what the integrators cache with
 //! them, keyed by step size and the model's factorisation key.
 //!
-//! Small systems keep J⁻¹ explicitly: a matrix–vector product with it vectorises and is cheaper
-//! than two triangular solves up to a few dozen DOFs (the torsional models have 2–20). Larger ones
-//! keep the LU factors.
+//! Which factorisation is chosen from the size and fill of J and from whether it will be reused, by
+//! the cross-overs `windrive bench solvers` measures on block-sparse Jacobians of 6-DOF bodies
+//! (docs/PERFORMANCE.md):
+//! - reused (linear and piecewise-linear systems, cached per step size and contact pattern), where
+//!   solves dominate: up to 64 DOFs J⁻¹ kept explicitly (its matrix–vector product is 1.7–3.4×
+//!   faster than two triangular solves; the torsional models have 2–20 DOFs), sparse LU (faer) from
+//!   128 DOFs at most 20 % fill (its solves are 1.4× faster than dense from 126 DOFs);
+//! - refactorised every Newton iteration (smoothly nonlinear systems), where factorising dominates:
+//!   never the inverse (4–6× dearer to form than LU), sparse LU from 192 DOFs (factorise + solve
+//!   break even with dense there, 4× faster at 288);
+//! - otherwise dense LU (nalgebra).
 
+use faer::linalg::solvers::Solve;
+use faer::sparse::{SparseColMat, Triplet};
 use nalgebra::{DMatrix, DVector};
 
-/// Up to this many DOFs J is inverted explicitly; above it, LU-factorised.
+/// Up to this many DOFs a reused J is inverted explicitly.
 pub const EXPLICIT_INVERSE_LIMIT: usize = 64;
+/// From this many DOFs a sparse enough reused J is factorised by sparse LU.
+pub const SPARSE_MIN_DOFS: usize = 128;
+/// From this many DOFs a sparse enough J factorised for one solve is factorised by sparse LU.
+pub const SPARSE_MIN_DOFS_ONCE: usize = 192;
+/// Largest fraction of non-zero entries for sparse LU.
+pub const SPARSE_MAX_FILL: f64 = 0.2;
 
 /// Step sizes this close share one factorisation. Masters that accumulate time pass step sizes that
 /// differ in the last bits ((n+1)·h − n·h); treating them as one keeps results independent of that
@@ -26,20 +42,72 @@ pub enum Solver {
     /// J⁻¹, column-major: Δ += Σ_j r_j·(column j) vectorises, a row-by-row dot product would not.
     Inverse(Vec<f64>),
     Lu(nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>),
+    SparseLu(faer::sparse::linalg::solvers::Lu<usize, f64>),
+}
+
+/// The factorisation `Solver::new` picks for J of `n` DOFs with `nonzeros` non-zero entries.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    Inverse,
+    DenseLu,
+    SparseLu,
+}
+
+impl Kind {
+    /// For J of `n` DOFs with `nonzeros` non-zero entries, `reused` for many solves or not.
+    pub fn for_matrix(n: usize, nonzeros: usize, reused: bool) -> Self {
+        let sparse = nonzeros as f64 <= SPARSE_MAX_FILL * (n * n) as f64;
+        let sparse_from = if reused { SPARSE_MIN_DOFS } else { SPARSE_MIN_DOFS_ONCE };
+        if reused && n <= EXPLICIT_INVERSE_LIMIT {
+            Self::Inverse
+        } else if sparse && n >= sparse_from {
+            Self::SparseLu
+        } else {
+            Self::DenseLu
+        }
+    }
 }
 
 impl Solver {
-    /// Factorises J; None when it is singular.
-    pub fn new(j: DMatrix<f64>) -> Option<Self> {
-        if j.nrows() <= EXPLICIT_INVERSE_LIMIT {
-            let inv = j.try_inverse()?;
-            if inv.iter().all(|x| x.is_finite()) {
-                return Some(Self::Inverse(inv.as_slice().to_vec()));
+    /// Factorises J with the kind its size, fill and reuse call for; None when it is singular.
+    pub fn new(j: DMatrix<f64>, reused: bool) -> Option<Self> {
+        let nonzeros = j.iter().filter(|x| **x != 0.0).count();
+        let kind = Kind::for_matrix(j.nrows(), nonzeros, reused);
+        Self::with_kind(j, kind)
+    }
+
+    /// Factorises J as `kind` says (the benchmark compares the kinds on one matrix).
+    pub fn with_kind(j: DMatrix<f64>, kind: Kind) -> Option<Self> {
+        let n = j.nrows();
+        match kind {
+            Kind::Inverse => {
+                let inv = j.try_inverse()?;
+                inv.iter()
+                    .all(|x| x.is_finite())
+                    .then(|| Self::Inverse(inv.as_slice().to_vec()))
             }
-            return None;
+            Kind::DenseLu => {
+                let lu = j.lu();
+                lu.is_invertible().then_some(Self::Lu(lu))
+            }
+            Kind::SparseLu => {
+                let mut triplets = Vec::new();
+                for c in 0..n {
+                    for r in 0..n {
+                        let x = j[(r, c)];
+                        if x != 0.0 {
+                            triplets.push(Triplet::new(r, c, x));
+                        }
+                    }
+                }
+                let a = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &triplets).ok()?;
+                let lu = a.sp_lu().ok()?;
+                // faer reports no singularity for a numerically singular J: probe with a solve
+                let mut probe = faer::Mat::<f64>::from_fn(n, 1, |_, _| 1.0);
+                lu.solve_in_place(probe.as_mut());
+                (0..n).all(|i| probe[(i, 0)].is_finite()).then_some(Self::SparseLu(lu))
+            }
         }
-        let lu = j.lu();
-        lu.is_invertible().then_some(Self::Lu(lu))
     }
 
     /// x += J⁻¹·r
@@ -60,6 +128,21 @@ impl Solver {
                     *xi += bi;
                 }
             }
+            Self::SparseLu(lu) => {
+                let mut b = faer::Mat::<f64>::from_fn(r.len(), 1, |i, _| r[i]);
+                lu.solve_in_place(b.as_mut());
+                for (i, xi) in x.iter_mut().enumerate() {
+                    *xi += b[(i, 0)];
+                }
+            }
+        }
+    }
+
+    pub fn kind(&self) -> Kind {
+        match self {
+            Self::Inverse(_) => Kind::Inverse,
+            Self::Lu(_) => Kind::DenseLu,
+            Self::SparseLu(_) => Kind::SparseLu,
         }
     }
 
@@ -211,27 +294,81 @@ unsafe fn sse2_kernel<const P: usize, const B: usize>(blocks: [(&[f64], &[f64]);
     }
 }
 
+/// A reference iteration matrix shaped like a multibody gearbox's: `bodies` 6×6 blocks, each coupled to the next and
+/// to body 0 (a carrier), symmetric and diagonally dominant (seeded).
+pub fn block_sparse(bodies: usize, seed: u64) -> DMatrix<f64> {
+    let n = 6 * bodies;
+    let mut j = DMatrix::zeros(n, n);
+    let mut seed = seed;
+    let mut rand = move || {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut couple = |j: &mut DMatrix<f64>, a: usize, b: usize, w: f64| {
+        for i in 0..6 {
+            for k in 0..6 {
+                let v = w * rand();
+                j[(6 * a + i, 6 * b + k)] -= v;
+                j[(6 * b + k, 6 * a + i)] -= v;
+                j[(6 * a + i, 6 * a + i)] += v;
+                j[(6 * b + k, 6 * b + k)] += v;
+            }
+        }
+    };
+    for b in 1..bodies {
+        couple(&mut j, b - 1, b, 1.0);
+        if b > 1 {
+            couple(&mut j, 0, b, 0.3);
+        }
+    }
+    for i in 0..n {
+        j[(i, i)] += 10.0;
+    }
+    j
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// Explicit inverse and LU give the same solution (seeded SPD matrices at both sides of the
-    /// cross-over), checked by the residual.
+    /// Every kind solves alike at both sides of each cross-over, checked by the residual, and the
+    /// automatic choice follows size and fill.
     #[test]
-    fn inverse_and_lu_solve_alike() {
-        let mut seed = 7u64;
-        let mut rand = move || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
-        for n in [3, EXPLICIT_INVERSE_LIMIT, EXPLICIT_INVERSE_LIMIT + 5] {
-            let a = DMatrix::from_fn(n, n, |_, _| rand());
-            let j = &a * a.transpose() + DMatrix::identity(n, n) * n as f64;
-            let r: Vec<f64> = (0..n).map(|_| rand()).collect();
-            let mut x = vec![0.0; n];
-            Solver::new(j.clone()).unwrap().add_solution(&r, &mut x);
-            let res = &j * DVector::from_column_slice(&x) - DVector::from_column_slice(&r);
-            assert!(res.amax() < 1e-12 * n as f64, "n = {n}: residual {}", res.amax());
+    fn every_kind_solves_alike() {
+        for bodies in [1, 11, 12, 30] {
+            let j = block_sparse(bodies, 7);
+            let n = j.nrows();
+            let r: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
+            for kind in [Kind::Inverse, Kind::DenseLu, Kind::SparseLu] {
+                let mut x = vec![0.0; n];
+                Solver::with_kind(j.clone(), kind).unwrap().add_solution(&r, &mut x);
+                let res = &j * DVector::from_column_slice(&x) - DVector::from_column_slice(&r);
+                assert!(
+                    res.amax() < 1e-12 * n as f64,
+                    "n = {n}, {kind:?}: residual {}",
+                    res.amax()
+                );
+            }
+        }
+        let kind = |bodies, reused| Solver::new(block_sparse(bodies, 1), reused).unwrap().kind();
+        assert_eq!(kind(10, true), Kind::Inverse); // 60 DOFs
+        assert_eq!(kind(10, false), Kind::DenseLu);
+        assert_eq!(kind(12, true), Kind::DenseLu); // 72 DOFs
+        assert_eq!(kind(30, true), Kind::SparseLu); // 180 DOFs, 10 % fill
+        assert_eq!(kind(30, false), Kind::DenseLu);
+        assert_eq!(kind(40, false), Kind::SparseLu); // 240 DOFs
+        assert_eq!(Kind::for_matrix(200, 200 * 200, true), Kind::DenseLu);
+    }
+
+    /// A singular J is refused by every kind.
+    #[test]
+    fn singular_matrices_are_refused() {
+        for n in [10, 100, 200] {
+            let mut j = DMatrix::<f64>::identity(n, n);
+            j[(n - 1, n - 1)] = 0.0;
+            for kind in [Kind::Inverse, Kind::DenseLu, Kind::SparseLu] {
+                assert!(Solver::with_kind(j.clone(), kind).is_none(), "n = {n}, {kind:?}");
+            }
         }
     }
 }
