@@ -289,7 +289,7 @@ impl Slave for TorsionalSlave {
 
 impl TorsionalSlave {
     fn step_with(&mut self, built: &Built, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
-        let inputs = self.inputs;
+        let inputs = &self.inputs;
         let st = self.state.as_mut().unwrap();
         let result = self.driver.advance(
             &built.model,
