@@ -183,7 +183,12 @@ fn absurd_parameters_fail_at_initialisation_with_the_parameter_named() {
     for (kind, name, value, words) in [
         ("s", "preset", "Z", "unknown drivetrain"),
         ("s", "fidelity", "7", "use 2, 5 or full"),
-        ("s", "integrator", "euler", "use implicit, hht, generalized-alpha or rk4"),
+        (
+            "s",
+            "integrator",
+            "euler",
+            "use implicit, hht, generalized-alpha or rk4",
+        ),
         ("s", "lumping", "lumpy", "use physical or thesis"),
     ] {
         assert_eq!(kind, "s");
