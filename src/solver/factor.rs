@@ -42,7 +42,8 @@ pub enum Solver {
     /// J⁻¹, column-major: Δ += Σ_j r_j·(column j) vectorises, a row-by-row dot product would not.
     Inverse(Vec<f64>),
     Lu(nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>),
-    SparseLu(faer::sparse::linalg::solvers::Lu<usize, f64>),
+    /// Boxed: faer's factors are several hundred bytes inline, the other kinds a pointer or two.
+    SparseLu(Box<faer::sparse::linalg::solvers::Lu<usize, f64>>),
 }
 
 /// The factorisation `Solver::new` picks for J of `n` DOFs with `nonzeros` non-zero entries.
@@ -105,7 +106,9 @@ impl Solver {
                 // faer reports no singularity for a numerically singular J: probe with a solve
                 let mut probe = faer::Mat::<f64>::from_fn(n, 1, |_, _| 1.0);
                 lu.solve_in_place(probe.as_mut());
-                (0..n).all(|i| probe[(i, 0)].is_finite()).then_some(Self::SparseLu(lu))
+                (0..n)
+                    .all(|i| probe[(i, 0)].is_finite())
+                    .then(|| Self::SparseLu(Box::new(lu)))
             }
         }
     }
