@@ -23,7 +23,7 @@
 
 use super::factor::{Cache, Factor, Solver, axpy_columns, padded, same_key, same_step};
 use super::state::{DynState, SolverError, Statistics};
-use super::system::{Friction, Linearity, Mass, SecondOrderSystem, external_forces};
+use super::system::{Friction, Linearity, SecondOrderSystem, external_forces};
 use nalgebra::DMatrix;
 
 /// Newton iterations before a step is given up (and halved by the driver).
@@ -131,6 +131,29 @@ impl Coefficients {
         self.kv[0] * d + self.kv[1] * v + self.kv[2] * a
     }
 
+    /// Sets the friction force for an increment Δ that holds the effect of `previous` (force on the
+    /// friction DOF `f` whose unit response J⁻¹e_f is `resp`, start speed and acceleration `va`) and
+    /// moves Δ to match: Δ is affine in the force, so stick (the force that stops the DOF at the end of
+    /// the step, if the contact can hold it) or slip is decided exactly. Returns (force, stuck).
+    fn resolve_friction(
+        &self,
+        fr: &Friction,
+        locked: bool,
+        (f, resp): (usize, &[f64]),
+        delta: &mut [f64],
+        (v, a): (f64, f64),
+        previous: f64,
+    ) -> (f64, bool) {
+        let scale = 1.0 - self.af;
+        let per = self.kv[0] * scale * resp[f];
+        let free = self.velocity(delta[f], v, a) - per * previous;
+        let (next, stuck) = friction_force(free, per, fr.hold(locked), fr.kinetic);
+        for (d, r) in delta.iter_mut().zip(resp) {
+            *d += scale * (next - previous) * r;
+        }
+        (next, stuck)
+    }
+
     /// The increment that brings a DOF to rest at the end of the step (v₁ = 0).
     fn increment_to_rest(&self, v: f64, a: f64) -> f64 {
         (-self.kv[1] * v - self.kv[2] * a) / self.kv[0]
@@ -219,13 +242,50 @@ impl AlphaIntegrator {
         }
     }
 
-    /// Forgets every factorisation (the model changed).
-    pub fn reset(&mut self) {
-        self.cache.clear();
+    /// A cached factorisation for this key and step size that already holds the friction response
+    /// the step needs: the lookup every step makes, kept small enough to inline.
+    #[inline(always)]
+    fn cached(&mut self, key: &[u64], h: f64, friction_dof: Option<usize>) -> Option<usize> {
+        let i = self.cache.find(key, h)?;
+        (friction_dof.is_none() || self.cache.get(i).friction_response.as_ref().map(|f| f.0) == friction_dof)
+            .then_some(i)
     }
 
     /// Index of the cached factorisation of J for this step size and key, computed when new.
     fn factor<S: SecondOrderSystem>(
+        &mut self,
+        sys: &S,
+        c: &Coefficients,
+        at: (f64, &[f64], &[f64]),
+        key_from_work: bool,
+        friction_dof: Option<usize>,
+        stats: &mut Statistics,
+    ) -> Result<usize, SolverError> {
+        // a smooth nonlinear tangent changes with every iterate: never reuse it
+        if sys.linearity() != Linearity::Nonlinear {
+            // the key is taken out of the scratch for the lookup, which borrows the integrator
+            let key = std::mem::take(&mut self.work.key);
+            let key_used: &[u64] = if key_from_work { &key } else { &[] };
+            let hit = self.cached(key_used, c.h, friction_dof).or_else(|| {
+                // a factor first built while the friction contact was open lacks its response
+                let i = self.cache.find(key_used, c.h)?;
+                let entry = self.cache.get_mut(i);
+                if let Some(d) = friction_dof {
+                    entry.friction_response = Some((d, entry.solver.unit_response(sys.dofs(), d)));
+                }
+                Some(i)
+            });
+            self.work.key = key;
+            if let Some(i) = hit {
+                return Ok(i);
+            }
+        }
+        self.build(sys, c, at, key_from_work, friction_dof, stats)
+    }
+
+    /// Assembles and factorises J and what the steps take from it, and caches them.
+    #[inline(never)]
+    fn build<S: SecondOrderSystem>(
         &mut self,
         sys: &S,
         c: &Coefficients,
@@ -236,19 +296,6 @@ impl AlphaIntegrator {
     ) -> Result<usize, SolverError> {
         let key: &[u64] = if key_from_work { &self.work.key } else { &[] };
         let linear = sys.linearity() == Linearity::Linear;
-        // a smooth nonlinear tangent changes with every iterate: never reuse it
-        if sys.linearity() != Linearity::Nonlinear
-            && let Some(i) = self.cache.find(key, c.h)
-        {
-            // a factor first built while the friction contact was open lacks its response
-            let entry = self.cache.get_mut(i);
-            if let Some(d) = friction_dof
-                && entry.friction_response.as_ref().map(|f| f.0) != Some(d)
-            {
-                entry.friction_response = Some((d, entry.solver.unit_response(sys.dofs(), d)));
-            }
-            return Ok(i);
-        }
         let n = sys.dofs();
         let mut j = DMatrix::zeros(n, n);
         sys.mass().add_to(c.c_m, &mut j);
@@ -328,15 +375,9 @@ impl AlphaIntegrator {
         let n = sys.dofs();
         let np = padded(n);
         let friction_dof = friction.map(|f| f.dof);
-        // the common case first: the factor of the previous step, no friction or its response held
-        let idx = match self.cache.find(&[], c.h) {
-            Some(i)
-                if friction_dof.is_none()
-                    || self.cache.get(i).friction_response.as_ref().map(|f| f.0) == friction_dof =>
-            {
-                i
-            }
-            _ => self.factor(sys, &c, (t, &st.q, &st.v), false, friction_dof, stats)?,
+        let idx = match self.cached(&[], c.h, friction_dof) {
+            Some(i) => i,
+            None => self.factor(sys, &c, (t, &st.q, &st.v), false, friction_dof, stats)?,
         };
         stats.newton_iterations += 1;
         let AlphaIntegrator { cache, work: w, .. } = self;
@@ -377,13 +418,8 @@ impl AlphaIntegrator {
         let mut force = 0.0;
         if let (Some(fr), Some((f, resp))) = (friction, &factor.friction_response) {
             let f = *f;
-            let scale = 1.0 - c.af;
-            let speed = c.velocity(delta[f], v[f], a[f]);
-            let (force_now, held) = friction_force(speed, c.kv[0] * scale * resp[f], fr.hold(st.locked), fr.kinetic);
-            force = force_now;
-            for (d, r) in delta.iter_mut().zip(resp) {
-                *d += scale * force * r;
-            }
+            let held;
+            (force, held) = c.resolve_friction(&fr, st.locked, (f, resp), delta, (v[f], a[f]), 0.0);
             if held {
                 // exactly at rest: no creep from the position update
                 delta[f] = c.increment_to_rest(v[f], a[f]);
@@ -475,16 +511,8 @@ impl AlphaIntegrator {
                 *d += s;
             }
             if let (Some(fr), Some((f, resp))) = (friction, &factor.friction_response) {
-                let f = *f;
-                let scale = 1.0 - c.af;
-                let per = c.kv[0] * scale * resp[f];
-                // the speed without the current iterate's force, then the force for it
-                let free = c.velocity(w.delta[f], st.v[f], st.a[f]) - per * force;
-                let (next, stick) = friction_force(free, per, fr.hold(st.locked), fr.kinetic);
-                for (d, r) in w.delta.iter_mut().zip(resp) {
-                    *d += scale * (next - force) * r;
-                }
-                (force, held) = (next, stick);
+                (force, held) =
+                    c.resolve_friction(&fr, st.locked, (*f, resp), &mut w.delta, (st.v[*f], st.a[*f]), force);
             }
             let converged = match linearity {
                 Linearity::Linear => true,
@@ -551,14 +579,11 @@ fn step_map<S: SecondOrderSystem>(sys: &S, c: &Coefficients, solver: &Solver) ->
     let n = sys.dofs();
     let zeros = vec![0.0; n];
     let lin = sys.linearise(&zeros, &zeros);
-    let mass = match sys.mass() {
-        Mass::Diagonal(m) => DMatrix::from_diagonal(&nalgebra::DVector::from_column_slice(m)),
-        Mass::Dense(m) => m.clone(),
-    };
+    let mass = &lin.mass;
     let blocks = [
         -&lin.stiffness,
-        -(&mass * ((1.0 - c.am) * c.ka[1]) + &lin.damping * ((1.0 - c.af) * c.kv[1] + c.af)),
-        -(&mass * ((1.0 - c.am) * c.ka[2] + c.am) + &lin.damping * ((1.0 - c.af) * c.kv[2])),
+        -(mass * ((1.0 - c.am) * c.ka[1]) + &lin.damping * ((1.0 - c.af) * c.kv[1] + c.af)),
+        -(mass * ((1.0 - c.am) * c.ka[2] + c.am) + &lin.damping * ((1.0 - c.af) * c.kv[2])),
     ];
     let np = padded(n);
     let mut map = vec![0.0; np * 3 * n];

@@ -221,11 +221,13 @@ impl Driver {
             match mass {
                 Mass::Diagonal(m) => st.a[fr.dof] += force / m[fr.dof],
                 Mass::Dense(_) => {
-                    let mut e = vec![0.0; n];
-                    e[fr.dof] = force;
-                    let mut da = vec![0.0; n];
-                    mass_solve(mass, &e, &mut da);
-                    for (a, d) in st.a.iter_mut().zip(da) {
+                    // the force vector and its accelerations in the driver's scratch buffers
+                    self.f.clear();
+                    self.f.resize(n, 0.0);
+                    self.f[fr.dof] = force;
+                    self.fi.resize(n, 0.0);
+                    mass_solve(mass, &self.f, &mut self.fi);
+                    for (a, d) in st.a.iter_mut().zip(&self.fi) {
                         *a += d;
                     }
                 }

@@ -222,11 +222,6 @@ impl Cache {
     pub fn get_mut(&mut self, i: usize) -> &mut Factor {
         &mut self.entries[i]
     }
-
-    pub fn clear(&mut self) {
-        self.entries.clear();
-        self.last = 0;
-    }
 }
 
 /// Rows of the step map are padded to a multiple of this (one SSE2 register holds two f64).
