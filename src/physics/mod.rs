@@ -3,6 +3,7 @@
 pub mod aero;
 pub mod brake;
 pub mod drivetrain;
+pub mod gearbox;
 pub mod generator;
 pub mod modes;
 pub mod response;

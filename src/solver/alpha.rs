@@ -472,7 +472,7 @@ impl AlphaIntegrator {
         for iteration in 0.. {
             if iteration == MAX_ITERATIONS {
                 return Err(match linearity {
-                    Linearity::Nonlinear => SolverError::NewtonDiverged {
+                    Linearity::Nonlinear | Linearity::NearlyPiecewiseLinear => SolverError::NewtonDiverged {
                         time: t,
                         iterations: iteration,
                         residual,
@@ -525,12 +525,16 @@ impl AlphaIntegrator {
                     std::mem::swap(&mut w.key, &mut w.key_new);
                     same
                 }
-                Linearity::Nonlinear => {
-                    let size = w.delta.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-                    let motion = st.v.iter().fold(0.0f64, |m, x| m.max(x.abs())) * c.h;
-                    let step = w.step.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-                    step <= INCREMENT_TOLERANCE * size.max(motion).max(f64::MIN_POSITIVE)
+                Linearity::NearlyPiecewiseLinear => {
+                    for d in 0..n {
+                        w.q1[d] = st.q[d] + w.delta[d];
+                    }
+                    sys.factor_key(t1, &w.q1, &mut w.key_new);
+                    let same = same_key(&w.key_new, &w.key);
+                    std::mem::swap(&mut w.key, &mut w.key_new);
+                    same && small_increment(w, st, c)
                 }
+                Linearity::Nonlinear => small_increment(w, st, c),
             };
             if converged {
                 break;
@@ -559,6 +563,14 @@ impl AlphaIntegrator {
         finish_friction(st, stuck, force, u1);
         Ok(())
     }
+}
+
+/// The last Newton increment is below INCREMENT_TOLERANCE of the step's motion.
+fn small_increment(w: &Work, st: &DynState, c: &Coefficients) -> bool {
+    let size = w.delta.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let motion = st.v.iter().fold(0.0f64, |m, x| m.max(x.abs())) * c.h;
+    let step = w.step.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    step <= INCREMENT_TOLERANCE * size.max(motion).max(f64::MIN_POSITIVE)
 }
 
 /// Friction bookkeeping at the end of a step: a stuck DOF is exactly at rest.

@@ -20,6 +20,11 @@ pub enum Linearity {
     /// single or double tooth contact): the Newton iteration has converged exactly when the pattern
     /// at the new iterate is the pattern the Jacobian was built for.
     PiecewiseLinear,
+    /// Piecewise linear as above, plus small smooth terms the tangent leaves out (a rotating frame's
+    /// Coriolis and centripetal forces, gyroscopic moments, gravity turning with a carrier): the
+    /// pattern's cached Jacobian is reused (modified Newton), converged when the pattern repeats and
+    /// the increment is small.
+    NearlyPiecewiseLinear,
     /// Smoothly nonlinear (Hertzian contacts): converged when the increment and the residual are
     /// small; the Jacobian is assembled at each iterate.
     Nonlinear,

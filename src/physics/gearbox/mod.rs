@@ -1,0 +1,15 @@
+//! The 6-DOF-per-body gearbox (thesis ch. 5 and 7; the SIMPACK model with sliced gear meshes):
+//! description files, involute geometry, the sliced mesh, the assembled model and its modes.
+
+pub mod description;
+pub mod involute;
+pub mod loads;
+pub mod mesh;
+pub mod modal;
+pub mod model;
+pub mod row;
+pub mod statics;
+mod system;
+
+pub use description::Description;
+pub use model::Gearbox;

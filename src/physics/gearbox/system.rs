@@ -1,0 +1,185 @@
+//! The gearbox as a [`SecondOrderSystem`]: forces, tangent and contact pattern for the integrators,
+//! and the engaged-mesh linearisation for modal analysis.
+
+use super::mesh::KeyBits;
+use super::model::{Gearbox, INPUT_BRAKE_COMMAND, SPIN, TX, TY, UX, UY, UZ};
+use super::row::add_outer;
+use crate::solver::system::{Friction, InputLoad, Linearisation, Linearity, Mass, SecondOrderSystem};
+use nalgebra::DMatrix;
+
+impl Gearbox {
+    /// Springs' forces (bearings, shafts) into `out` (added).
+    fn add_spring_forces(&self, q: &[f64], v: &[f64], out: &mut [f64]) {
+        for s in &self.springs {
+            let f = s.stiffness * (s.row.dot(q) - s.offset) + s.damping * s.row.dot(v);
+            if f != 0.0 {
+                s.row.axpy(f, out);
+            }
+        }
+    }
+
+    /// The rotating frames' inertial forces, gyroscopic moments, gravity and the external moment,
+    /// added to f_int (they sit on the left-hand side: loads enter negated).
+    fn add_frame_forces(&self, q: &[f64], v: &[f64], out: &mut [f64]) {
+        for (i, b) in self.bodies.iter().enumerate() {
+            let Some(f) = b.first else { continue };
+            let (omega_f, angle) = match self.frame_spin(i) {
+                Some(fs) => (v[fs], q[fs]),
+                None => (0.0, 0.0),
+            };
+            let spin = v[f + SPIN];
+            if omega_f != 0.0 {
+                let (m, p) = (b.mass, [b.centre[0] + q[f + UX], b.centre[1] + q[f + UY]]);
+                let (ux, uy) = (v[f + UX], v[f + UY]);
+                // m(2Ω J u̇ − Ω² p); J u̇ = (−u̇_y, u̇_x)
+                out[f + UX] += m * (-2.0 * omega_f * uy - omega_f * omega_f * p[0]);
+                out[f + UY] += m * (2.0 * omega_f * ux - omega_f * omega_f * p[1]);
+                // the frame's spin equation: d/dt of the orbit's angular momentum, 2mΩ p·u̇
+                if let Some(fs) = self.frame_spin(i) {
+                    out[fs] += 2.0 * m * omega_f * (p[0] * ux + p[1] * uy);
+                }
+            }
+            // tilt: (2 I_t Ω − I_p ω) J θ̇ + (I_p ω Ω − I_t Ω²) θ
+            let (it, ip) = (b.transverse, b.polar);
+            let gyro = 2.0 * it * omega_f - ip * spin;
+            let stiff = ip * spin * omega_f - it * omega_f * omega_f;
+            out[f + TX] += -gyro * v[f + TY] + stiff * q[f + TX];
+            out[f + TY] += gyro * v[f + TX] + stiff * q[f + TY];
+            // gravity, turned into the body's frame
+            let (s, c) = angle.sin_cos();
+            let g = self.gravity;
+            if g != [0.0; 3] {
+                out[f + UX] -= b.mass * (c * g[0] + s * g[1]);
+                out[f + UY] -= b.mass * (-s * g[0] + c * g[1]);
+                out[f + UZ] -= b.mass * g[2];
+            }
+            if i == self.input_body && self.external_moment != [0.0; 2] {
+                let mo = self.external_moment;
+                out[f + TX] -= c * mo[0] + s * mo[1];
+                out[f + TY] -= -s * mo[0] + c * mo[1];
+            }
+        }
+    }
+
+    /// Internal forces with the per-slice loads of every mesh written to `slices` (mesh after mesh).
+    pub fn forces_with_slices(
+        &self,
+        q: &[f64],
+        v: &[f64],
+        out: &mut [f64],
+        slices: &mut [f64],
+    ) -> Vec<[super::mesh::FlankLoad; 2]> {
+        out.iter_mut().for_each(|x| *x = 0.0);
+        self.add_spring_forces(q, v, out);
+        self.add_frame_forces(q, v, out);
+        let mut at = 0;
+        let mut loads = Vec::with_capacity(self.meshes.len());
+        for m in &self.meshes {
+            let n = m.slices();
+            loads.push(m.add_forces(q, q, v, out, &mut slices[at..at + n]));
+            at += n;
+        }
+        loads
+    }
+
+    pub fn slice_count(&self) -> usize {
+        self.meshes.iter().map(|m| m.slices()).sum()
+    }
+
+    /// c_c·C + c_k·K of the springs (constant).
+    fn add_spring_tangent(&self, c_c: f64, c_k: f64, j: &mut DMatrix<f64>) {
+        for s in &self.springs {
+            add_outer(j, c_k * s.stiffness + c_c * s.damping, &s.row, &s.row);
+        }
+    }
+
+    /// The linearisation with every mesh engaged on its drive flank at mean stiffness (no errors,
+    /// no backlash): what modal analysis of a gearbox means. Speeds are zero (no gyroscopics).
+    pub fn engaged_linearisation(&self) -> Linearisation {
+        let n = self.dofs();
+        let mut k = DMatrix::zeros(n, n);
+        let mut c = DMatrix::zeros(n, n);
+        self.add_spring_tangent(0.0, 1.0, &mut k);
+        self.add_spring_tangent(1.0, 0.0, &mut c);
+        for m in &self.meshes {
+            let (s0, s1, s2) = m
+                .zeta
+                .iter()
+                .fold((0.0, 0.0, 0.0), |(a, b, cc), &z| (a + 1.0, b + z, cc + z * z));
+            for (mat, per) in [(&mut k, m.k_slice), (&mut c, m.c_slice)] {
+                add_outer(mat, per * s0, &m.drive[0], &m.drive[0]);
+                add_outer(mat, per * s1, &m.drive[0], &m.drive[1]);
+                add_outer(mat, per * s1, &m.drive[1], &m.drive[0]);
+                add_outer(mat, per * s2, &m.drive[1], &m.drive[1]);
+            }
+        }
+        Linearisation {
+            mass: self.mass.clone(),
+            damping: c,
+            stiffness: k,
+        }
+    }
+}
+
+impl SecondOrderSystem for Gearbox {
+    fn dofs(&self) -> usize {
+        self.mass.nrows()
+    }
+
+    fn linearity(&self) -> Linearity {
+        if self.nonlinear {
+            Linearity::Nonlinear
+        } else {
+            Linearity::NearlyPiecewiseLinear
+        }
+    }
+
+    fn mass(&self) -> Mass<'_> {
+        Mass::Dense(&self.mass)
+    }
+
+    fn input_loads(&self) -> &[InputLoad] {
+        &self.input_loads
+    }
+
+    fn internal_forces(&self, _t: f64, q: &[f64], v: &[f64], out: &mut [f64]) {
+        out.iter_mut().for_each(|x| *x = 0.0);
+        self.add_spring_forces(q, v, out);
+        self.add_frame_forces(q, v, out);
+        // the slice loads are not kept here: a fixed scratch on the stack of the largest mesh
+        let mut scratch = [0.0f64; 256];
+        for m in &self.meshes {
+            let n = m.slices();
+            if n <= scratch.len() {
+                m.add_forces(q, q, v, out, &mut scratch[..n]);
+            } else {
+                let mut big = vec![0.0; n];
+                m.add_forces(q, q, v, out, &mut big);
+            }
+        }
+    }
+
+    fn add_tangent(&self, _t: f64, q: &[f64], v: &[f64], c_c: f64, c_k: f64, j: &mut DMatrix<f64>) {
+        self.add_spring_tangent(c_c, c_k, j);
+        for m in &self.meshes {
+            m.add_tangent(q, q, v, c_c, c_k, j);
+        }
+    }
+
+    fn factor_key(&self, _t: f64, q: &[f64], key: &mut Vec<u64>) {
+        let mut bits = KeyBits::new(key);
+        for m in &self.meshes {
+            m.key(q, q, &mut bits);
+        }
+        bits.finish();
+    }
+
+    fn friction(&self, u: &[f64]) -> Option<Friction> {
+        let dof = self.dof(self.output_body, SPIN)?;
+        self.brake.friction(dof, u[INPUT_BRAKE_COMMAND])
+    }
+
+    fn rigid_mode(&self) -> Option<(&[f64], usize)> {
+        self.rigid.as_deref().map(|r| (r, self.rigid_dof))
+    }
+}
