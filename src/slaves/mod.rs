@@ -4,6 +4,7 @@
 //! (build.rs, from the XML); a face writes its outputs, what to drop when a parameter changes,
 //! how to build its model and how to step it.
 
+pub mod gearbox6dof;
 pub mod generator;
 pub mod rotor;
 pub mod torsional;

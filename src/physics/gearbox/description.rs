@@ -351,21 +351,24 @@ pub struct Parallel {
     pub pinion: Body,
 }
 
-/// The presets shipped inside the library (each also a file users can copy: `fmus/gearbox6dof/presets/`).
+/// The presets shipped inside the library (each also a file users can copy: `fmus/gearbox6dof/resources/`).
 pub const PRESETS: [(&str, &str); 5] = [
-    ("grc750", include_str!("../../../fmus/gearbox6dof/presets/grc750.toml")),
+    (
+        "grc750",
+        include_str!("../../../fmus/gearbox6dof/resources/grc750.toml"),
+    ),
     (
         "nrel5mw",
-        include_str!("../../../fmus/gearbox6dof/presets/nrel5mw.toml"),
+        include_str!("../../../fmus/gearbox6dof/resources/nrel5mw.toml"),
     ),
-    ("c2mw", include_str!("../../../fmus/gearbox6dof/presets/c2mw.toml")),
+    ("c2mw", include_str!("../../../fmus/gearbox6dof/resources/c2mw.toml")),
     (
         "paper1p5mw",
-        include_str!("../../../fmus/gearbox6dof/presets/paper1p5mw.toml"),
+        include_str!("../../../fmus/gearbox6dof/resources/paper1p5mw.toml"),
     ),
     (
         "planetary-spur",
-        include_str!("../../../fmus/gearbox6dof/presets/planetary-spur.toml"),
+        include_str!("../../../fmus/gearbox6dof/resources/planetary-spur.toml"),
     ),
 ];
 

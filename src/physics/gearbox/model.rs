@@ -450,7 +450,7 @@ impl Gearbox {
                         inertia(&p.carrier, None, density, &at("carrier"))?,
                         false,
                     );
-                    b.supports(&format!("carrier{suffix}"), carrier, &p.carrier, None, [0.0; 2]);
+                    b.supports("", carrier, &p.carrier, None, [0.0; 2]);
                     let sun_r = sp.reference_radius(0);
                     let planet_r = sp.reference_radius(1);
                     let planet_inertia = inertia(&p.planet, Some((planet_r, w)), density, &at("planet"))?;
@@ -490,7 +490,7 @@ impl Gearbox {
                         sun_inertia,
                         false,
                     );
-                    b.supports(&format!("sun{suffix}"), sun, &p.sun, None, [0.0; 2]);
+                    b.supports("", sun, &p.sun, None, [0.0; 2]);
                     let ring = match &p.ring {
                         None => b.add_body(
                             format!("ring_{planetary_count}"),
@@ -511,7 +511,7 @@ impl Gearbox {
                                 inertia(r, None, density, &at("ring"))?,
                                 false,
                             );
-                            b.supports(&format!("ring{suffix}"), i, r, None, [0.0; 2]);
+                            b.supports("", i, r, None, [0.0; 2]);
                             i
                         }
                     };
@@ -578,7 +578,7 @@ impl Gearbox {
                         inertia(&p.gear, Some((gp.reference_radius(1), w)), density, &at("gear"))?,
                         false,
                     );
-                    b.supports(&format!("gear{parallel_count}"), gear, &p.gear, None, [0.0; 2]);
+                    b.supports("", gear, &p.gear, None, [0.0; 2]);
                     let centre = [
                         base[0] + g.centre_distance * dir[0],
                         base[1] + g.centre_distance * dir[1],
@@ -592,7 +592,7 @@ impl Gearbox {
                         inertia(&p.pinion, Some((gp.reference_radius(0), w)), density, &at("pinion"))?,
                         false,
                     );
-                    b.supports(&format!("pinion{parallel_count}"), pinion, &p.pinion, None, [0.0; 2]);
+                    b.supports("", pinion, &p.pinion, None, [0.0; 2]);
                     mesh_specs.push(MeshSpec {
                         name: format!("gear_pinion_{parallel_count}"),
                         driver: gear,
@@ -637,7 +637,7 @@ impl Gearbox {
         }
         // the rotor's bearings once the carrier whose frame it turns in exists
         if let Some(r) = &d.rotor {
-            b.supports("main", 0, r, None, [0.0; 2]);
+            b.supports("", 0, r, None, [0.0; 2]);
         }
         if let Some(g) = &d.generator {
             let (u, shaft, name) = upstream.take().ok_or("generator: the last stage has no shaft to it")?;
@@ -652,9 +652,17 @@ impl Gearbox {
                 inertia(g, None, density, "generator")?,
                 false,
             );
-            b.supports("generator", i, g, None, [0.0; 2]);
+            b.supports("", i, g, None, [0.0; 2]);
             b.shafts.push((u, i, shaft, name));
             last_output = i;
+        }
+        let mut names: Vec<&str> = b.bearings.iter().map(|x| x.name.as_str()).collect();
+        names.sort_unstable();
+        if let Some(w) = names.windows(2).find(|w| w[0] == w[1]) {
+            return Err(format!(
+                "two bearings are named {:?}: bearing names must be unique",
+                w[0]
+            ));
         }
         let n = b.dofs;
         // The drive flank of each mesh is the one loaded when the input turns forwards under a

@@ -1,0 +1,419 @@
+//! The `gearbox6dof` FMU: variables of modelDescription/gearbox6dof.xml mapped onto
+//! [`Gearbox`] and the implicit integrators of [`crate::solver`]. Its connectors are `torsional`'s,
+//! so it replaces it in any scene.
+
+use crate::fmi2::slave::{Changed, Log, ParameterError, Slave, SlaveResult, err};
+use crate::fmi2::variables::VarType;
+use crate::models::gearbox6dof as xml;
+use crate::models::gearbox6dof::vr;
+use crate::physics::brake::DiskBrake;
+use crate::physics::gearbox::Gearbox;
+use crate::physics::gearbox::description::{Description, MeshStiffnessModel};
+use crate::physics::gearbox::loads::Loads;
+use crate::physics::gearbox::model::{INPUT_BRAKE_COMMAND, INPUT_GENERATOR_TORQUE, INPUT_ROTOR_TORQUE};
+use crate::physics::gearbox::statics::equilibrium;
+use crate::solver::alpha::Alpha;
+use crate::solver::{Driver, DynState, Method, Statistics};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+pub type Params = xml::Parameters;
+pub type Inputs = xml::Inputs;
+
+const INPUT_COUNT: usize = 3;
+
+/// The mesh slots of the XML, in value-reference order (`torsional`'s names).
+const MESH_SLOTS: [&str; 14] = [
+    "ring_planet_1",
+    "ring_planet_2",
+    "ring_planet_3",
+    "sun_planet_1",
+    "sun_planet_2",
+    "sun_planet_3",
+    "ring_planet2_1",
+    "ring_planet2_2",
+    "ring_planet2_3",
+    "sun_planet2_1",
+    "sun_planet2_2",
+    "sun_planet2_3",
+    "gear_pinion_1",
+    "gear_pinion_2",
+];
+const SHAFT_SLOTS: [&str; 4] = ["lss", "is1", "is2", "hss"];
+
+/// The XML's bearing outputs, named `<bearing>_radial_load` from value reference 200 on.
+fn bearing_slots() -> Vec<&'static str> {
+    xml::VARIABLES
+        .iter()
+        .filter(|v| v.vr >= vr::MAIN_RADIAL_LOAD && v.name.ends_with("_radial_load"))
+        .map(|v| v.name.trim_end_matches("_radial_load"))
+        .collect()
+}
+
+impl Inputs {
+    fn write(&self, dt: f64, u: &mut [f64]) {
+        u[INPUT_ROTOR_TORQUE] = self.rotor_torque.at(dt);
+        u[INPUT_GENERATOR_TORQUE] = self.generator_torque.at(dt);
+        u[INPUT_BRAKE_COMMAND] = self.brake_command.at(dt);
+    }
+}
+
+/// What a set of parameters builds: checked once, shared by snapshots.
+#[derive(Debug, Clone)]
+pub struct Built {
+    pub description: Description,
+    pub model: Gearbox,
+    pub method: Method,
+    /// Output slot → mesh, shaft, bearing index in the model.
+    meshes: Vec<Option<usize>>,
+    shafts: Vec<Option<usize>>,
+    bearings: Vec<Option<usize>>,
+    /// Bearings of the description no output reports.
+    pub unreported: Vec<String>,
+}
+
+impl Params {
+    /// The description named by `gearbox`: a preset, an absolute path, or a path under resources/.
+    fn description(&self, resources: Option<&Path>) -> SlaveResult<Description> {
+        let name = self.gearbox.trim();
+        let path = Path::new(name);
+        let found = match resources {
+            Some(dir) if path.is_relative() && dir.join(path).is_file() => dir.join(path),
+            _ => path.to_path_buf(),
+        };
+        let arg = if found.is_file() {
+            found.to_string_lossy().into_owned()
+        } else {
+            name.to_string()
+        };
+        Description::load(&arg).map_err(|e| ParameterError::Model(format!("parameter gearbox = {name:?}: {e}")).into())
+    }
+
+    pub fn build(&self, resources: Option<&Path>) -> SlaveResult<Built> {
+        let mut d = self.description(resources)?;
+        if self.slices > 0 {
+            d.model.slices = self.slices as usize;
+        }
+        match self.mesh_stiffness.trim().to_ascii_lowercase().as_str() {
+            "" => {}
+            "mean" => d.model.mesh_stiffness = MeshStiffnessModel::Mean,
+            "varying" => d.model.mesh_stiffness = MeshStiffnessModel::Varying,
+            other => {
+                return Err(ParameterError::invalid("mesh_stiffness", &other, "use mean or varying (or empty)").into());
+            }
+        }
+        if self.gravity >= 0.0 {
+            d.model.gravity = self.gravity;
+        }
+        let rho = self.spectral_radius;
+        let radius = |a: Result<Alpha, String>| a.map_err(|e| ParameterError::invalid("spectral_radius", &rho, &e));
+        let method = match self.integrator.trim().to_ascii_lowercase().as_str() {
+            "implicit" | "newmark" | "trapezoidal" => Method::Implicit(Alpha::NEWMARK),
+            "hht" | "hht-alpha" => Method::Implicit(radius(Alpha::hht(rho))?),
+            "generalized-alpha" | "generalised-alpha" => Method::Implicit(radius(Alpha::generalised(rho))?),
+            "rk4" | "explicit" => {
+                return Err(ParameterError::invalid(
+                    "integrator",
+                    &self.integrator,
+                    "RK4 is not offered for the 6-DOF gearbox: its stiffest bearing and mesh modes (tens of kHz) \
+                     would need steps of microseconds; use implicit, hht or generalized-alpha",
+                )
+                .into());
+            }
+            other => {
+                return Err(
+                    ParameterError::invalid("integrator", &other, "use implicit, hht or generalized-alpha").into(),
+                );
+            }
+        };
+        let mut model = Gearbox::new(&d).map_err(|e| ParameterError::Model(format!("gearbox {:?}: {e}", d.name)))?;
+        let rated_generator = model.rated_rotor_torque.map(|t| t / model.gear_ratio);
+        let brake_torque_max = match (self.brake_torque_max > 0.0, rated_generator) {
+            (true, _) => self.brake_torque_max,
+            (false, Some(t)) => 1.5 * t,
+            (false, None) => 0.0,
+        };
+        model.brake = DiskBrake {
+            torque_max: brake_torque_max,
+            static_ratio: self.brake_static_ratio,
+        };
+        let meshes = MESH_SLOTS
+            .iter()
+            .map(|s| model.meshes.iter().position(|m| m.name == *s))
+            .collect();
+        let shafts = SHAFT_SLOTS
+            .iter()
+            .map(|s| model.shafts.iter().position(|m| m.name == *s))
+            .collect();
+        let slots = bearing_slots();
+        let bearings = slots
+            .iter()
+            .map(|s| model.bearings.iter().position(|b| b.name == *s))
+            .collect();
+        let unreported = model
+            .bearings
+            .iter()
+            .filter(|b| !slots.contains(&b.name.as_str()))
+            .map(|b| b.name.clone())
+            .collect();
+        Ok(Built {
+            description: d,
+            model,
+            method,
+            meshes,
+            shafts,
+            bearings,
+            unreported,
+        })
+    }
+
+    /// The loaded static equilibrium at the initial speed, the chain turning rigidly.
+    fn initial_state(&self, b: &Built) -> SlaveResult<DynState> {
+        let m = &b.model;
+        let rated_speed = b.description.rated_rotor_speed_rpm.unwrap_or(0.0) * std::f64::consts::TAU / 60.0;
+        let t = self.initial_rotor_torque;
+        let u = [t, t / m.gear_ratio, 0.0];
+        let (q, v) = equilibrium(m, &u, self.initial_speed_ratio * rated_speed)
+            .map_err(|e| err(format!("initial equilibrium of gearbox {:?}: {e}", m.name)))?;
+        Ok(DynState::new(q, v))
+    }
+}
+
+#[derive(Clone, Serialize, Deserialize)]
+pub struct Gearbox6dofSlave {
+    pub params: Params,
+    pub inputs: Inputs,
+    resources: Option<PathBuf>,
+    state: Option<DynState>,
+    #[serde(skip)]
+    built: Option<Arc<Built>>,
+    #[serde(skip, default = "implicit_driver")]
+    driver: Driver,
+    /// Loads of the current state (a master reads a hundred outputs per step).
+    #[serde(skip)]
+    loads: Option<Loads>,
+}
+
+fn implicit_driver() -> Driver {
+    Driver::new(Method::Implicit(Alpha::NEWMARK))
+}
+
+impl Gearbox6dofSlave {
+    pub fn ensure(&mut self) -> SlaveResult<(&Built, &mut DynState)> {
+        if self.built.is_none() {
+            let built = self.params.build(self.resources.as_deref())?;
+            self.driver = Driver::new(built.method);
+            self.built = Some(Arc::new(built));
+            self.loads = None;
+        }
+        let built = self.built.as_ref().unwrap();
+        if self.state.is_none() {
+            self.state = Some(self.params.initial_state(built)?);
+            self.loads = None;
+        }
+        Ok((built, self.state.as_mut().unwrap()))
+    }
+
+    fn changed(&mut self, what: Changed) {
+        if what == Changed::Parameter {
+            self.built = None;
+            self.state = None;
+        }
+        self.loads = None;
+    }
+
+    pub fn solver_statistics(&self) -> Statistics {
+        self.driver.stats
+    }
+
+    pub fn built(&mut self) -> SlaveResult<&Built> {
+        Ok(self.ensure()?.0)
+    }
+
+    fn current_loads(&mut self) -> SlaveResult<&Loads> {
+        if self.loads.is_none() {
+            let (b, st) = self.ensure()?;
+            let loads = b.model.loads(&st.q, &st.v);
+            self.loads = Some(loads);
+        }
+        Ok(self.loads.as_ref().unwrap())
+    }
+}
+
+/// Per-mesh output families: value reference of the first slot.
+const FAMILIES: [u32; 5] = [
+    vr::MESH_FORCE_RING_PLANET_1,
+    vr::MAX_SLICE_LOAD_RING_PLANET_1,
+    vr::MAX_SLICE_POSITION_RING_PLANET_1,
+    vr::FACE_LOAD_FACTOR_RING_PLANET_1,
+    vr::TRANSMISSION_ERROR_RING_PLANET_1,
+];
+
+impl Slave for Gearbox6dofSlave {
+    crate::slave_interface_from_xml!();
+
+    fn instantiate(resources: Option<&Path>) -> Self {
+        Self {
+            params: Params::default(),
+            inputs: Inputs::default(),
+            resources: resources.map(Path::to_path_buf),
+            state: None,
+            built: None,
+            driver: implicit_driver(),
+            loads: None,
+        }
+    }
+
+    fn get_real(&mut self, r: u32) -> SlaveResult<f64> {
+        if let Some(v) = xml::get_real(&self.params, &self.inputs, r) {
+            return Ok(v);
+        }
+        let (b, st) = self.ensure()?;
+        let (model, friction, v) = (&b.model, st.friction_force, st.v.clone());
+        let rated = model.rated_rotor_torque.unwrap_or(0.0);
+        let (ratio, input, output) = (model.gear_ratio, model.input_body, model.output_body);
+        let b = self.built.clone().unwrap();
+        let simple = match r {
+            vr::GEAR_RATIO => Some(ratio),
+            vr::RATED_ROTOR_TORQUE => Some(rated),
+            vr::RATED_GENERATOR_TORQUE => Some(rated / ratio),
+            vr::ROTOR_SPEED => Some(b.model.speed(input, &v)),
+            vr::GENERATOR_SPEED => Some(b.model.speed(output, &v)),
+            vr::BRAKE_TORQUE => Some(-friction * b.model.output_sign),
+            _ => None,
+        };
+        if let Some(x) = simple {
+            return Ok(x);
+        }
+        let loads = self.current_loads()?;
+        let slot_mesh = |slot: usize| b.meshes[slot].map(|i| loads.meshes[i]);
+        Ok(match r {
+            vr::LSS_TORQUE..=vr::HSS_TORQUE => b.shafts[(r - vr::LSS_TORQUE) as usize].map_or(0.0, |i| loads.shafts[i]),
+            vr::LOAD_SHARING_FACTOR => b.model.load_sharing(loads, "").unwrap_or(0.0),
+            vr::LOAD_SHARING_FACTOR_2 => b.model.load_sharing(loads, "2").unwrap_or(0.0),
+            r if r >= vr::MAIN_RADIAL_LOAD => {
+                let k = (r - vr::MAIN_RADIAL_LOAD) as usize;
+                match b.bearings.get(k / 3).copied().flatten().map(|i| loads.bearings[i]) {
+                    Some(l) => [l.radial, l.axial, l.tilting][k % 3],
+                    None if k / 3 < b.bearings.len() => 0.0,
+                    None => return Err(xml::no_getter(VarType::Real, r)),
+                }
+            }
+            r => {
+                let Some((family, first)) = FAMILIES
+                    .iter()
+                    .enumerate()
+                    .find(|(_, f)| (**f..**f + MESH_SLOTS.len() as u32).contains(&r))
+                else {
+                    return Err(xml::no_getter(VarType::Real, r));
+                };
+                slot_mesh((r - first) as usize).map_or(0.0, |m| match family {
+                    0 => m.force,
+                    1 => m.max_slice,
+                    2 => m.max_position,
+                    3 => m.face_load_factor,
+                    _ => m.transmission_error,
+                })
+            }
+        })
+    }
+
+    fn set_real(&mut self, r: u32, value: f64, log: &mut dyn Log) -> SlaveResult<()> {
+        xml::set_real(&mut self.params, &mut self.inputs, r, value, log).map(|what| self.changed(what))
+    }
+
+    fn get_integer(&mut self, r: u32) -> SlaveResult<i32> {
+        if let Some(v) = xml::get_integer(&self.params, &self.inputs, r) {
+            return Ok(v);
+        }
+        match r {
+            vr::DOF_COUNT => Ok(self.ensure()?.0.model.dofs() as i32),
+            _ => Err(xml::no_getter(VarType::Integer, r)),
+        }
+    }
+
+    fn set_integer(&mut self, r: u32, value: i32, log: &mut dyn Log) -> SlaveResult<()> {
+        xml::set_integer(&mut self.params, &mut self.inputs, r, value, log).map(|what| self.changed(what))
+    }
+
+    fn get_boolean(&mut self, r: u32) -> SlaveResult<bool> {
+        match r {
+            vr::BRAKE_LOCKED => Ok(self.ensure()?.1.locked),
+            _ => Err(xml::no_getter(VarType::Boolean, r)),
+        }
+    }
+
+    fn get_string(&mut self, r: u32) -> SlaveResult<String> {
+        xml::get_string(&self.params, &self.inputs, r).ok_or_else(|| xml::no_getter(VarType::String, r))
+    }
+
+    fn set_string(&mut self, r: u32, value: &str, log: &mut dyn Log) -> SlaveResult<()> {
+        xml::set_string(&mut self.params, &mut self.inputs, r, value, log).map(|what| self.changed(what))
+    }
+
+    fn initialize(&mut self, _start_time: f64, log: &mut dyn Log) -> SlaveResult<()> {
+        self.ensure()?;
+        let unreported = &self.built.as_ref().unwrap().unreported;
+        if !unreported.is_empty() {
+            log.warning(&format!(
+                "bearings {} have no output variable (the FMU reports the presets' bearing names); \
+                 `windrive gearbox` reports every bearing",
+                unreported.join(", ")
+            ));
+        }
+        Ok(())
+    }
+
+    fn set_input_derivative(&mut self, r: u32, order: i32, value: f64) -> SlaveResult<()> {
+        self.inputs.set_derivative(r, order, value)
+    }
+
+    fn do_step(&mut self, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
+        self.ensure()?;
+        self.loads = None;
+        let mut built = self.built.take().unwrap();
+        // the main-shaft moments act in the housing frame and are turned into the rotor's frame
+        // with its angle: held over the communication step (they change at rotor frequencies)
+        let moment = [
+            self.inputs.main_shaft_tilt_moment.at(0.0),
+            self.inputs.main_shaft_yaw_moment.at(0.0),
+        ];
+        if built.model.external_moment != moment {
+            Arc::make_mut(&mut built).model.external_moment = moment;
+        }
+        let result = self.step_with(&built, t, h, log);
+        self.built = Some(built);
+        result
+    }
+}
+
+impl Gearbox6dofSlave {
+    fn step_with(&mut self, built: &Built, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
+        let inputs = &self.inputs;
+        let st = self.state.as_mut().unwrap();
+        let result = self.driver.advance(
+            &built.model,
+            st,
+            t,
+            h,
+            self.params.max_internal_step,
+            INPUT_COUNT,
+            |dt, u| inputs.write(dt, u),
+        );
+        for e in &self.driver.events {
+            log.event(&format!(
+                "t = {:.6} s: HSS brake {}",
+                e.time,
+                if e.locked {
+                    "locked (stiction)"
+                } else {
+                    "released (slipping)"
+                }
+            ));
+        }
+        result.map_err(|e| err(format!("{e} (communication step from t = {t} s, h = {h} s)")))?;
+        self.inputs.advance(h);
+        Ok(())
+    }
+}
