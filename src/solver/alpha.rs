@@ -29,6 +29,11 @@ use nalgebra::DMatrix;
 /// Newton iterations before a step is given up (and halved by the driver).
 pub const MAX_ITERATIONS: usize = 50;
 
+/// An iterate whose residual is this fraction of the largest force acting is converged: below it
+/// the residual is the rounding of the forces (absolute angles of thousands of radians resolve
+/// deflections to about 1e-13 m), and further increments only chase that noise.
+const RESIDUAL_TOLERANCE: f64 = 1e-9;
+
 /// A smooth nonlinear iteration has converged when the last increment is below this fraction of
 /// the step's motion (‖δ‖∞ ≤ tol·max(‖Δ‖∞, h‖v‖∞)): ten digits of the position increment.
 const INCREMENT_TOLERANCE: f64 = 1e-10;
@@ -505,14 +510,23 @@ impl AlphaIntegrator {
                 sys.mass().add_product(-1.0, step, r);
             }
             residual = w.r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            // the forces' own size: a residual at their rounding level cannot be reduced further
+            let force_scale = w.fi.iter().chain(&w.f1).fold(0.0f64, |m, x| m.max(x.abs()));
+            let settled = residual <= RESIDUAL_TOLERANCE * force_scale;
             w.step.iter_mut().for_each(|x| *x = 0.0);
             factor.solver.add_solution(&w.r, &mut w.step);
+            // r is free until the next residual: it keeps the iterate this increment starts from
+            w.r.copy_from_slice(&w.delta);
             for (d, s) in w.delta.iter_mut().zip(&w.step) {
                 *d += s;
             }
             if let (Some(fr), Some((f, resp))) = (friction, &factor.friction_response) {
                 (force, held) =
                     c.resolve_friction(&fr, st.locked, (*f, resp), &mut w.delta, (st.v[*f], st.a[*f]), force);
+                // the increment that counts for convergence is the one the friction solve left
+                for d in 0..n {
+                    w.step[d] = w.delta[d] - w.r[d];
+                }
             }
             let converged = match linearity {
                 Linearity::Linear => true,
@@ -532,9 +546,9 @@ impl AlphaIntegrator {
                     sys.factor_key(t1, &w.q1, &mut w.key_new);
                     let same = same_key(&w.key_new, &w.key);
                     std::mem::swap(&mut w.key, &mut w.key_new);
-                    same && small_increment(w, st, c)
+                    same && (settled || small_increment(w, st, c))
                 }
-                Linearity::Nonlinear => small_increment(w, st, c),
+                Linearity::Nonlinear => settled || small_increment(w, st, c),
             };
             if converged {
                 break;
@@ -565,12 +579,17 @@ impl AlphaIntegrator {
     }
 }
 
-/// The last Newton increment is below INCREMENT_TOLERANCE of the step's motion.
+/// The last Newton increment is below INCREMENT_TOLERANCE of the step's motion, or at the
+/// resolution of the positions themselves (a few ulps of absolute angles of thousands of radians:
+/// an increment there is rounding, not progress).
 fn small_increment(w: &Work, st: &DynState, c: &Coefficients) -> bool {
     let size = w.delta.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let motion = st.v.iter().fold(0.0f64, |m, x| m.max(x.abs())) * c.h;
-    let step = w.step.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    step <= INCREMENT_TOLERANCE * size.max(motion).max(f64::MIN_POSITIVE)
+    let tolerance = INCREMENT_TOLERANCE * size.max(motion).max(f64::MIN_POSITIVE);
+    w.step
+        .iter()
+        .zip(st.q.iter().zip(&w.delta))
+        .all(|(s, (q, d))| s.abs() <= tolerance.max(8.0 * f64::EPSILON * (q + d).abs()))
 }
 
 /// Friction bookkeeping at the end of a step: a stuck DOF is exactly at rest.

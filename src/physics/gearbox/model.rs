@@ -288,7 +288,9 @@ impl Builder<'_> {
         self.bearings.push(BearingSprings { name, springs: idx });
     }
 
-    /// Supports of a body as its description gives them (bearings or one support at the centre).
+    /// Supports of a body as its description gives them (bearings or one support at the centre),
+    /// named by the description (`hss_a`), a planet's prefixed with it (`planet_1_uw`), a support
+    /// after its body (`sun_1_support`).
     fn supports(
         &mut self,
         prefix: &str,
@@ -298,17 +300,16 @@ impl Builder<'_> {
         error: [f64; 2],
     ) {
         if let Some(s) = &body.support {
-            self.bearing(format!("{prefix}_support"), b, other, 0.0, s, error);
+            let name = format!("{}_support", self.bodies[b].name);
+            self.bearing(name, b, other, 0.0, s, error);
         }
         for br in &body.bearings {
-            self.bearing(
-                format!("{prefix}_{}", br.name),
-                b,
-                other,
-                br.position,
-                &br.stiffness(),
-                error,
-            );
+            let name = if prefix.is_empty() {
+                br.name.clone()
+            } else {
+                format!("{prefix}_{}", br.name)
+            };
+            self.bearing(name, b, other, br.position, &br.stiffness(), error);
         }
     }
 }
