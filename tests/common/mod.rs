@@ -35,7 +35,7 @@ pub fn scene_copy(name: &str) -> (windrive::fmi2::import::TempDir, PathBuf) {
             std::fs::copy(entry.path(), dir.join(entry.file_name())).unwrap();
         }
     }
-    for fmu in ["rotor", "torsional", "generator"] {
+    for fmu in ["rotor", "torsional", "generator", "gearbox6dof"] {
         std::fs::copy(fmu_path(fmu), dir.join("resources").join(format!("{fmu}.fmu"))).unwrap();
     }
     (tmp, dir)
