@@ -15,12 +15,45 @@ fn grc() -> Gearbox {
     Gearbox::new(&Description::load("grc750").unwrap()).unwrap()
 }
 
+/// Every shipped preset builds, turns at its published ratio, and settles statically at its rated
+/// torque with the torque split through its stages.
 #[test]
-fn every_preset_builds() {
+fn every_preset_builds_and_carries_its_rated_torque() {
+    let ratios = [
+        ("grc750", 81.491),
+        ("nrel5mw", 96.354),
+        ("c2mw", 6.0 * 4.0 * 111.0 / 29.0),
+        ("paper1p5mw", 100.84),
+        ("planetary-spur", 1.0 + 99.0 / 21.0),
+    ];
     for (name, _) in PRESETS {
         let d = Description::load(name).unwrap_or_else(|e| panic!("{e}"));
         let g = Gearbox::new(&d).unwrap_or_else(|e| panic!("{name}: {e}"));
-        assert!(g.dofs() > 0);
+        let ratio = ratios.iter().find(|(n, _)| *n == name).unwrap().1;
+        assert!(
+            (g.gear_ratio / ratio - 1.0).abs() < 1e-4,
+            "{name}: ratio {} vs {ratio}",
+            g.gear_ratio
+        );
+        let t = g.rated_rotor_torque.unwrap_or(1e5);
+        let (q, v) = loaded(&g, t, 0.0);
+        let loads = g.loads(&q, &v);
+        // the last shaft carries the input torque over the ratio (or the stage's output when alone)
+        if let Some(&last) = loads.shafts.last() {
+            assert!((last / (t / g.gear_ratio) - 1.0).abs() < 0.01, "{name}: {last}");
+        }
+        let lowest: Vec<String> = modes(&g)
+            .iter()
+            .filter(|m| m.family != Family::Rigid)
+            .take(4)
+            .map(|m| format!("{:.2}", m.frequency_hz))
+            .collect();
+        eprintln!(
+            "{name}: {} DOF, ratio {:.3}, K_γ {:.4}, lowest modes {lowest:?} Hz",
+            g.dofs(),
+            g.gear_ratio,
+            g.load_sharing(&loads, "").unwrap_or(0.0)
+        );
     }
 }
 
