@@ -387,7 +387,7 @@ impl Description {
             file: file.to_string(),
             message,
         };
-        let d: Description = toml::from_str(text).map_err(|e| err(e.to_string().trim_end().replace('\n', " ")))?;
+        let d: Description = toml::from_str(text).map_err(|e| err(e.to_string().trim_end().to_string()))?;
         d.validate().map_err(err)?;
         Ok(d)
     }
