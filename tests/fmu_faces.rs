@@ -4,7 +4,9 @@
 
 use windrive::fmi2::slave::{Log, NoLog, Slave};
 use windrive::fmi2::variables::{Causality, Start, VarType};
-use windrive::slaves::{generator::GeneratorSlave, rotor::RotorSlave, torsional::TorsionalSlave};
+use windrive::slaves::{
+    gearbox6dof::Gearbox6dofSlave, generator::GeneratorSlave, rotor::RotorSlave, torsional::TorsionalSlave,
+};
 
 /// Keeps what a model says, to check warnings.
 #[derive(Default)]
@@ -37,6 +39,7 @@ fn defaults_are_the_xml_start_values() {
     starts_match_the_xml::<TorsionalSlave>();
     starts_match_the_xml::<RotorSlave>();
     starts_match_the_xml::<GeneratorSlave>();
+    starts_match_the_xml::<Gearbox6dofSlave>();
     // the generated Default is what the command line builds from
     let p = windrive::slaves::torsional::Params::default();
     assert_eq!(
@@ -86,6 +89,7 @@ fn parameters_outside_the_xml_range_are_refused_by_name() {
     assert!(ranges_are_enforced::<TorsionalSlave>() >= 10);
     assert!(ranges_are_enforced::<GeneratorSlave>() >= 20);
     ranges_are_enforced::<RotorSlave>();
+    assert!(ranges_are_enforced::<Gearbox6dofSlave>() >= 5);
 }
 
 /// Issue 16: `poles = -2` used to answer fmi2OK.

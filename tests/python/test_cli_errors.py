@@ -100,6 +100,10 @@ def one_fmu_scene(tmp_path, name):
     ("rotor", ["mode=playback", "series=c-shutdown-pu.csv", "source_preset=Q"], ["source_preset", "Q", "A, B, C or D"]),
     ("rotor", ["mode=playback", "series=c-shutdown-pu.csv", "source_preset=C", "source_rotor_diameter=80"], ["source_preset or source_rotor_diameter"]),
     ("generator", ["preset=Z"], ["preset", "A, B, C or D"]),
+    ("gearbox6dof", ["gearbox=grc751"], ["gearbox", "grc751", "presets are grc750"]),
+    ("gearbox6dof", ["integrator=rk4"], ["integrator", "RK4 is not offered"]),
+    ("gearbox6dof", ["mesh_stiffness=wavy"], ["mesh_stiffness", "wavy", "mean or varying"]),
+    ("gearbox6dof", ["slices=500"], ["slices = 500", "above its maximum 200"]),
 ])
 def test_bad_fmu_parameters_are_named(windrive, tmp_path, fmu, params, words):
     scene = one_fmu_scene(tmp_path, fmu)
@@ -109,6 +113,25 @@ def test_bad_fmu_parameters_are_named(windrive, tmp_path, fmu, params, words):
     assert out.returncode != 0
     for w in words:
         assert w in out.stderr, out.stderr
+
+
+@pytest.mark.parametrize("content,words", [
+    ("name = 'x'\n[model]\nslicez = 3\n", ["line 3", "unknown field `slicez`"]),
+    ("name = 'x'\n", ["missing field `stage`"]),
+    ("name = 'x'\n[[stage]]\n[stage.planetary]\nplanets = 3\nteeth = { sun = 20, planet = 40, ring = 99 }\n"
+     "toothing = { module_mm = 10, face_width_mm = 100 }\ncarrier = {}\nplanet = {}\nsun = {}\n",
+     ["stage[1].teeth", "not an integer"]),
+])
+def test_bad_gearbox_description_is_named(windrive, tmp_path, content, words):
+    """A description file's mistakes reach the user with the file, the line or the field."""
+    path = tmp_path / "my-gearbox.toml"
+    path.write_text(content)
+    out = subprocess.run([windrive, "modes", "--gearbox", str(path)], capture_output=True, text=True, cwd=ROOT,
+                         env={**__import__("os").environ, "RUST_BACKTRACE": "0"})
+    assert out.returncode != 0 and "my-gearbox.toml" in out.stderr, out.stderr
+    for w in words:
+        assert w in out.stderr, out.stderr
+    assert "panicked" not in out.stderr
 
 
 @pytest.mark.parametrize("content,words", [
