@@ -12,7 +12,8 @@ use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct BenchArgs {
-    /// What to benchmark: torsional (the FMU), rainflow (counting and DELs), solvers (explicit
+    /// What to benchmark: torsional (the FMU), gearbox (the 6-DOF gearbox in drivetrain D's shutdown
+    /// scene with 35, 11 and 5 slices, against torsional and RK4), rainflow (counting and DELs), solvers (explicit
     /// inverse, dense LU and sparse LU on gearbox-shaped iteration matrices), coupling (every
     /// co-simulation algorithm on scenes/d-grid-step against its exact solution), master (our
     /// master's overhead per FMU-step against the bare FMI calls)
@@ -50,6 +51,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         "rainflow" => return rainflow(args),
         "solvers" => return linear_solvers(),
         "coupling" => return super::coupling::run(args.stop_time, args.work_precision.as_deref()),
+        "gearbox" => return super::gearbox_bench::run(args.stop_time),
         "master" => {
             let scene = args
                 .scene
@@ -57,7 +59,9 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
                 .unwrap_or_else(|| std::path::PathBuf::from("scenes/bench-d-grid"));
             return super::overhead::run(&scene, args.macro_steps);
         }
-        other => bail!("unknown benchmark {other:?}: available: torsional, rainflow, coupling, master, solvers"),
+        other => {
+            bail!("unknown benchmark {other:?}: available: torsional, gearbox, rainflow, coupling, master, solvers")
+        }
     }
     let fmu = torsional_fmu(args.fmu.as_deref())?;
     let base = Scenario {

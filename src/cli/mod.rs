@@ -5,6 +5,7 @@ pub mod bode;
 pub mod campbell;
 pub mod coupling;
 pub mod fatigue;
+pub mod gearbox_bench;
 pub mod life;
 pub mod modes;
 pub mod overhead;

@@ -5,7 +5,7 @@
 //! the state is finite. FMU faces call [`Driver::advance`] and nothing below it.
 
 use super::alpha::{Alpha, AlphaIntegrator, Span};
-use super::rk4::{Rk4, holding_force, mass_solve};
+use super::rk4::{MassSolver, Rk4};
 use super::state::{DynState, SolverError, Statistics};
 use super::system::{Linearity, Mass, SecondOrderSystem, external_forces};
 
@@ -41,6 +41,8 @@ pub struct Driver {
     u1: Vec<f64>,
     f: Vec<f64>,
     fi: Vec<f64>,
+    /// The dense mass matrix's factor for consistent accelerations.
+    mass: MassSolver,
 }
 
 impl Driver {
@@ -59,6 +61,7 @@ impl Driver {
             u1: Vec::new(),
             f: Vec::new(),
             fi: Vec::new(),
+            mass: MassSolver::default(),
         }
     }
 
@@ -200,14 +203,14 @@ impl Driver {
                 for (f, fi) in self.f.iter_mut().zip(&self.fi) {
                     *f -= fi;
                 }
-                mass_solve(mass, &self.f, &mut st.a);
+                self.mass.solve(mass, &self.f, &mut st.a);
             }
         }
         let (force, locked) = match friction {
             None => (0.0, false),
             Some(fr) if st.v[fr.dof] != 0.0 => (-fr.kinetic * st.v[fr.dof].signum(), false),
             Some(fr) => {
-                let hold = holding_force(mass, &st.a, fr.dof);
+                let hold = self.mass.holding_force(mass, &st.a, fr.dof);
                 if hold.abs() <= fr.hold(st.locked) {
                     (hold, true)
                 } else {
@@ -226,7 +229,7 @@ impl Driver {
                     self.f.resize(n, 0.0);
                     self.f[fr.dof] = force;
                     self.fi.resize(n, 0.0);
-                    mass_solve(mass, &self.f, &mut self.fi);
+                    self.mass.solve(mass, &self.f, &mut self.fi);
                     for (a, d) in st.a.iter_mut().zip(&self.fi) {
                         *a += d;
                     }

@@ -28,39 +28,66 @@ pub struct Rk4 {
     v0: Vec<f64>,
     f: Vec<f64>,
     fi: Vec<f64>,
+    mass: MassSolver,
 }
 
-/// out = M⁻¹·f (a dense mass is factorised on each call: the models with one are implicit's).
-pub fn mass_solve(mass: Mass<'_>, f: &[f64], out: &mut [f64]) {
-    match mass {
-        Mass::Diagonal(m) => {
-            for ((o, fi), mi) in out.iter_mut().zip(f).zip(m) {
-                *o = fi / mi;
-            }
+/// Solves M·x = f. A dense M (the 6-DOF gearbox's 6×6 blocks and planet-orbit coupling) keeps its
+/// Cholesky factor between calls, refactorised only when the matrix differs from the one factorised:
+/// a communication step's consistent accelerations then cost a back-substitution, not a factorisation.
+#[derive(Debug, Clone, Default)]
+pub struct MassSolver {
+    matrix: Option<nalgebra::DMatrix<f64>>,
+    factor: Option<nalgebra::Cholesky<f64, nalgebra::Dyn>>,
+    /// (dof, M⁻¹ e_dof at that dof) of the last friction DOF asked for.
+    compliance: Option<(usize, f64)>,
+}
+
+impl MassSolver {
+    fn factor(&mut self, m: &nalgebra::DMatrix<f64>) -> Option<&nalgebra::Cholesky<f64, nalgebra::Dyn>> {
+        if self.matrix.as_ref() != Some(m) {
+            self.factor = m.clone().cholesky();
+            self.matrix = Some(m.clone());
+            self.compliance = None;
         }
-        Mass::Dense(m) => {
-            let x = m
-                .clone()
-                .cholesky()
-                .map(|c| c.solve(&nalgebra::DVector::from_column_slice(f)))
-                .unwrap_or_else(|| nalgebra::DVector::from_element(f.len(), f64::NAN));
-            out.copy_from_slice(x.as_slice());
+        self.factor.as_ref()
+    }
+
+    /// out = M⁻¹·f (NaN when a dense M is not positive definite).
+    pub fn solve(&mut self, mass: Mass<'_>, f: &[f64], out: &mut [f64]) {
+        match mass {
+            Mass::Diagonal(m) => {
+                for ((o, fi), mi) in out.iter_mut().zip(f).zip(m) {
+                    *o = fi / mi;
+                }
+            }
+            Mass::Dense(m) => match self.factor(m) {
+                Some(c) => out.copy_from_slice(c.solve(&nalgebra::DVector::from_column_slice(f)).as_slice()),
+                None => out.iter_mut().for_each(|x| *x = f64::NAN),
+            },
         }
     }
-}
 
-/// The friction force that keeps DOF `dof` from accelerating under the free accelerations `a`:
-/// its share of M⁻¹ decides how much force one unit of acceleration takes.
-pub fn holding_force(mass: Mass<'_>, a: &[f64], dof: usize) -> f64 {
-    match mass {
-        Mass::Diagonal(m) => -m[dof] * a[dof],
-        Mass::Dense(m) => {
-            let n = m.nrows();
-            let mut e = vec![0.0; n];
-            e[dof] = 1.0;
-            let mut column = vec![0.0; n];
-            mass_solve(mass, &e, &mut column);
-            -a[dof] / column[dof]
+    /// The friction force that keeps DOF `dof` from accelerating under the free accelerations `a`:
+    /// its share of M⁻¹ decides how much force one unit of acceleration takes.
+    pub fn holding_force(&mut self, mass: Mass<'_>, a: &[f64], dof: usize) -> f64 {
+        match mass {
+            Mass::Diagonal(m) => -m[dof] * a[dof],
+            Mass::Dense(m) => {
+                self.factor(m);
+                let compliance = match self.compliance {
+                    Some((d, c)) if d == dof => c,
+                    _ => {
+                        let n = m.nrows();
+                        let mut e = vec![0.0; n];
+                        e[dof] = 1.0;
+                        let mut column = vec![0.0; n];
+                        self.solve(mass, &e, &mut column);
+                        self.compliance = Some((dof, column[dof]));
+                        column[dof]
+                    }
+                };
+                -a[dof] / compliance
+            }
         }
     }
 }
@@ -84,19 +111,19 @@ fn accelerations<S: SecondOrderSystem>(
         *f -= fi;
     }
     let Some(fr) = friction else {
-        mass_solve(sys.mass(), &w.f, out);
+        w.mass.solve(sys.mass(), &w.f, out);
         return 0.0;
     };
     let force = if locked {
-        mass_solve(sys.mass(), &w.f, out);
-        holding_force(sys.mass(), out, fr.dof)
+        w.mass.solve(sys.mass(), &w.f, out);
+        w.mass.holding_force(sys.mass(), out, fr.dof)
     } else if v[fr.dof] != 0.0 {
         -fr.kinetic * v[fr.dof].signum()
     } else {
         0.0
     };
     w.f[fr.dof] += force;
-    mass_solve(sys.mass(), &w.f, out);
+    w.mass.solve(sys.mass(), &w.f, out);
     if locked {
         out[fr.dof] = 0.0;
     }
