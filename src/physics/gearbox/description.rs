@@ -211,8 +211,8 @@ pub struct Shaft {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Stage {
-    Planetary(Planetary),
-    Parallel(Parallel),
+    Planetary(Box<Planetary>),
+    Parallel(Box<Parallel>),
 }
 
 /// The tooth data shared by both stage kinds.
@@ -439,7 +439,7 @@ impl Description {
                     if !(2..=7).contains(&p.planets) {
                         return Err(format!("{} = {} outside 2..=7", at("planets"), p.planets));
                     }
-                    if (p.teeth.sun + p.teeth.ring) as usize % p.planets != 0 {
+                    if !((p.teeth.sun + p.teeth.ring) as usize).is_multiple_of(p.planets) {
                         return Err(format!(
                             "{}: (sun + ring) / planets = ({} + {}) / {} is not an integer: equally spaced planets cannot be assembled",
                             at("teeth"),

@@ -101,7 +101,7 @@ impl Pair {
         let (awt, a) = match self.centre_distance {
             Some(a) => {
                 let c = reference_distance * at.cos() / a;
-                if !(c.abs() < 1.0) {
+                if c.is_nan() || c.abs() >= 1.0 {
                     return Err(format!("centre distance {:.4} m cannot be reached by these teeth", a));
                 }
                 (c.acos(), a)
@@ -130,7 +130,7 @@ impl Pair {
         } else {
             (approach + other - a * awt.sin()) / pbt
         };
-        if !(eps_a > 1.0) {
+        if eps_a.is_nan() || eps_a <= 1.0 {
             return Err(format!(
                 "transverse contact ratio {eps_a:.3} ≤ 1: the teeth lose contact"
             ));

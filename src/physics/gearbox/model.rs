@@ -162,6 +162,7 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 }
 
 impl Builder<'_> {
+    #[allow(clippy::too_many_arguments)]
     fn add_body(
         &mut self,
         name: String,
