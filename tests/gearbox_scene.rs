@@ -7,28 +7,9 @@
 
 mod common;
 
-use windrive::cosim::{Algorithm, Master, Options, Record, Scene, System};
-
 fn run(scene: &str, component: &str, names: &[&str]) -> Vec<Vec<f64>> {
-    let (_guard, dir) = common::scene_copy(scene);
-    let scene = Scene::open(&dir).unwrap();
     let channels: Vec<String> = names.iter().map(|n| format!("{component}.{n}")).collect();
-    let mut system = System::build(&scene, &[], &Record::Only(channels.clone())).unwrap();
-    let stop = scene.experiment.stop_time.unwrap();
-    system.initialize(Some(stop)).unwrap();
-    let mut cols: Vec<Vec<f64>> = vec![Vec::new(); channels.len() + 1];
-    let mut master = Master::new(&mut system, Options::new(Algorithm::GaussSeidel, 1e-3, stop)).unwrap();
-    master
-        .run(|time, sys| {
-            windrive::cosim::master::read_recorded(sys, time)?;
-            cols[0].push(time);
-            for (k, (_, u, i)) in sys.recorded.iter().enumerate() {
-                cols[k + 1].push(sys.units[*u].values[*i]);
-            }
-            Ok(())
-        })
-        .unwrap();
-    cols
+    common::run_scene(scene, &[], &channels, None)
 }
 
 fn rms(x: &[f64]) -> f64 {

@@ -14,7 +14,6 @@ mod common;
 
 use windrive::analysis::metrics::range;
 use windrive::analysis::spectrum::dominant_in_window;
-use windrive::cosim::{Algorithm, Master, Options, Record, Scene, System};
 use windrive::physics::modes::Boundary;
 use windrive::reference::modes::lowest_mode;
 
@@ -42,7 +41,7 @@ fn run(scene: &str) -> Run {
     ];
     let mut channels: Vec<String> = names.iter().map(|n| format!("torsional.{n}")).collect();
     channels.push("generator.electrical_power".into());
-    let cols = run_channels(scene, &[], &channels, None);
+    let cols = common::run_scene(scene, &[], &channels, None);
     let mut c = cols.into_iter();
     Run {
         t: c.next().unwrap(),
@@ -55,39 +54,6 @@ fn run(scene: &str) -> Run {
         rotor_speed: c.next().unwrap(),
         power: c.next().unwrap(),
     }
-}
-
-/// Time and the given channels of a scene run through the master (Gauss–Seidel, 1 ms), with
-/// parameter overrides (component, variable, value) and optionally another stop time.
-fn run_channels(
-    scene: &str,
-    overrides: &[(&str, &str, &str)],
-    channels: &[String],
-    stop: Option<f64>,
-) -> Vec<Vec<f64>> {
-    let (_guard, dir) = common::scene_copy(scene);
-    let scene = Scene::open(&dir).unwrap();
-    let overrides: Vec<(String, String, String)> = overrides
-        .iter()
-        .map(|(c, v, x)| (c.to_string(), v.to_string(), x.to_string()))
-        .collect();
-    let record = Record::Only(channels.to_vec());
-    let mut system = System::build(&scene, &overrides, &record).unwrap();
-    let stop = stop.unwrap_or(scene.experiment.stop_time.unwrap());
-    system.initialize(Some(stop)).unwrap();
-    let mut cols: Vec<Vec<f64>> = vec![Vec::new(); channels.len() + 1];
-    let mut master = Master::new(&mut system, Options::new(Algorithm::GaussSeidel, 1e-3, stop)).unwrap();
-    master
-        .run(|time, sys| {
-            windrive::cosim::master::read_recorded(sys, time)?;
-            cols[0].push(time);
-            for (k, (_, u, i)) in sys.recorded.iter().enumerate() {
-                cols[k + 1].push(sys.units[*u].values[*i]);
-            }
-            Ok(())
-        })
-        .unwrap();
-    cols
 }
 
 fn check(scene: &str, preset: &str) {
@@ -184,7 +150,7 @@ fn region_2_law_holds_the_optimal_tip_speed_ratio() {
             "torsional.rotor_speed".to_string(),
             "rotor.aerodynamic_power".to_string(),
         ];
-        let c = run_channels(scene, &overrides, &channels, Some(60.0));
+        let c = common::run_scene(scene, &overrides, &channels, Some(60.0));
         let (w, p) = (c[1][c[1].len() - 1], c[2][c[2].len() - 1]);
         let lambda = w * radius / wind;
         let p_opt = 0.5 * AIR_DENSITY * std::f64::consts::PI * radius * radius * wind.powi(3) * cp_max;

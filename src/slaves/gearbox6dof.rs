@@ -23,24 +23,8 @@ pub type Inputs = xml::Inputs;
 
 const INPUT_COUNT: usize = 3;
 
-/// The mesh slots of the XML, in value-reference order (`torsional`'s names).
-const MESH_SLOTS: [&str; 14] = [
-    "ring_planet_1",
-    "ring_planet_2",
-    "ring_planet_3",
-    "sun_planet_1",
-    "sun_planet_2",
-    "sun_planet_3",
-    "ring_planet2_1",
-    "ring_planet2_2",
-    "ring_planet2_3",
-    "sun_planet2_1",
-    "sun_planet2_2",
-    "sun_planet2_3",
-    "gear_pinion_1",
-    "gear_pinion_2",
-];
-const SHAFT_SLOTS: [&str; 4] = ["lss", "is1", "is2", "hss"];
+// The mesh and shaft slots of the XML are `torsional`'s, in value-reference order.
+use crate::physics::torsional::{MESH_SLOTS, SHAFT_SLOTS};
 
 /// The XML's bearing outputs, named `<bearing>_radial_load` from value reference 200 on.
 fn bearing_slots() -> Vec<&'static str> {
@@ -401,17 +385,7 @@ impl Gearbox6dofSlave {
             INPUT_COUNT,
             |dt, u| inputs.write(dt, u),
         );
-        for e in &self.driver.events {
-            log.event(&format!(
-                "t = {:.6} s: HSS brake {}",
-                e.time,
-                if e.locked {
-                    "locked (stiction)"
-                } else {
-                    "released (slipping)"
-                }
-            ));
-        }
+        super::log_brake_events(&self.driver.events, log);
         result.map_err(|e| err(format!("{e} (communication step from t = {t} s, h = {h} s)")))?;
         self.inputs.advance(h);
         Ok(())

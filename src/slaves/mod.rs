@@ -8,3 +8,15 @@ pub mod gearbox6dof;
 pub mod generator;
 pub mod rotor;
 pub mod torsional;
+
+/// The brake's lock and release events of the last step, through the host's logger (logEvents).
+pub fn log_brake_events(events: &[crate::solver::Event], log: &mut dyn crate::fmi2::slave::Log) {
+    for e in events {
+        let what = if e.locked {
+            "locked (stiction)"
+        } else {
+            "released (slipping)"
+        };
+        log.event(&format!("t = {:.6} s: HSS brake {what}", e.time));
+    }
+}

@@ -300,17 +300,7 @@ impl TorsionalSlave {
             INPUT_COUNT,
             |dt, u| inputs.write(dt, u),
         );
-        for e in &self.driver.events {
-            log.event(&format!(
-                "t = {:.6} s: HSS brake {}",
-                e.time,
-                if e.locked {
-                    "locked (stiction)"
-                } else {
-                    "released (slipping)"
-                }
-            ));
-        }
+        super::log_brake_events(&self.driver.events, log);
         result.map_err(|e| match e {
             crate::solver::SolverError::AboveStabilityLimit { step, limit } => err(format!(
                 "RK4 is unstable at an internal step of {step:.3e} s: its stability limit is 2.785/omega_max = \

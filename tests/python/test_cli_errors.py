@@ -12,7 +12,7 @@ import pytest
     (["modes", "--lumping", "lumpy"], ["lumpy", "physical or thesis"]),
     (["modes", "--plot", "shapes.gif"], ["shapes.gif", ".png or .svg"]),
     (["pack", "nosuch"], ["nosuch", "torsional"]),
-    (["bench", "nosuch"], ["nosuch", "torsional, rainflow"]),
+    (["bench", "nosuch"], ["nosuch", "torsional, gearbox, rainflow"]),
     (["step-response", "--fmu", "/nonexistent/x.fmu", "--out", "/tmp/windrive-x.csv"], ["/nonexistent/x.fmu"]),
 ])
 def test_bad_arguments_are_named(windrive, tmp_path, args, words):
