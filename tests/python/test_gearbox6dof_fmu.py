@@ -75,3 +75,18 @@ def test_an_unknown_description_is_named_in_the_log(gearbox, tmp_path):
         simulate_fmu(gearbox, stop_time=0.01, start_values={"gearbox": str(tmp_path / "missing.toml")},
                      logger=lambda *args: logs.append(str(args[-1])))
     assert any("missing.toml" in m and "cannot read it" in m for m in logs), logs
+
+
+def test_a_main_shaft_moment_loads_the_main_bearing(gearbox):
+    """The rotor's tilt moment (an input, e.g. rotor.pitching_moment) reaches the bearings that carry
+    the rotor: the main bearing's radial load changes, the gear forces hardly."""
+    def run(moment):
+        inputs = np.array([(0.0, T_ROTOR, T_GEN, moment)],
+                          dtype=[("time", float), ("rotor_torque", float), ("generator_torque", float),
+                                 ("main_shaft_tilt_moment", float)])
+        return simulate_fmu(gearbox, stop_time=0.2, output_interval=1e-3, input=inputs,
+                            output=["main_radial_load", "mesh_force_gear_pinion_2"],
+                            start_values={"initial_rotor_torque": T_ROTOR})
+    still, tilted = run(0.0), run(5e5)
+    assert abs(tilted["main_radial_load"][-1] - still["main_radial_load"][-1]) > 1e5
+    assert tilted["mesh_force_gear_pinion_2"][-1] == pytest.approx(still["mesh_force_gear_pinion_2"][-1], rel=0.01)
