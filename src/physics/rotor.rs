@@ -1,8 +1,9 @@
 //! The rotor as the drivetrain's input: aerodynamic torque from wind (mean + Kaimal turbulence),
-//! an analytic C_p and a PI pitch controller, or a played-back torque series; plus the shutdown
-//! sequence (pitch to feather, generator trip, HSS brake deployment).
+//! a blade-element momentum rotor (or the analytic C_p) and a PI pitch controller, or a played-back
+//! torque series; plus the shutdown sequence (pitch to feather, generator trip, HSS brake deployment).
 
 use super::aero::{AIR_DENSITY, PitchController, PitchState, Rotor, power_coefficient};
+use super::bem::BemRotor;
 use super::drivetrain::Drivetrain;
 use super::turbulence::TurbulenceSeries;
 use serde::{Deserialize, Serialize};
@@ -119,6 +120,41 @@ impl TiltModel {
     }
 }
 
+/// The rotor's aerodynamics: a blade-element momentum rotor, or Heier's analytic C_p(λ, β).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Aerodynamics {
+    Bem(BemRotor),
+    Analytic(Rotor),
+}
+
+impl Aerodynamics {
+    pub fn radius(&self) -> f64 {
+        match self {
+            Aerodynamics::Bem(b) => b.radius(),
+            Aerodynamics::Analytic(r) => r.radius,
+        }
+    }
+
+    /// Torque (N·m, positive driving) and thrust (N) at rotor speed `omega` (rad/s), wind (m/s) and
+    /// pitch (rad).
+    pub fn torque_thrust(&self, omega: f64, wind: f64, pitch: f64) -> (f64, f64) {
+        match self {
+            Aerodynamics::Bem(b) => b.torque_thrust(wind, omega, pitch),
+            Aerodynamics::Analytic(r) => {
+                let deg = pitch.to_degrees();
+                (r.torque(omega, wind, deg), r.thrust(omega, wind, deg))
+            }
+        }
+    }
+
+    pub fn torque(&self, omega: f64, wind: f64, pitch: f64) -> f64 {
+        match self {
+            Aerodynamics::Bem(b) => b.torque_thrust(wind, omega, pitch).0,
+            Aerodynamics::Analytic(r) => r.torque(omega, wind, pitch.to_degrees()),
+        }
+    }
+}
+
 /// What the pitch controller regulates.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub enum PitchTarget {
@@ -132,7 +168,7 @@ pub enum PitchTarget {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum Source {
     Aero {
-        rotor: Rotor,
+        rotor: Aerodynamics,
         mean_wind: f64,
         turbulence: Option<TurbulenceSeries>,
         pitch: PitchController,
@@ -180,10 +216,9 @@ impl RotorModel {
         match &self.source {
             Source::Aero { rotor, tilt, .. } => {
                 let v = self.wind(t);
-                let pitch_deg = self.state.pitch.to_degrees();
-                let thrust = rotor.thrust(rotor_speed, v, pitch_deg);
+                let (torque, thrust) = rotor.torque_thrust(rotor_speed, v, self.state.pitch);
                 RotorOutputs {
-                    torque: rotor.torque(rotor_speed, v, pitch_deg),
+                    torque,
                     pitching_moment: tilt.moment(thrust),
                     wind_speed: v,
                     thrust,
@@ -222,7 +257,7 @@ impl RotorModel {
                     let e = match *target {
                         PitchTarget::Speed(setpoint) => rotor_speed * gear_ratio - setpoint,
                         PitchTarget::Power(rated) => {
-                            let torque = rotor.torque(rotor_speed, self.wind(t), self.state.pitch.to_degrees());
+                            let torque = rotor.torque(rotor_speed, self.wind(t), self.state.pitch);
                             torque * rotor_speed / rated - 1.0
                         }
                     };
@@ -245,7 +280,8 @@ fn design_tip_speed_ratio() -> f64 {
         radius: RADIUS_C,
         lambda_min: 0.5,
     };
-    let v = rated_wind_speed(&rotor, c.rated_power, c.rated_rotor_speed).expect("C reaches rated power");
+    let v = rated_wind_speed(&Aerodynamics::Analytic(rotor), c.rated_power, c.rated_rotor_speed)
+        .expect("C reaches rated power");
     c.rated_rotor_speed * RADIUS_C / v
 }
 
@@ -269,8 +305,10 @@ pub fn preset_rotor(d: &Drivetrain, name: &str) -> (f64, f64) {
 }
 
 /// Wind speed at which the rotor gives rated power at rated rotor speed and zero pitch: the lowest
-/// root of P(V) = P_rated (P rises with V until λ falls past C_p's useful range).
-pub fn rated_wind_speed(rotor: &Rotor, rated_power: f64, rated_speed: f64) -> Result<f64, String> {
+/// root of P(V) = P_rated (P rises with V until λ falls past C_p's useful range). For the BEM rotor
+/// this is how a scaled reference blade is fitted to a preset's rated point: its geometry is fixed
+/// by the radius, its fine pitch is the reference's 0°, and the rated wind speed is what is chosen.
+pub fn rated_wind_speed(rotor: &Aerodynamics, rated_power: f64, rated_speed: f64) -> Result<f64, String> {
     let power = |v: f64| rotor.torque(rated_speed, v, 0.0) * rated_speed;
     let mut v = 2.0;
     while power(v) < rated_power {
@@ -278,7 +316,7 @@ pub fn rated_wind_speed(rotor: &Rotor, rated_power: f64, rated_speed: f64) -> Re
         if v > 40.0 {
             return Err(format!(
                 "a rotor of radius {} m at {rated_speed:.3} rad/s never reaches rated power {rated_power} W: give wind_speed or a larger radius",
-                rotor.radius
+                rotor.radius()
             ));
         }
     }
