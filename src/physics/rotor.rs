@@ -328,6 +328,26 @@ pub fn rated_wind_speed(rotor: &Aerodynamics, rated_power: f64, rated_speed: f64
     Ok(0.5 * (lo + hi))
 }
 
+/// Pitch (rad) at which the rotor gives rated power at rated speed in steady wind `wind`: 0 below
+/// rated wind, otherwise the root of P(β) = P_rated on [0, max_pitch] (P falls as the blade pitches
+/// towards feather). A scene that starts above rated wind starts here instead of at fine pitch,
+/// where the controller would first have to wind up through seconds of overpower.
+pub fn trim_pitch(rotor: &Aerodynamics, wind: f64, rated_power: f64, rated_speed: f64, max_pitch: f64) -> f64 {
+    let power = |pitch: f64| rotor.torque(rated_speed, wind, pitch) * rated_speed;
+    if power(0.0) <= rated_power {
+        return 0.0;
+    }
+    let (mut lo, mut hi) = (0.0, max_pitch);
+    if power(hi) > rated_power {
+        return max_pitch;
+    }
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if power(mid) > rated_power { lo = mid } else { hi = mid }
+    }
+    0.5 * (lo + hi)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

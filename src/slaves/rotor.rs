@@ -10,7 +10,7 @@ use crate::physics::blade::Blade;
 use crate::physics::drivetrain::Drivetrain;
 use crate::physics::rotor::{
     Aerodynamics, PitchTarget, RotorModel, RotorOutputs, Shutdown, Source, TiltModel, TorqueSeries, preset_rotor,
-    rated_wind_speed,
+    rated_wind_speed, trim_pitch,
 };
 use crate::physics::turbulence::{TurbulenceModel, TurbulenceSeries, iec_sigma, kaimal_length};
 use serde::{Deserialize, Serialize};
@@ -150,17 +150,20 @@ impl Params {
         let rated_torque = drivetrain.rated_rotor_torque();
         let rated_wind =
             rated_wind_speed(&rotor, drivetrain.rated_power, rated_speed).map_err(ParameterError::Model)?;
-        if !(0.0..=self.pitch_max).contains(&self.initial_pitch) {
+        if self.initial_pitch > self.pitch_max {
             return Err(ParameterError::Conflict(format!(
-                "initial_pitch = {} rad: must lie between 0 and pitch_max = {} rad",
+                "initial_pitch = {} rad: must not exceed pitch_max = {} rad",
                 self.initial_pitch, self.pitch_max
             ))
             .into());
         }
-        let mut state = PitchState {
-            pitch: self.initial_pitch,
-            integral: 0.0,
+        let mean_wind = pick(self.wind_speed, rated_wind);
+        let pitch = if self.initial_pitch >= 0.0 {
+            self.initial_pitch
+        } else {
+            trim_pitch(&rotor, mean_wind, drivetrain.rated_power, rated_speed, self.pitch_max)
         };
+        let mut state = PitchState { pitch, integral: 0.0 };
         let shutdown = Shutdown {
             time: self.shutdown_time,
             feather_rate: self.feather_rate,
@@ -171,7 +174,6 @@ impl Params {
         let mut sigma = 0.0;
         let source = match self.mode.trim() {
             "aero" => {
-                let mean_wind = pick(self.wind_speed, rated_wind);
                 let class = self.turbulence_class.trim().to_ascii_uppercase();
                 let i_ref = match class.as_str() {
                     "A" => 0.16,
