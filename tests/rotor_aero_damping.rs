@@ -32,8 +32,10 @@ use windrive::physics::rotor::preset_rotor;
 use windrive::physics::torsional::{Fidelity, ModelOptions, TorsionalModel};
 
 const WIND: f64 = 16.0;
-/// The rotor's feathered pitch (its `pitch_max` default, 90° to 7 digits), rad.
-const FEATHER: f64 = 1.570796;
+/// The rotor's feathered pitch: its `pitch_max` default (90° to 7 digits), rad.
+fn feather() -> f64 {
+    windrive::slaves::rotor::Params::default().pitch_max
+}
 
 fn blade_c() -> Blade {
     let dt = Drivetrain::preset("C").unwrap();
@@ -64,7 +66,7 @@ fn hand_damping(blade: &Blade) -> f64 {
 
 /// Angle of attack at standstill and feathered: φ − twist − pitch with φ = 90°, pitch 90° (= −twist).
 fn standstill_alpha(twist: f64) -> f64 {
-    std::f64::consts::FRAC_PI_2 - twist - FEATHER
+    std::f64::consts::FRAC_PI_2 - twist - feather()
 }
 
 /// (ω rad/s, modal inertia J = 1/x_rotor² kg·m²) of drivetrain C's lowest HSS-locked mode.
@@ -136,7 +138,7 @@ fn maxima(t: &[f64], w: &[f64]) -> Vec<(f64, f64)> {
 
 /// Parked, feathered, held from t = 0 in steady 16 m/s: the aerodynamics as the only damping.
 fn parked_decay(aerodynamics: &str) -> (Vec<f64>, Vec<f64>) {
-    let pitch = FEATHER.to_string(); // parked at feather from the start
+    let pitch = feather().to_string(); // parked at feather from the start
     rotor_speed(
         &[
             ("rotor", "aerodynamics", aerodynamics),
@@ -180,7 +182,7 @@ fn held_feathered_rotor_rocking_decays_at_the_hand_calculated_rate() {
     // the BEM's own slope at Ω = 0 (central difference; the torque is smooth through standstill)
     let bem = BemRotor::new(blade.clone(), AIR_DENSITY);
     let h = 1e-4;
-    let c_bem = -(bem.torque_thrust(WIND, h, FEATHER).0 - bem.torque_thrust(WIND, -h, FEATHER).0) / (2.0 * h);
+    let c_bem = -(bem.torque_thrust(WIND, h, feather()).0 - bem.torque_thrust(WIND, -h, feather()).0) / (2.0 * h);
     let (omega, j) = held_mode();
     let zeta = c_hand / (2.0 * j * omega);
     let delta_hand = std::f64::consts::TAU * zeta / (1.0 - zeta * zeta).sqrt();
@@ -261,7 +263,7 @@ fn shutdown_scene_rocking_decays_once_held_and_feathered() {
     let lock = locked.iter().position(|&l| l > 0.5).expect("the brake locks");
     let feathered = pitch
         .iter()
-        .position(|&p| p >= FEATHER - 1e-9)
+        .position(|&p| p >= feather() - 1e-9)
         .expect("the blades feather");
     let from = lock.max(feathered);
     let (t, w) = (&t[from..], &w[from..]);

@@ -386,6 +386,25 @@ mod tests {
         assert!(never.generator_connected(1e9) && never.brake_command(1e9) == 0.0);
     }
 
+    /// Above rated wind the trimmed pitch gives rated power at rated speed; below it, fine pitch.
+    #[test]
+    fn trim_pitch_holds_rated_power() {
+        let rotor = Aerodynamics::Analytic(Rotor {
+            radius: 40.0,
+            lambda_min: 0.5,
+        });
+        let (p, w) = (2e6, 16f64.to_radians() * 6.0);
+        let v_rated = rated_wind_speed(&rotor, p, w).unwrap();
+        assert_eq!(trim_pitch(&rotor, v_rated - 1.0, p, w, 1.5), 0.0);
+        let v = v_rated + 0.5;
+        assert!(rotor.torque(w, v, 0.0) * w > 1.01 * p);
+        let beta = trim_pitch(&rotor, v, p, w, 1.5);
+        assert!(
+            beta > 0.0 && ((rotor.torque(w, v, beta) * w) / p - 1.0).abs() < 1e-9,
+            "{beta}"
+        );
+    }
+
     /// No shear: the thrust acts at the hub. Shear α > 0 lifts it above the hub.
     #[test]
     fn tilt_offset_from_shear() {
