@@ -12,8 +12,9 @@ use std::path::{Path, PathBuf};
 /// A blade or polar file that cannot be used, naming the file and (where there is one) the line.
 #[derive(Debug, thiserror::Error)]
 pub enum BladeError {
-    #[error("blade data {}: {source}", path.display())]
-    Read { path: PathBuf, source: std::io::Error },
+    /// (The I/O error is part of the message, not a `source`, so an error chain prints it once.)
+    #[error("blade data {}: {cause}", path.display())]
+    Read { path: PathBuf, cause: std::io::Error },
     #[error("blade data {} line {line}: {what}", path.display())]
     Line { path: PathBuf, line: usize, what: String },
     #[error("blade data {}: {what}", path.display())]
@@ -247,9 +248,9 @@ impl Blade {
 }
 
 fn read(path: &Path) -> Result<String, BladeError> {
-    std::fs::read_to_string(path).map_err(|source| BladeError::Read {
+    std::fs::read_to_string(path).map_err(|cause| BladeError::Read {
         path: path.into(),
-        source,
+        cause,
     })
 }
 
