@@ -41,5 +41,6 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Run(args) => windrive::cli::run::run(&args),
         Command::PackScene(args) => windrive::cli::run::pack_scene(&args),
         Command::Shutdown(args) => windrive::cli::shutdown::run(&args),
+        Command::Aero(args) => windrive::cli::aero::run(&args),
     }
 }

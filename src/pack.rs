@@ -151,17 +151,33 @@ pub fn pack(root: &Path, name: &str) -> Result<PathBuf, PackError> {
         }
         zip.add_directory("resources/", opts).map_err(io(&tmp))?;
         let resources = root.join("fmus").join(name).join("resources");
-        if let Ok(dir) = std::fs::read_dir(&resources) {
-            let mut files: Vec<PathBuf> = dir.flatten().map(|e| e.path()).filter(|p| p.is_file()).collect();
-            files.sort();
-            for f in files {
-                let rel = format!("resources/{}", f.file_name().unwrap().to_string_lossy());
-                zip.start_file(rel, opts).map_err(io(&f))?;
-                zip.write_all(&std::fs::read(&f).map_err(io(&f))?).map_err(io(&tmp))?;
-            }
+        // sub-folders too: the rotor keeps one folder per blade (resources/blades/<name>/)
+        for f in files_under(&resources) {
+            let rel = f.strip_prefix(&resources).unwrap_or(&f);
+            let rel = format!("resources/{}", rel.to_string_lossy().replace('\\', "/"));
+            zip.start_file(rel, opts).map_err(io(&f))?;
+            zip.write_all(&std::fs::read(&f).map_err(io(&f))?).map_err(io(&tmp))?;
         }
         zip.finish().map_err(io(&tmp))?;
     }
     std::fs::rename(&tmp, &out).map_err(io(&out))?;
     Ok(out)
+}
+
+/// Every file below `dir`, sorted so that a package's bytes do not depend on the directory order.
+fn files_under(dir: &Path) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        let Ok(entries) = std::fs::read_dir(&d) else { continue };
+        for p in entries.flatten().map(|e| e.path()) {
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.is_file() {
+                files.push(p);
+            }
+        }
+    }
+    files.sort();
+    files
 }

@@ -71,6 +71,9 @@ pub struct Summary {
     /// Smallest mesh forces, N: (sun-planet 1, last stage's mesh) in the shutdown and in normal operation.
     pub shutdown_min_mesh: (f64, f64),
     pub normal_min_mesh: (f64, f64),
+    /// The held rotor's rocking, largest |rotor speed| (rad/s) over the first and the last 2 s of the
+    /// held phase: how much damping the parked rotor has (its blades, the shafts).
+    pub held_rocking: Option<(f64, f64)>,
     pub series: ShutdownSeries,
 }
 
@@ -159,6 +162,16 @@ pub fn summarise(
     };
     let slipping = ringing(brake_applied_s + 0.1, locked_s.map_or(end, |l| l - 0.1));
     let held = locked_s.and_then(|l| ringing(l + 0.5, end));
+    let speed = &shut[n_shafts + 4];
+    let peak_speed = |from: f64, to: f64| {
+        t.iter()
+            .zip(speed)
+            .filter(|(x, _)| **x >= from && **x < to)
+            .fold(0.0f64, |m, (_, w)| m.max(w.abs()))
+    };
+    let held_rocking = locked_s
+        .filter(|&l| end - l >= 4.0)
+        .map(|l| (peak_speed(l, l + 2.0), peak_speed(end - 2.0, end + 1.0)));
     let shutdown_min_mesh = (min(&shut[n_shafts]), min(&shut[n_shafts + 1]));
     let normal_min_mesh = (min(&normal[n_shafts]), min(&normal[n_shafts + 1]));
     let mut take = |k: usize| std::mem::take(&mut shut[k]);
@@ -184,6 +197,7 @@ pub fn summarise(
         last_mesh_label,
         shutdown_min_mesh,
         normal_min_mesh,
+        held_rocking,
         series,
     })
 }
@@ -232,6 +246,12 @@ impl std::fmt::Display for Summary {
             hz(&self.held),
             self.locked_mode_hz
         )?;
+        if let Some((first, last)) = self.held_rocking {
+            writeln!(
+                out,
+                "held rotor rocking, max |rotor speed|:              {first:.4} rad/s in the first 2 s held, {last:.4} rad/s in the last 2 s"
+            )?;
+        }
         writeln!(
             out,
             "mesh-force reversal: sun-planet min {:.1} kN, {} min {:.1} kN (normal operation min {:.1} / {:.1} kN)",

@@ -1,5 +1,6 @@
 //! The `windrive` command line.
 
+pub mod aero;
 pub mod bench;
 pub mod bode;
 pub mod campbell;
@@ -37,7 +38,8 @@ pub fn error_chain(e: &anyhow::Error) -> String {
         windrive run scenes/d-shutdown-6dof                 drivetrain D's shutdown with the 6-DOF gearbox\n  \
         windrive step-response --preset D                   rated-torque step through the FMU, modes beside it\n  \
         windrive bench torsional                            speed and accuracy of the FMU, with baselines\n  \
-        windrive run scenes/d-grid-step --algorithm jacobi  a scene through the co-simulation master"
+        windrive run scenes/d-grid-step --algorithm jacobi  a scene through the co-simulation master\n  \
+        windrive aero --preset C --tsr 4,6,8 --pitch 0,10   the rotor's BEM: C_P, C_Q, C_T as JSON"
 )]
 pub struct Cli {
     #[command(subcommand)]
@@ -92,6 +94,16 @@ pub enum Command {
     /// plots (shaft torques, speeds, mesh forces, HSS spectrum with the modes, rainflow cloud) and
     /// the summary (torque ratios against the 1.35 design factor, ranges, braking frequencies).
     Shutdown(shutdown::ShutdownArgs),
+    /// The rotor FMU's blade-element momentum model: C_P, C_Q, C_T, torque and thrust as JSON over
+    /// tip-speed ratios and pitch angles, optionally per element; with --preset (or --rated-power and
+    /// --rated-rpm) also the rated wind speed the scaled blade is fitted to.
+    ///
+    /// Examples:
+    ///   windrive aero --tsr 4,7,10 --pitch 0,5            the WindPACT 1.5 MW blade as stored (R = 35 m)
+    ///   windrive aero --preset C --tsr 0 --pitch 90 --wind 16 --elements   drivetrain C's parked, feathered rotor
+    ///   windrive aero --radius 35 --rated-power 1.5e6 --rated-rpm 17.5    the paper's 1.5 MW rotor's rated wind
+    #[command(verbatim_doc_comment)]
+    Aero(aero::AeroArgs),
     /// Packs a scene folder into an .ssp archive, with our FMUs freshly built into its resources/.
     PackScene(run::PackSceneArgs),
     /// Damage-equivalent loads of one CSV channel: DEL = (Σ n_i S_i^m / N_eq)^(1/m), N_eq = feq × duration,

@@ -20,13 +20,18 @@ pub struct ShutdownArgs {
     /// Output folder [default: results/<preset>-shutdown]
     #[arg(long)]
     pub out_dir: Option<PathBuf>,
+    /// Rotor aerodynamics for both scenes: bem (blade-element momentum, trimmed start pitch: the parked
+    /// rotor is damped by its blades), analytic (Heier's C_p, fine start pitch) or scene (as the scene
+    /// files say: the analytic C_p the thesis-validation tests use)
+    #[arg(long, default_value = "bem")]
+    pub aerodynamics: String,
 }
 
 /// Runs one scene folder with Gauss–Seidel at its own step, every output recorded.
-fn run_scene(dir: &Path, csv: &Path) -> anyhow::Result<()> {
+fn run_scene(dir: &Path, csv: &Path, overrides: &[(String, String, String)]) -> anyhow::Result<()> {
     let scene = Scene::open(dir)?;
     super::run::provide_own_fmus(&scene, false)?;
-    let mut system = System::build(&scene, &[], &Record::Outputs)?;
+    let mut system = System::build(&scene, overrides, &Record::Outputs)?;
     let stop = scene.experiment.stop_time.context("the scene has no stop time")?;
     let step = scene.experiment.step_size.unwrap_or(1e-3);
     system.initialize(Some(stop))?;
@@ -71,8 +76,16 @@ pub fn run(args: &ShutdownArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&out).with_context(|| out.display().to_string())?;
     println!("drivetrain {preset}: normal operation and shutdown through the co-simulation master");
     let (normal_csv, shutdown_csv) = (out.join("normal.csv"), out.join("shutdown.csv"));
-    run_scene(&normal_dir, &normal_csv)?;
-    run_scene(&shutdown_dir, &shutdown_csv)?;
+    let rotor = |var: &str, value: &str| ("rotor".to_string(), var.to_string(), value.to_string());
+    let overrides = match args.aerodynamics.trim() {
+        "bem" => vec![rotor("aerodynamics", "bem"), rotor("initial_pitch", "-1")],
+        "analytic" => vec![rotor("aerodynamics", "analytic"), rotor("initial_pitch", "0")],
+        "scene" => vec![],
+        other => bail!("--aerodynamics {other:?}: use bem, analytic or scene"),
+    };
+    println!("rotor aerodynamics: {}", args.aerodynamics.trim());
+    run_scene(&normal_dir, &normal_csv, &overrides)?;
+    run_scene(&shutdown_dir, &shutdown_csv, &overrides)?;
 
     let free = lowest_mode(&preset, Boundary::Disconnected)?;
     let held_mode = lowest_mode(&preset, Boundary::HssLocked)?;

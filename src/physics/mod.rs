@@ -1,6 +1,8 @@
 //! Pure Rust models: no FFI, no globals. Every test of the physics runs without an FMU.
 
 pub mod aero;
+pub mod bem;
+pub mod blade;
 pub mod brake;
 pub mod drivetrain;
 pub mod gearbox;

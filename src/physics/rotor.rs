@@ -1,8 +1,9 @@
 //! The rotor as the drivetrain's input: aerodynamic torque from wind (mean + Kaimal turbulence),
-//! an analytic C_p and a PI pitch controller, or a played-back torque series; plus the shutdown
-//! sequence (pitch to feather, generator trip, HSS brake deployment).
+//! a blade-element momentum rotor (or the analytic C_p) and a PI pitch controller, or a played-back
+//! torque series; plus the shutdown sequence (pitch to feather, generator trip, HSS brake deployment).
 
 use super::aero::{AIR_DENSITY, PitchController, PitchState, Rotor, power_coefficient};
+use super::bem::BemRotor;
 use super::drivetrain::Drivetrain;
 use super::turbulence::TurbulenceSeries;
 use serde::{Deserialize, Serialize};
@@ -119,6 +120,41 @@ impl TiltModel {
     }
 }
 
+/// The rotor's aerodynamics: a blade-element momentum rotor, or Heier's analytic C_p(λ, β).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Aerodynamics {
+    Bem(BemRotor),
+    Analytic(Rotor),
+}
+
+impl Aerodynamics {
+    pub fn radius(&self) -> f64 {
+        match self {
+            Aerodynamics::Bem(b) => b.radius(),
+            Aerodynamics::Analytic(r) => r.radius,
+        }
+    }
+
+    /// Torque (N·m, positive driving) and thrust (N) at rotor speed `omega` (rad/s), wind (m/s) and
+    /// pitch (rad).
+    pub fn torque_thrust(&self, omega: f64, wind: f64, pitch: f64) -> (f64, f64) {
+        match self {
+            Aerodynamics::Bem(b) => b.torque_thrust(wind, omega, pitch),
+            Aerodynamics::Analytic(r) => {
+                let deg = pitch.to_degrees();
+                (r.torque(omega, wind, deg), r.thrust(omega, wind, deg))
+            }
+        }
+    }
+
+    pub fn torque(&self, omega: f64, wind: f64, pitch: f64) -> f64 {
+        match self {
+            Aerodynamics::Bem(b) => b.torque_thrust(wind, omega, pitch).0,
+            Aerodynamics::Analytic(r) => r.torque(omega, wind, pitch.to_degrees()),
+        }
+    }
+}
+
 /// What the pitch controller regulates.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub enum PitchTarget {
@@ -132,7 +168,7 @@ pub enum PitchTarget {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum Source {
     Aero {
-        rotor: Rotor,
+        rotor: Aerodynamics,
         mean_wind: f64,
         turbulence: Option<TurbulenceSeries>,
         pitch: PitchController,
@@ -180,10 +216,9 @@ impl RotorModel {
         match &self.source {
             Source::Aero { rotor, tilt, .. } => {
                 let v = self.wind(t);
-                let pitch_deg = self.state.pitch.to_degrees();
-                let thrust = rotor.thrust(rotor_speed, v, pitch_deg);
+                let (torque, thrust) = rotor.torque_thrust(rotor_speed, v, self.state.pitch);
                 RotorOutputs {
-                    torque: rotor.torque(rotor_speed, v, pitch_deg),
+                    torque,
                     pitching_moment: tilt.moment(thrust),
                     wind_speed: v,
                     thrust,
@@ -222,7 +257,7 @@ impl RotorModel {
                     let e = match *target {
                         PitchTarget::Speed(setpoint) => rotor_speed * gear_ratio - setpoint,
                         PitchTarget::Power(rated) => {
-                            let torque = rotor.torque(rotor_speed, self.wind(t), self.state.pitch.to_degrees());
+                            let torque = rotor.torque(rotor_speed, self.wind(t), self.state.pitch);
                             torque * rotor_speed / rated - 1.0
                         }
                     };
@@ -245,7 +280,8 @@ fn design_tip_speed_ratio() -> f64 {
         radius: RADIUS_C,
         lambda_min: 0.5,
     };
-    let v = rated_wind_speed(&rotor, c.rated_power, c.rated_rotor_speed).expect("C reaches rated power");
+    let v = rated_wind_speed(&Aerodynamics::Analytic(rotor), c.rated_power, c.rated_rotor_speed)
+        .expect("C reaches rated power");
     c.rated_rotor_speed * RADIUS_C / v
 }
 
@@ -269,8 +305,10 @@ pub fn preset_rotor(d: &Drivetrain, name: &str) -> (f64, f64) {
 }
 
 /// Wind speed at which the rotor gives rated power at rated rotor speed and zero pitch: the lowest
-/// root of P(V) = P_rated (P rises with V until λ falls past C_p's useful range).
-pub fn rated_wind_speed(rotor: &Rotor, rated_power: f64, rated_speed: f64) -> Result<f64, String> {
+/// root of P(V) = P_rated (P rises with V until λ falls past C_p's useful range). For the BEM rotor
+/// this is how a scaled reference blade is fitted to a preset's rated point: its geometry is fixed
+/// by the radius, its fine pitch is the reference's 0°, and the rated wind speed is what is chosen.
+pub fn rated_wind_speed(rotor: &Aerodynamics, rated_power: f64, rated_speed: f64) -> Result<f64, String> {
     let power = |v: f64| rotor.torque(rated_speed, v, 0.0) * rated_speed;
     let mut v = 2.0;
     while power(v) < rated_power {
@@ -278,7 +316,7 @@ pub fn rated_wind_speed(rotor: &Rotor, rated_power: f64, rated_speed: f64) -> Re
         if v > 40.0 {
             return Err(format!(
                 "a rotor of radius {} m at {rated_speed:.3} rad/s never reaches rated power {rated_power} W: give wind_speed or a larger radius",
-                rotor.radius
+                rotor.radius()
             ));
         }
     }
@@ -288,6 +326,26 @@ pub fn rated_wind_speed(rotor: &Rotor, rated_power: f64, rated_speed: f64) -> Re
         if power(mid) < rated_power { lo = mid } else { hi = mid }
     }
     Ok(0.5 * (lo + hi))
+}
+
+/// Pitch (rad) at which the rotor gives rated power at rated speed in steady wind `wind`: 0 below
+/// rated wind, otherwise the root of P(β) = P_rated on [0, max_pitch] (P falls as the blade pitches
+/// towards feather). A scene that starts above rated wind starts here instead of at fine pitch,
+/// where the controller would first have to wind up through seconds of overpower.
+pub fn trim_pitch(rotor: &Aerodynamics, wind: f64, rated_power: f64, rated_speed: f64, max_pitch: f64) -> f64 {
+    let power = |pitch: f64| rotor.torque(rated_speed, wind, pitch) * rated_speed;
+    if power(0.0) <= rated_power {
+        return 0.0;
+    }
+    let (mut lo, mut hi) = (0.0, max_pitch);
+    if power(hi) > rated_power {
+        return max_pitch;
+    }
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if power(mid) > rated_power { lo = mid } else { hi = mid }
+    }
+    0.5 * (lo + hi)
 }
 
 #[cfg(test)]
@@ -326,6 +384,25 @@ mod tests {
         assert_eq!(s.brake_command(12.0), 1.0);
         let never = Shutdown { time: -1.0, ..s };
         assert!(never.generator_connected(1e9) && never.brake_command(1e9) == 0.0);
+    }
+
+    /// Above rated wind the trimmed pitch gives rated power at rated speed; below it, fine pitch.
+    #[test]
+    fn trim_pitch_holds_rated_power() {
+        let rotor = Aerodynamics::Analytic(Rotor {
+            radius: 40.0,
+            lambda_min: 0.5,
+        });
+        let (p, w) = (2e6, 16f64.to_radians() * 6.0);
+        let v_rated = rated_wind_speed(&rotor, p, w).unwrap();
+        assert_eq!(trim_pitch(&rotor, v_rated - 1.0, p, w, 1.5), 0.0);
+        let v = v_rated + 0.5;
+        assert!(rotor.torque(w, v, 0.0) * w > 1.01 * p);
+        let beta = trim_pitch(&rotor, v, p, w, 1.5);
+        assert!(
+            beta > 0.0 && ((rotor.torque(w, v, beta) * w) / p - 1.0).abs() < 1e-9,
+            "{beta}"
+        );
     }
 
     /// No shear: the thrust acts at the hub. Shear α > 0 lifts it above the hub.

@@ -4,10 +4,13 @@ use crate::fmi2::slave::{Changed, Log, ParameterError, Slave, SlaveError, SlaveR
 use crate::fmi2::variables::VarType;
 use crate::models::rotor as xml;
 use crate::models::rotor::vr;
-use crate::physics::aero::{PitchController, PitchState, Rotor};
+use crate::physics::aero::{AIR_DENSITY, PitchController, PitchState, Rotor};
+use crate::physics::bem::BemRotor;
+use crate::physics::blade::Blade;
 use crate::physics::drivetrain::Drivetrain;
 use crate::physics::rotor::{
-    PitchTarget, RotorModel, RotorOutputs, Shutdown, Source, TiltModel, TorqueSeries, preset_rotor, rated_wind_speed,
+    Aerodynamics, PitchTarget, RotorModel, RotorOutputs, Shutdown, Source, TiltModel, TorqueSeries, preset_rotor,
+    rated_wind_speed, trim_pitch,
 };
 use crate::physics::turbulence::{TurbulenceModel, TurbulenceSeries, iec_sigma, kaimal_length};
 use serde::{Deserialize, Serialize};
@@ -23,6 +26,7 @@ pub type Inputs = xml::Inputs;
 struct Built {
     model: RotorModel,
     rated_wind_speed: f64,
+    rated_tip_speed_ratio: f64,
     radius: f64,
     rated_rotor_torque: f64,
     sigma: f64,
@@ -93,23 +97,73 @@ fn read_series(path: &Path, scale: f64, cubic: bool) -> Result<TorqueSeries, Ser
     })
 }
 
+/// The blade folder named by the parameter `blade`: an absolute path, or a name under resources/blades/.
+fn blade_dir(name: &str, resources: Option<&Path>) -> SlaveResult<PathBuf> {
+    let path = PathBuf::from(name);
+    if name.is_empty() {
+        return Err(
+            ParameterError::invalid("blade", &name, "name a folder under resources/blades/ or give a path").into(),
+        );
+    }
+    if path.is_absolute() {
+        return Ok(path);
+    }
+    match resources {
+        Some(dir) => Ok(dir.join("blades").join(path)),
+        None => Err(SlaveError::new(format!(
+            "parameter blade = {name:?}: the FMU has no resources folder to look it up in; give an absolute path \
+             or aerodynamics = analytic"
+        ))),
+    }
+}
+
 impl Params {
+    /// The rotor's aerodynamics at tip radius `radius`.
+    fn aerodynamics(&self, radius: f64, resources: Option<&Path>) -> SlaveResult<Aerodynamics> {
+        match self.aerodynamics.trim() {
+            "bem" => {
+                let dir = blade_dir(self.blade.trim(), resources)?;
+                let blade = Blade::load(&dir).map_err(|e| SlaveError::new(e.to_string()))?;
+                Ok(Aerodynamics::Bem(BemRotor::new(blade.scaled(radius), AIR_DENSITY)))
+            }
+            "analytic" => Ok(Aerodynamics::Analytic(Rotor {
+                radius,
+                lambda_min: 0.5,
+            })),
+            other => Err(ParameterError::invalid("aerodynamics", &other, "use bem or analytic").into()),
+        }
+    }
+
     fn build(&self, resources: Option<&Path>) -> SlaveResult<Built> {
         let preset = self.preset.as_str();
         let drivetrain = Drivetrain::preset(preset)
             .ok_or_else(|| ParameterError::invalid("preset", &preset, "unknown drivetrain, use A, B, C or D"))?;
+        if !matches!(self.mode.trim(), "aero" | "playback") {
+            return Err(ParameterError::invalid("mode", &self.mode.trim(), "use aero or playback").into());
+        }
         let (r0, h0) = preset_rotor(&drivetrain, preset);
         let pick = |x: f64, default: f64| if x > 0.0 { x } else { default };
         let radius = pick(self.radius, r0);
         let hub_height = pick(self.hub_height, h0);
-        let rotor = Rotor {
-            radius,
-            lambda_min: 0.5,
-        };
+        let rotor = self.aerodynamics(radius, resources)?;
         let rated_speed = drivetrain.rated_rotor_speed;
         let rated_torque = drivetrain.rated_rotor_torque();
         let rated_wind =
             rated_wind_speed(&rotor, drivetrain.rated_power, rated_speed).map_err(ParameterError::Model)?;
+        if self.initial_pitch > self.pitch_max {
+            return Err(ParameterError::Conflict(format!(
+                "initial_pitch = {} rad: must not exceed pitch_max = {} rad",
+                self.initial_pitch, self.pitch_max
+            ))
+            .into());
+        }
+        let mean_wind = pick(self.wind_speed, rated_wind);
+        let pitch = if self.initial_pitch >= 0.0 {
+            self.initial_pitch
+        } else {
+            trim_pitch(&rotor, mean_wind, drivetrain.rated_power, rated_speed, self.pitch_max)
+        };
+        let mut state = PitchState { pitch, integral: 0.0 };
         let shutdown = Shutdown {
             time: self.shutdown_time,
             feather_rate: self.feather_rate,
@@ -120,7 +174,6 @@ impl Params {
         let mut sigma = 0.0;
         let source = match self.mode.trim() {
             "aero" => {
-                let mean_wind = pick(self.wind_speed, rated_wind);
                 let class = self.turbulence_class.trim().to_ascii_uppercase();
                 let i_ref = match class.as_str() {
                     "A" => 0.16,
@@ -161,6 +214,11 @@ impl Params {
                     "power" => (PitchTarget::Power(drivetrain.rated_power), self.power_kp, self.power_ki),
                     other => return Err(ParameterError::invalid("pitch_control", &other, "use speed or power").into()),
                 };
+                // bumpless start at initial_pitch: the integral alone commands it (GK·K_I·∫e = β₀)
+                if ki > 0.0 {
+                    let gk = 1.0 / (1.0 + state.pitch / self.pitch_gain_halving);
+                    state.integral = state.pitch / (gk * ki);
+                }
                 Source::Aero {
                     rotor,
                     mean_wind,
@@ -241,10 +299,11 @@ impl Params {
             model: RotorModel {
                 source,
                 shutdown,
-                state: PitchState::default(),
+                state,
                 time: 0.0,
             },
             rated_wind_speed: rated_wind,
+            rated_tip_speed_ratio: rated_speed * radius / rated_wind,
             radius,
             rated_rotor_torque: rated_torque,
             sigma,
@@ -311,6 +370,7 @@ impl Slave for RotorSlave {
         let time = b.model.time;
         let value = match r {
             vr::RATED_WIND_SPEED => b.rated_wind_speed,
+            vr::RATED_TIP_SPEED_RATIO => b.rated_tip_speed_ratio,
             vr::RADIUS_USED => b.radius,
             vr::RATED_ROTOR_TORQUE => b.rated_rotor_torque,
             vr::TURBULENCE_SIGMA => b.sigma,

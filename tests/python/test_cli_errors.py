@@ -104,6 +104,9 @@ def one_fmu_scene(tmp_path, name):
     ("gearbox6dof", ["integrator=rk4"], ["integrator", "RK4 is not offered"]),
     ("gearbox6dof", ["mesh_stiffness=wavy"], ["mesh_stiffness", "wavy", "mean or varying"]),
     ("gearbox6dof", ["slices=500"], ["slices = 500", "above its maximum 200"]),
+    ("rotor", ["aerodynamics=vortex"], ["aerodynamics", "vortex", "bem or analytic"]),
+    ("rotor", ["blade=no-such-blade"], ["no-such-blade/blade.csv"]),
+    ("rotor", ["initial_pitch=2"], ["initial_pitch = 2", "pitch_max"]),
 ])
 def test_bad_fmu_parameters_are_named(windrive, tmp_path, fmu, params, words):
     scene = one_fmu_scene(tmp_path, fmu)
@@ -202,3 +205,30 @@ def test_help_examples_exist_and_run(windrive, tmp_path):
             extra = ["--help"]
         out = subprocess.run([windrive, *args, *extra], capture_output=True, text=True, cwd=ROOT)
         assert out.returncode == 0, (args, out.stderr)
+
+
+@pytest.mark.parametrize("blade,polar,words", [
+    ("hub_radius_m,1.75\nblades,3\nspan_m,chord_m,twist_deg,airfoil\n0,2,10,p\n30,1\n", None,
+     ["blade.csv line 5", "expected 4 fields"]),
+    ("hub_radius_m,1.75\nblades,3\nspan_m,chord_m,twist_deg,airfoil\n0,2,10,p\n30,1,0,p\n",
+     "alpha_deg,cl,cd\n-180,0,0.5\n0,zero,0.01\n180,0,0.5\n", ["p.csv line 3", "cl = \"zero\" is not a number"]),
+    ("hub_radius_m,1.75\nblades,3\nspan_m,chord_m,twist_deg,airfoil\n0,2,10,p\n30,1,0,p\n",
+     "alpha_deg,cl,cd\n-20,0,0.5\n20,1,0.01\n", ["p.csv", "-180 to 180"]),
+    ("hub_radius_m,1.75\nblades,3\nspan_m,chord_m,twist_deg,airfoil\n0,2,10,p\n30,1,0,p\n", None, ["p.csv", "No such file"]),
+])
+def test_bad_blade_data_is_named_by_file_and_line(windrive, tmp_path, blade, polar, words):
+    """A user blade (parameter blade = an absolute folder) that cannot be read fails the rotor FMU's
+    initialisation with fmi2Error, and its log names the file and line (no panic across the C boundary)."""
+    folder = tmp_path / "myblade"
+    folder.mkdir()
+    (folder / "blade.csv").write_text(blade)
+    if polar is not None:
+        (folder / "p.csv").write_text(polar)
+    scene = one_fmu_scene(tmp_path, "rotor")
+    out = subprocess.run([windrive, "run", scene, "--step", "0.01", "--stop-time", "0.1", "--out", str(tmp_path / "x.csv"),
+                          "--param", f"rotor.blade={folder}"],
+                         capture_output=True, text=True, cwd=ROOT, env={**__import__("os").environ, "RUST_BACKTRACE": "0"})
+    assert out.returncode != 0
+    assert "panicked" not in out.stderr, out.stderr
+    for w in words:
+        assert w in out.stderr, out.stderr

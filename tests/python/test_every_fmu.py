@@ -87,3 +87,26 @@ def test_generator_kinds_run_alone_in_fmpy(windrive, preset, kind):
         assert torque[0] == pytest.approx(rated_torque, rel=1e-6)
     # copper losses only: electrical power within 3 % of the shaft power
     assert r["electrical_power"][-1] == pytest.approx(torque[-1] * speed, rel=0.03)
+
+
+@pytest.mark.parametrize("preset", ["A", "C", "D"])
+def test_rotor_bem_gives_rated_torque_at_its_fitted_rated_point_in_fmpy(windrive, preset):
+    """The rotor FMU's default BEM rotor, alone in fmpy: at the preset's rated rotor speed in steady wind at
+    the reported rated_wind_speed (the wind at which the scaled WindPACT blade gives rated power at fine
+    pitch) the torque is the rated torque. The fit is a bisection to 1e-12 of the wind speed, so only the
+    first step's pitch action (none: the error is nil) could move it: 1e-6."""
+    path = ROOT / "target" / "fmu" / "rotor.fmu"
+    if not path.is_file():
+        subprocess.run([windrive, "pack", "rotor"], check=True, cwd=ROOT)
+    import math
+    rpm = {"A": 14.8, "C": 16.0, "D": 18.6}[preset]
+    speed = rpm * math.pi / 30
+    r = simulate_fmu(str(path), stop_time=0.05, output_interval=0.01,
+                     start_values={"preset": preset, "turbulence": "none", "rotor_speed": speed},
+                     output=["rotor_torque", "rated_rotor_torque", "rated_wind_speed", "rated_tip_speed_ratio",
+                             "pitch", "wind_speed_hub", "thrust"])
+    assert r["wind_speed_hub"][0] == pytest.approx(r["rated_wind_speed"][0], rel=1e-12)
+    assert r["pitch"][0] == 0.0
+    assert r["rotor_torque"][0] == pytest.approx(r["rated_rotor_torque"][0], rel=1e-6)
+    assert r["rated_tip_speed_ratio"][0] == pytest.approx(6.0, abs=0.05)
+    assert r["thrust"][0] > 0
