@@ -33,24 +33,26 @@ pub struct Polar {
 }
 
 impl Polar {
-    /// (C_l, C_d) at `alpha` (rad; wrapped into [−π, π]).
-    pub fn at(&self, alpha: f64) -> (f64, f64) {
+    /// The table segment [i, i + 1] that holds `alpha` (wrapped into [−π, π]) and the weight of i + 1.
+    fn segment(&self, alpha: f64) -> (usize, f64) {
         let a = wrap(alpha);
-        let n = self.alpha.len();
-        let i = self.alpha.partition_point(|&x| x <= a).clamp(1, n - 1) - 1;
+        let i = self.alpha.partition_point(|&x| x <= a).clamp(1, self.alpha.len() - 1) - 1;
         let (a0, a1) = (self.alpha[i], self.alpha[i + 1]);
-        let w = ((a - a0) / (a1 - a0)).clamp(0.0, 1.0);
+        (i, ((a - a0) / (a1 - a0)).clamp(0.0, 1.0))
+    }
+
+    /// (C_l, C_d) at `alpha` (rad).
+    pub fn at(&self, alpha: f64) -> (f64, f64) {
+        let (i, w) = self.segment(alpha);
         (
             self.cl[i] + w * (self.cl[i + 1] - self.cl[i]),
             self.cd[i] + w * (self.cd[i + 1] - self.cd[i]),
         )
     }
 
-    /// Slope dC_l/dα (1/rad) of the table segment that holds `alpha`.
+    /// Slope dC_l/dα (1/rad) of the table segment that holds `alpha` (rad).
     pub fn lift_slope(&self, alpha: f64) -> f64 {
-        let a = wrap(alpha);
-        let n = self.alpha.len();
-        let i = self.alpha.partition_point(|&x| x <= a).clamp(1, n - 1) - 1;
+        let (i, _) = self.segment(alpha);
         (self.cl[i + 1] - self.cl[i]) / (self.alpha[i + 1] - self.alpha[i])
     }
 }
