@@ -325,7 +325,7 @@ fn a_planet_on_a_spinning_carrier_feels_the_centripetal_load() {
     // elastic forces on the planet = −(their share of f_int): springs and meshes only
     let mut elastic = [0.0; 2];
     for s in &g.springs {
-        let force = s.stiffness * (s.row.dot(&q) - s.offset) + s.damping * s.row.dot(&v);
+        let force = s.force(&q, &v);
         for (k, e) in elastic.iter_mut().enumerate() {
             if let Some(i) = s.row.idx.iter().position(|&i| i == f + k) {
                 *e -= force * s.row.val[i];

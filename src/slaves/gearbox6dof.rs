@@ -253,23 +253,21 @@ impl Slave for Gearbox6dofSlave {
         if let Some(v) = xml::get_real(&self.params, &self.inputs, r) {
             return Ok(v);
         }
+        // the outputs that need no loads, read straight off the model and state
         let (b, st) = self.ensure()?;
-        let (model, friction, v) = (&b.model, st.friction_force, st.v.clone());
-        let rated = model.rated_rotor_torque.unwrap_or(0.0);
-        let (ratio, input, output) = (model.gear_ratio, model.input_body, model.output_body);
-        let b = self.built.clone().unwrap();
-        let simple = match r {
-            vr::GEAR_RATIO => Some(ratio),
-            vr::RATED_ROTOR_TORQUE => Some(rated),
-            vr::RATED_GENERATOR_TORQUE => Some(rated / ratio),
-            vr::ROTOR_SPEED => Some(b.model.speed(input, &v)),
-            vr::GENERATOR_SPEED => Some(b.model.speed(output, &v)),
-            vr::BRAKE_TORQUE => Some(-friction * b.model.output_sign),
-            _ => None,
-        };
-        if let Some(x) = simple {
-            return Ok(x);
+        let m = &b.model;
+        let rated = m.rated_rotor_torque.unwrap_or(0.0);
+        match r {
+            vr::GEAR_RATIO => return Ok(m.gear_ratio),
+            vr::RATED_ROTOR_TORQUE => return Ok(rated),
+            vr::RATED_GENERATOR_TORQUE => return Ok(rated / m.gear_ratio),
+            vr::ROTOR_SPEED => return Ok(m.speed(m.input_body, &st.v)),
+            vr::GENERATOR_SPEED => return Ok(m.speed(m.output_body, &st.v)),
+            vr::BRAKE_TORQUE => return Ok(-st.friction_force * m.output_sign),
+            _ => {}
         }
+        // the shared model, while the loads borrow the instance
+        let b = Arc::clone(self.built.as_ref().expect("built by ensure"));
         let loads = self.current_loads()?;
         let slot_mesh = |slot: usize| b.meshes[slot].map(|i| loads.meshes[i]);
         Ok(match r {

@@ -510,9 +510,11 @@ impl AlphaIntegrator {
                 sys.mass().add_product(-1.0, step, r);
             }
             residual = w.r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            // the forces' own size: a residual at their rounding level cannot be reduced further
-            let force_scale = w.fi.iter().chain(&w.f1).fold(0.0f64, |m, x| m.max(x.abs()));
-            let settled = residual <= RESIDUAL_TOLERANCE * force_scale;
+            // a residual at the rounding level of the forces themselves cannot be reduced further
+            // (only the smooth classes ask: the piecewise-linear one converges on its pattern)
+            let settled = |w: &Work| {
+                residual <= RESIDUAL_TOLERANCE * w.fi.iter().chain(&w.f1).fold(0.0f64, |m, x| m.max(x.abs()))
+            };
             w.step.iter_mut().for_each(|x| *x = 0.0);
             factor.solver.add_solution(&w.r, &mut w.step);
             // r is free until the next residual: it keeps the iterate this increment starts from
@@ -546,9 +548,9 @@ impl AlphaIntegrator {
                     sys.factor_key(t1, &w.q1, &mut w.key_new);
                     let same = same_key(&w.key_new, &w.key);
                     std::mem::swap(&mut w.key, &mut w.key_new);
-                    same && (settled || small_increment(w, st, c))
+                    same && (settled(w) || small_increment(w, st, c))
                 }
-                Linearity::Nonlinear => settled || small_increment(w, st, c),
+                Linearity::Nonlinear => settled(w) || small_increment(w, st, c),
             };
             if converged {
                 break;

@@ -25,11 +25,6 @@ pub struct Loads {
 }
 
 impl Gearbox {
-    fn spring_force(&self, i: usize, q: &[f64], v: &[f64]) -> f64 {
-        let s = &self.springs[i];
-        s.stiffness * (s.row.dot(q) - s.offset) + s.damping * s.row.dot(v)
-    }
-
     /// Every reported load at (q, v).
     pub fn loads(&self, q: &[f64], v: &[f64]) -> Loads {
         let mut f = vec![0.0; self.dofs()];
@@ -50,7 +45,7 @@ impl Gearbox {
             .bearings
             .iter()
             .map(|b| {
-                let s = b.springs.map(|i| self.spring_force(i, q, v));
+                let s = b.springs.map(|i| self.springs[i].force(q, v));
                 BearingLoad {
                     radial: s[0].hypot(s[1]),
                     axial: s[2],
@@ -61,7 +56,7 @@ impl Gearbox {
         let shafts = self
             .shafts
             .iter()
-            .map(|s| s.sign * self.spring_force(s.spring, q, v))
+            .map(|s| s.sign * self.springs[s.spring].force(q, v))
             .collect();
         Loads {
             meshes,

@@ -78,15 +78,23 @@ impl Mesh {
         self.zeta.len()
     }
 
-    /// Stiffness weight of slice j at roll state (1 = mean).
-    fn weight(&self, q_abs: &[f64], j: usize) -> f64 {
-        match &self.phase {
-            None => 1.0,
-            Some(p) => {
-                let s = p.teeth * p.roll.dot(q_abs) / std::f64::consts::TAU + p.offset + p.stagger * self.zeta[j];
-                f64::from(pairs_in_contact(s, p.contact_ratio)) / p.contact_ratio
-            }
-        }
+    /// Roll position of the face centre in base pitches, with varying stiffness (None: mean).
+    fn roll(&self, q: &[f64]) -> Option<f64> {
+        self.phase
+            .as_ref()
+            .map(|p| p.teeth * p.roll.dot(q) / std::f64::consts::TAU + p.offset)
+    }
+
+    /// Tooth pairs at slice j (its contact line staggered across the face) and the contact ratio.
+    fn pairs(&self, roll: Option<f64>, j: usize) -> Option<(u32, f64)> {
+        let p = self.phase.as_ref()?;
+        let s = roll? + p.stagger * self.zeta[j];
+        Some((pairs_in_contact(s, p.contact_ratio), p.contact_ratio))
+    }
+
+    /// Stiffness of slice j: the mean per slice, scaled by its tooth pairs over the contact ratio.
+    fn slice_stiffness(&self, roll: Option<f64>, j: usize) -> f64 {
+        self.k_slice * self.pairs(roll, j).map_or(1.0, |(n, e)| f64::from(n) / e)
     }
 
     fn slice_force(&self, k: f64, d: f64, rate: f64) -> f64 {
@@ -115,33 +123,30 @@ impl Mesh {
         (rows[0].dot(q), rows[1].dot(q), rows[0].dot(v), rows[1].dot(v))
     }
 
-    /// Adds the mesh's forces to f_int; per-slice loads into `slice` (drive positive, back negative).
-    pub fn add_forces(
-        &self,
-        q_el: &[f64],
-        q_abs: &[f64],
-        v: &[f64],
-        f_int: &mut [f64],
-        slice: &mut [f64],
-    ) -> [FlankLoad; 2] {
+    /// Adds the mesh's forces to f_int; per-slice loads into `slice` when given (drive positive,
+    /// back negative).
+    pub fn add_forces(&self, q: &[f64], v: &[f64], f_int: &mut [f64], mut slice: Option<&mut [f64]>) -> [FlankLoad; 2] {
+        let roll = self.roll(q);
+        if let Some(out) = slice.as_deref_mut() {
+            out.iter_mut().for_each(|x| *x = 0.0);
+        }
         let mut loads = [FlankLoad::default(); 2];
         for (flank, (rows, errors)) in [(&self.drive, &self.error), (&self.back, &self.error_back)]
             .into_iter()
             .enumerate()
         {
-            let (d0, d1, r0, r1) = self.flank(rows, q_el, v);
+            let (d0, d1, r0, r1) = self.flank(rows, q, v);
             let gap = if flank == 0 { 0.0 } else { self.backlash };
             for j in 0..self.slices() {
                 let z = self.zeta[j];
                 let d = d0 + z * d1 + errors[j] - gap;
-                if flank == 0 {
-                    slice[j] = 0.0;
-                }
                 if d > 0.0 {
-                    let f = self.slice_force(self.k_slice * self.weight(q_abs, j), d, r0 + z * r1);
+                    let f = self.slice_force(self.slice_stiffness(roll, j), d, r0 + z * r1);
                     loads[flank].force += f;
                     loads[flank].moment += z * f;
-                    slice[j] += if flank == 0 { f } else { -f };
+                    if let Some(out) = slice.as_deref_mut() {
+                        out[j] += if flank == 0 { f } else { -f };
+                    }
                 }
             }
             rows[0].axpy(loads[flank].force, f_int);
@@ -151,19 +156,20 @@ impl Mesh {
     }
 
     /// j += c_c·C_t + c_k·K_t of this mesh at (q, v).
-    pub fn add_tangent(&self, q_el: &[f64], q_abs: &[f64], v: &[f64], c_c: f64, c_k: f64, jac: &mut DMatrix<f64>) {
+    pub fn add_tangent(&self, q: &[f64], v: &[f64], c_c: f64, c_k: f64, jac: &mut DMatrix<f64>) {
+        let roll = self.roll(q);
         for (flank, (rows, errors)) in [(&self.drive, &self.error), (&self.back, &self.error_back)]
             .into_iter()
             .enumerate()
         {
-            let (d0, d1, r0, r1) = self.flank(rows, q_el, v);
+            let (d0, d1, r0, r1) = self.flank(rows, q, v);
             let gap = if flank == 0 { 0.0 } else { self.backlash };
             let mut s = [0.0; 3];
             for j in 0..self.slices() {
                 let z = self.zeta[j];
                 let d = d0 + z * d1 + errors[j] - gap;
                 if d > 0.0 {
-                    let (kt, ct) = self.slice_tangent(self.k_slice * self.weight(q_abs, j), d, r0 + z * r1);
+                    let (kt, ct) = self.slice_tangent(self.slice_stiffness(roll, j), d, r0 + z * r1);
                     let w = c_k * kt + c_c * ct;
                     s[0] += w;
                     s[1] += w * z;
@@ -176,28 +182,30 @@ impl Mesh {
         }
     }
 
-    /// Pattern bits: each slice's contact on either flank and, with varying stiffness, its pair count.
-    pub fn key(&self, q_el: &[f64], q_abs: &[f64], bits: &mut KeyBits) {
+    /// Pattern bits: each slice's contact on either flank and, with varying stiffness, whether it
+    /// has the larger of its two possible pair counts.
+    pub fn key(&self, q: &[f64], bits: &mut KeyBits) {
+        let roll = self.roll(q);
         for (flank, (rows, errors)) in [(&self.drive, &self.error), (&self.back, &self.error_back)]
             .into_iter()
             .enumerate()
         {
-            let (d0, d1) = (rows[0].dot(q_el), rows[1].dot(q_el));
+            let (d0, d1) = (rows[0].dot(q), rows[1].dot(q));
             let gap = if flank == 0 { 0.0 } else { self.backlash };
             for j in 0..self.slices() {
                 let d = d0 + self.zeta[j] * d1 + errors[j] - gap;
                 bits.push(d > 0.0);
-                if flank == 0 && self.phase.is_some() {
-                    bits.push(
-                        self.weight(q_abs, j) > 1.0 / self.phase.as_ref().map_or(1.0, |p| p.contact_ratio) + 1e-9,
-                    );
+                if flank == 0
+                    && let Some((pairs, ratio)) = self.pairs(roll, j)
+                {
+                    bits.push(f64::from(pairs) > ratio.floor());
                 }
             }
         }
     }
 
     /// The loads a user sees, from the per-slice loads `add_forces` wrote.
-    pub fn report(&self, q_el: &[f64], loads: &[FlankLoad; 2], slice: &[f64]) -> MeshReport {
+    pub fn report(&self, q: &[f64], loads: &[FlankLoad; 2], slice: &[f64]) -> MeshReport {
         let (mut max, mut at) = (0.0f64, 0.0);
         for (j, &f) in slice.iter().enumerate() {
             if f.abs() > max.abs() {
@@ -212,7 +220,7 @@ impl Mesh {
             max_slice: max,
             max_position: at,
             face_load_factor: if mean > 0.0 { max.abs() / mean } else { 1.0 },
-            transmission_error: self.drive[0].dot(q_el),
+            transmission_error: self.drive[0].dot(q),
         }
     }
 }

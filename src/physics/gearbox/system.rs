@@ -1,7 +1,7 @@
 //! The gearbox as a [`SecondOrderSystem`]: forces, tangent and contact pattern for the integrators,
 //! and the engaged-mesh linearisation for modal analysis.
 
-use super::mesh::KeyBits;
+use super::mesh::{FlankLoad, KeyBits};
 use super::model::{Gearbox, INPUT_BRAKE_COMMAND, SPIN, TX, TY, UX, UY, UZ};
 use super::row::add_outer;
 use crate::solver::system::{Friction, InputLoad, Linearisation, Linearity, Mass, SecondOrderSystem};
@@ -11,7 +11,7 @@ impl Gearbox {
     /// Springs' forces (bearings, shafts) into `out` (added).
     fn add_spring_forces(&self, q: &[f64], v: &[f64], out: &mut [f64]) {
         for s in &self.springs {
-            let f = s.stiffness * (s.row.dot(q) - s.offset) + s.damping * s.row.dot(v);
+            let f = s.force(q, v);
             if f != 0.0 {
                 s.row.axpy(f, out);
             }
@@ -61,24 +61,31 @@ impl Gearbox {
         }
     }
 
-    /// Internal forces with the per-slice loads of every mesh written to `slices` (mesh after mesh).
-    pub fn forces_with_slices(
+    /// f_int into `out`, handing each mesh's flank loads to `each` and, when given, writing the
+    /// per-slice loads of every mesh to `slices` (mesh after mesh).
+    fn forces(
         &self,
         q: &[f64],
         v: &[f64],
         out: &mut [f64],
-        slices: &mut [f64],
-    ) -> Vec<[super::mesh::FlankLoad; 2]> {
+        mut slices: Option<&mut [f64]>,
+        mut each: impl FnMut([FlankLoad; 2]),
+    ) {
         out.iter_mut().for_each(|x| *x = 0.0);
         self.add_spring_forces(q, v, out);
         self.add_frame_forces(q, v, out);
         let mut at = 0;
-        let mut loads = Vec::with_capacity(self.meshes.len());
         for m in &self.meshes {
             let n = m.slices();
-            loads.push(m.add_forces(q, q, v, out, &mut slices[at..at + n]));
+            each(m.add_forces(q, v, out, slices.as_deref_mut().map(|s| &mut s[at..at + n])));
             at += n;
         }
+    }
+
+    /// Internal forces with the per-slice loads of every mesh written to `slices` (mesh after mesh).
+    pub fn forces_with_slices(&self, q: &[f64], v: &[f64], out: &mut [f64], slices: &mut [f64]) -> Vec<[FlankLoad; 2]> {
+        let mut loads = Vec::with_capacity(self.meshes.len());
+        self.forces(q, v, out, Some(slices), |l| loads.push(l));
         loads
     }
 
@@ -143,33 +150,20 @@ impl SecondOrderSystem for Gearbox {
     }
 
     fn internal_forces(&self, _t: f64, q: &[f64], v: &[f64], out: &mut [f64]) {
-        out.iter_mut().for_each(|x| *x = 0.0);
-        self.add_spring_forces(q, v, out);
-        self.add_frame_forces(q, v, out);
-        // the slice loads are not kept here: a fixed scratch on the stack of the largest mesh
-        let mut scratch = [0.0f64; 256];
-        for m in &self.meshes {
-            let n = m.slices();
-            if n <= scratch.len() {
-                m.add_forces(q, q, v, out, &mut scratch[..n]);
-            } else {
-                let mut big = vec![0.0; n];
-                m.add_forces(q, q, v, out, &mut big);
-            }
-        }
+        self.forces(q, v, out, None, |_| {});
     }
 
     fn add_tangent(&self, _t: f64, q: &[f64], v: &[f64], c_c: f64, c_k: f64, j: &mut DMatrix<f64>) {
         self.add_spring_tangent(c_c, c_k, j);
         for m in &self.meshes {
-            m.add_tangent(q, q, v, c_c, c_k, j);
+            m.add_tangent(q, v, c_c, c_k, j);
         }
     }
 
     fn factor_key(&self, _t: f64, q: &[f64], key: &mut Vec<u64>) {
         let mut bits = KeyBits::new(key);
         for m in &self.meshes {
-            m.key(q, q, &mut bits);
+            m.key(q, &mut bits);
         }
         bits.finish();
     }
