@@ -13,6 +13,8 @@ import pytest
     (["modes", "--plot", "shapes.gif"], ["shapes.gif", ".png or .svg"]),
     (["pack", "nosuch"], ["nosuch", "torsional"]),
     (["bench", "nosuch"], ["nosuch", "torsional, gearbox, rainflow"]),
+    (["aero", "--blade", "/nonexistent/blade"], ["/nonexistent/blade/blade.csv"]),
+    (["aero", "--preset", "Z"], ["Z", "A, B, C or D"]),
     (["step-response", "--fmu", "/nonexistent/x.fmu", "--out", "/tmp/windrive-x.csv"], ["/nonexistent/x.fmu"]),
 ])
 def test_bad_arguments_are_named(windrive, tmp_path, args, words):
