@@ -7,6 +7,7 @@ pub mod brake;
 pub mod drivetrain;
 pub mod gearbox;
 pub mod generator;
+pub mod hertz;
 pub mod modes;
 pub mod response;
 pub mod rotor;

@@ -61,6 +61,10 @@ pub struct ModelSettings {
     /// Material density (kg/m³) for bodies that give a density instead of mass and inertia.
     #[serde(default = "default_density")]
     pub density: f64,
+    /// `linear` (every bearing a 6×6 spring) or `lamina` (bearings that give `rollers` carry their
+    /// radial, tilting and, at a contact angle, axial load by rollers cut into laminae).
+    #[serde(default)]
+    pub bearings: BearingModel,
 }
 
 impl Default for ModelSettings {
@@ -75,6 +79,7 @@ impl Default for ModelSettings {
             gravity: 0.0,
             shaft_tilt_deg: 0.0,
             density: default_density(),
+            bearings: BearingModel::default(),
         }
     }
 }
@@ -103,6 +108,74 @@ fn default_density() -> f64 {
 pub enum MeshStiffnessModel {
     Mean,
     Varying,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum BearingModel {
+    #[default]
+    Linear,
+    Lamina,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Contact {
+    /// Cylindrical and tapered rollers: lamina load q = c·δ^(10/9).
+    #[default]
+    Line,
+    /// Spherical rollers on a curved race: q = c·δ^1.5.
+    Point,
+}
+
+/// The rolling elements of a bearing, for the lamina model: geometry in the bearing catalogue's
+/// terms. Roller load per lamina q = (c/n)·δ^e, with c from ISO/TS 16281 for line contact
+/// (35 948·L_we^(8/9) N/mm^(10/9), both races in series) unless `roller_stiffness` is given.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Rollers {
+    /// Rollers per row, Z.
+    pub count: u32,
+    /// Roller diameter D_we, mm.
+    pub diameter_mm: f64,
+    /// Effective roller length L_we, mm.
+    pub length_mm: f64,
+    /// Pitch diameter of the roller set d_m, mm.
+    pub pitch_diameter_mm: f64,
+    /// Contact angle α (0 for cylindrical rollers); its sign says which way a single row carries
+    /// axial load (positive: the inner race pushed downwind loads it).
+    #[serde(default)]
+    pub contact_angle_deg: f64,
+    /// 1, or 2 for a double row (spherical roller bearing, a tapered pair) at ±α, `row_spacing_mm`
+    /// apart along the axis.
+    #[serde(default = "default_rows")]
+    pub rows: u32,
+    #[serde(default)]
+    pub row_spacing_mm: f64,
+    /// Diametral radial clearance, µm (negative: preload).
+    #[serde(default)]
+    pub clearance_um: f64,
+    /// Axial clearance of an angular-contact set, µm (negative: preload).
+    #[serde(default)]
+    pub axial_clearance_um: f64,
+    /// Laminae per roller.
+    #[serde(default = "default_laminae")]
+    pub laminae: u32,
+    #[serde(default)]
+    pub contact: Contact,
+    /// Roller–races stiffness c in q = c·δ^e, N/m^e (required for point contact).
+    #[serde(default)]
+    pub roller_stiffness: Option<f64>,
+    /// Profile drop at the roller ends (a parabolic crown), µm.
+    #[serde(default)]
+    pub crowning_um: f64,
+}
+
+fn default_rows() -> u32 {
+    1
+}
+fn default_laminae() -> u32 {
+    10
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
@@ -176,6 +249,9 @@ pub struct Bearing {
     pub rotational: f64,
     #[serde(default)]
     pub damping: Option<[f64; 4]>,
+    /// Roller geometry for `model.bearings = "lamina"`.
+    #[serde(default)]
+    pub rollers: Option<Rollers>,
 }
 
 impl Bearing {
@@ -564,6 +640,9 @@ fn check_body(b: &Body, at: &str) -> Result<(), String> {
     for (k, br) in b.bearings.iter().enumerate() {
         finite(&format!("{at}.bearings[{}].position", k + 1), br.position)?;
         check_support(&br.stiffness(), &format!("{at}.bearings[{}]", k + 1))?;
+        if let Some(r) = &br.rollers {
+            check_rollers(r, &format!("{at}.bearings[{}].rollers", k + 1))?;
+        }
         if br.name.is_empty() || !br.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
             return Err(format!(
                 "{at}.bearings[{}].name = {:?}: letters, digits and _ only",
@@ -580,6 +659,51 @@ fn check_body(b: &Body, at: &str) -> Result<(), String> {
         if let Some(c) = s.torsional_damping {
             positive_or_zero(&format!("{at}.shaft.torsional_damping"), c)?;
         }
+    }
+    Ok(())
+}
+
+fn check_rollers(r: &Rollers, at: &str) -> Result<(), String> {
+    if !(3..=200).contains(&r.count) {
+        return Err(format!("{at}.count = {} outside 3..=200", r.count));
+    }
+    if !(1..=2).contains(&r.rows) {
+        return Err(format!("{at}.rows = {}: 1 or 2", r.rows));
+    }
+    if !(1..=50).contains(&r.laminae) {
+        return Err(format!("{at}.laminae = {} outside 1..=50", r.laminae));
+    }
+    for (f, v) in [
+        ("diameter_mm", r.diameter_mm),
+        ("length_mm", r.length_mm),
+        ("pitch_diameter_mm", r.pitch_diameter_mm),
+    ] {
+        positive(&format!("{at}.{f}"), v)?;
+    }
+    if r.pitch_diameter_mm <= r.diameter_mm {
+        return Err(format!(
+            "{at}.pitch_diameter_mm = {} must exceed the roller diameter {} mm",
+            r.pitch_diameter_mm, r.diameter_mm
+        ));
+    }
+    if !(r.contact_angle_deg.abs() < 60.0) {
+        return Err(format!(
+            "{at}.contact_angle_deg = {} outside (−60, 60)",
+            r.contact_angle_deg
+        ));
+    }
+    positive_or_zero(&format!("{at}.row_spacing_mm"), r.row_spacing_mm)?;
+    positive_or_zero(&format!("{at}.crowning_um"), r.crowning_um)?;
+    finite(&format!("{at}.clearance_um"), r.clearance_um)?;
+    finite(&format!("{at}.axial_clearance_um"), r.axial_clearance_um)?;
+    match (r.contact, r.roller_stiffness) {
+        (_, Some(c)) => positive(&format!("{at}.roller_stiffness"), c)?,
+        (Contact::Point, None) => {
+            return Err(format!(
+                "{at}: point contact needs roller_stiffness (N/m^1.5): ISO/TS 16281's line-contact constant does not apply"
+            ));
+        }
+        (Contact::Line, None) => {}
     }
     Ok(())
 }

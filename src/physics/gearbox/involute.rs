@@ -24,6 +24,8 @@ pub struct PairGeometry {
     pub overlap_ratio: f64,
     /// Transverse base pitch p_bt, m.
     pub base_pitch: f64,
+    /// Wheel 2 is a ring (internal teeth).
+    pub internal: bool,
 }
 
 /// A gear pair's defining data. `internal` makes wheel 2 a ring (internal teeth).
@@ -146,6 +148,7 @@ impl Pair {
             contact_ratio: eps_a,
             overlap_ratio: self.face_width * self.helix_angle.sin().abs() / (PI * m),
             base_pitch: pbt,
+            internal: self.internal,
         })
     }
 

@@ -1,5 +1,6 @@
 //! What a gearbox run reports: mesh loads, bearing loads, shaft torques, load sharing.
 
+use super::bearing::RaceStresses;
 use super::mesh::MeshReport;
 use super::model::{Gearbox, SPIN};
 
@@ -12,6 +13,11 @@ pub struct BearingLoad {
     pub axial: f64,
     /// √(M_x² + M_y²), N·m.
     pub tilting: f64,
+    /// Roller sets only (zeros for a linear bearing): rollers carrying load, the largest roller
+    /// load (N), and the contact stresses of the most loaded lamina.
+    pub rollers_in_contact: usize,
+    pub max_roller_load: f64,
+    pub stresses: RaceStresses,
 }
 
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -35,8 +41,10 @@ impl Gearbox {
             .meshes
             .iter()
             .zip(&flank)
-            .map(|(m, l)| {
-                let r = m.report(q, l, &slices[at..at + m.slices()]);
+            .zip(&self.contacts)
+            .map(|((m, l), contact)| {
+                let mut r = m.report(q, l, &slices[at..at + m.slices()]);
+                r.contact = contact.at(r.max_slice);
                 at += m.slices();
                 r
             })
@@ -45,12 +53,25 @@ impl Gearbox {
             .bearings
             .iter()
             .map(|b| {
-                let s = b.springs.map(|i| self.springs[i].force(q, v));
-                BearingLoad {
-                    radial: s[0].hypot(s[1]),
-                    axial: s[2],
-                    tilting: s[3].hypot(s[4]),
+                let mut s = b.springs.map(|i| {
+                    let spring = &self.springs[i];
+                    if spring.lamina { 0.0 } else { spring.force(q, v) }
+                });
+                let mut load = BearingLoad::default();
+                if let Some(r) = b.rollers.map(|i| &self.rollers[i]) {
+                    let (x, xd, cage) = r.kinematics(q, v);
+                    let rl = r.evaluate(&x, &xd, cage, None);
+                    for (si, f) in s.iter_mut().zip(rl.force) {
+                        *si += r.sign * f;
+                    }
+                    load.rollers_in_contact = rl.rollers_in_contact;
+                    load.max_roller_load = rl.max_roller_load;
+                    load.stresses = r.stresses(&rl);
                 }
+                load.radial = s[0].hypot(s[1]);
+                load.axial = s[2];
+                load.tilting = s[3].hypot(s[4]);
+                load
             })
             .collect();
         let shafts = self

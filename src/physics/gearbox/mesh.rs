@@ -8,6 +8,7 @@
 //! Forces, tangents and patterns only need the slice sums Σf, Σζf, Σk, Σζk, Σζ²k, so a mesh costs
 //! O(slices) scalar work and two row updates whatever the DOF count.
 
+use super::contact::ContactStress;
 use super::involute::pairs_in_contact;
 use super::row::{Row, add_outer, add_symmetric};
 use nalgebra::DMatrix;
@@ -71,6 +72,8 @@ pub struct MeshReport {
     pub face_load_factor: f64,
     /// Mean compression at the face centre along the line of action (transmission error), m.
     pub transmission_error: f64,
+    /// Hertz contact of the most loaded slice (filled by the gearbox, which knows the geometry).
+    pub contact: ContactStress,
 }
 
 impl Mesh {
@@ -221,6 +224,7 @@ impl Mesh {
             max_position: at,
             face_load_factor: if mean > 0.0 { max.abs() / mean } else { 1.0 },
             transmission_error: self.drive[0].dot(q),
+            contact: ContactStress::default(),
         }
     }
 }

@@ -14,7 +14,9 @@
 //! is what the description format allows; bodies in different frames are joined only by splines
 //! (torque and axial force), so no row depends on the angle between two frames.
 
-use super::description::{self as desc, Description, ForceLaw, MeshStiffnessModel};
+use super::bearing::{Mounting, RollerBearing};
+use super::contact::GearContact;
+use super::description::{self as desc, BearingModel, Description, ForceLaw, MeshStiffnessModel};
 use super::involute::{Pair, PairGeometry};
 use super::mesh::{Law, Mesh, Phase};
 use super::row::Row;
@@ -69,6 +71,9 @@ pub struct Spring {
     pub stiffness: f64,
     pub damping: f64,
     pub offset: f64,
+    /// A bearing direction that a roller set carries in the dynamics (`bearings = "lamina"`): the
+    /// spring stays for modal analysis, which linearises the description's stiffness.
+    pub lamina: bool,
 }
 
 impl Spring {
@@ -78,11 +83,13 @@ impl Spring {
     }
 }
 
-/// A named bearing: springs x, y, axial, tilt x, tilt y, rotation (indices into `springs`).
+/// A named bearing: springs x, y, axial, tilt x, tilt y, rotation (indices into `springs`), and
+/// its roller set (index into `rollers`) when the lamina model carries it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BearingSprings {
     pub name: String,
     pub springs: [usize; 6],
+    pub rollers: Option<usize>,
 }
 
 /// A shaft's torsion spring, with the sign that makes its torque positive in normal operation.
@@ -99,6 +106,8 @@ pub struct Gearbox {
     pub bodies: Vec<Body>,
     pub springs: Vec<Spring>,
     pub bearings: Vec<BearingSprings>,
+    /// Roller sets of the bearings the lamina model carries.
+    pub rollers: Vec<RollerBearing>,
     pub shafts: Vec<ShaftSpring>,
     pub meshes: Vec<Mesh>,
     pub(super) mass: DMatrix<f64>,
@@ -122,6 +131,8 @@ pub struct Gearbox {
     pub brake: crate::physics::brake::DiskBrake,
     /// Geometry of every mesh (same order as `meshes`).
     pub geometry: Vec<PairGeometry>,
+    /// Hertz contact of every mesh's slices (same order).
+    pub contacts: Vec<GearContact>,
 }
 
 impl Gearbox {
@@ -153,6 +164,7 @@ struct Builder<'a> {
     bodies: Vec<Body>,
     springs: Vec<Spring>,
     bearings: Vec<BearingSprings>,
+    rollers: Vec<RollerBearing>,
     meshes: Vec<Mesh>,
     geometry: Vec<PairGeometry>,
     /// (upstream body, downstream body, shaft spec, name)
@@ -234,12 +246,16 @@ impl Builder<'_> {
             stiffness: k,
             damping: c,
             offset,
+            lamina: false,
         });
         self.springs.len() - 1
     }
 
     /// A bearing of body b at axial position e to `other` (a body in the same frame, at `pin` from
     /// the other body's centre) or to the housing (None). `error` displaces the pin (m, frame axes).
+    /// With `rollers`, a roller set carries the radial and tilt directions (and the axial one at a
+    /// contact angle); the linear springs of those directions stay for modal analysis only.
+    #[allow(clippy::too_many_arguments)]
     fn bearing(
         &mut self,
         name: String,
@@ -248,6 +264,7 @@ impl Builder<'_> {
         e: f64,
         s: &desc::Support,
         error: [f64; 2],
+        rollers: Option<&desc::Rollers>,
     ) {
         let tau = self.d.model.bearing_damping_time;
         let k = [s.radial, s.radial, s.axial, s.tilting, s.tilting, s.rotational];
@@ -293,7 +310,70 @@ impl Builder<'_> {
             let offset = if dir < 2 { error[dir] } else { 0.0 };
             idx[dir] = self.spring(row, k[dir], c[dir], offset);
         }
-        self.bearings.push(BearingSprings { name, springs: idx });
+        let rollers = rollers.map(|r| {
+            let angled = r.contact_angle_deg != 0.0;
+            for dir in [UX, UY, UZ, TX, TY] {
+                if dir != UZ || angled {
+                    self.springs[idx[dir]].lamina = true;
+                }
+            }
+            let mounting = self.mounting(b, other, idx, r, error);
+            self.rollers
+                .push(RollerBearing::new(r, mounting, self.d.model.bearing_damping_time));
+            self.rollers.len() - 1
+        });
+        self.bearings.push(BearingSprings {
+            name,
+            springs: idx,
+            rollers,
+        });
+    }
+
+    /// The rows a roller set reads: its races' relative motion (inner minus outer; a planet rides
+    /// on the outer race, every shaft on an inner race) and its cage angle, which turns at the
+    /// kinematic cage speed ((1 − γ)·ω_inner + (1 + γ)·ω_outer)/2, γ = D·cos α / d_m, relative to the
+    /// bearing's frame. A pin error offsets the approach as it offsets the linear springs.
+    fn mounting(
+        &self,
+        b: usize,
+        other: Option<(usize, [f64; 2])>,
+        springs: [usize; 6],
+        r: &desc::Rollers,
+        error: [f64; 2],
+    ) -> Mounting {
+        let body_is_outer = self.bodies[b].kind == BodyKind::Planet;
+        let sign = if body_is_outer { -1.0 } else { 1.0 };
+        let rows = [UX, UY, UZ, TX, TY].map(|dir| {
+            let mut row = self.springs[springs[dir]].row.clone();
+            row.val.iter_mut().for_each(|v| *v *= sign);
+            row
+        });
+        let gamma = r.diameter_mm * r.contact_angle_deg.to_radians().cos() / r.pitch_diameter_mm;
+        let (w_body, w_other) = if body_is_outer {
+            (0.5 * (1.0 + gamma), 0.5 * (1.0 - gamma))
+        } else {
+            (0.5 * (1.0 - gamma), 0.5 * (1.0 + gamma))
+        };
+        let mut cage = Row::default();
+        if let Some(f) = self.bodies[b].first {
+            cage.add(f + SPIN, w_body);
+        }
+        if let Some((o, _)) = other
+            && let Some(f) = self.bodies[o].first
+        {
+            cage.add(f + SPIN, w_other);
+        }
+        if let Some(fs) = self.frame_spin(b) {
+            cage.add(fs, -1.0);
+        }
+        cage.compact();
+        Mounting {
+            bearing: self.bearings.len(),
+            rows,
+            cage,
+            offset: [sign * error[0], sign * error[1]],
+            sign,
+        }
     }
 
     /// Supports of a body as its description gives them (bearings or one support at the centre),
@@ -309,7 +389,7 @@ impl Builder<'_> {
     ) {
         if let Some(s) = &body.support {
             let name = format!("{}_support", self.bodies[b].name);
-            self.bearing(name, b, other, 0.0, s, error);
+            self.bearing(name, b, other, 0.0, s, error, None);
         }
         for br in &body.bearings {
             let name = if prefix.is_empty() {
@@ -317,7 +397,11 @@ impl Builder<'_> {
             } else {
                 format!("{prefix}_{}", br.name)
             };
-            self.bearing(name, b, other, br.position, &br.stiffness(), error);
+            let rollers = br
+                .rollers
+                .as_ref()
+                .filter(|_| self.d.model.bearings == BearingModel::Lamina);
+            self.bearing(name, b, other, br.position, &br.stiffness(), error, rollers);
         }
     }
 }
@@ -391,6 +475,7 @@ impl Gearbox {
             bodies: Vec::new(),
             springs: Vec::new(),
             bearings: Vec::new(),
+            rollers: Vec::new(),
             meshes: Vec::new(),
             geometry: Vec::new(),
             shafts: Vec::new(),
@@ -731,12 +816,19 @@ impl Gearbox {
             (Some(p), Some(rpm)) if rpm > 0.0 => Some(p / (rpm * TAU / 60.0)),
             _ => None,
         };
-        let nonlinear = matches!(d.model.force_law, ForceLaw::Impact { .. });
+        let nonlinear = matches!(d.model.force_law, ForceLaw::Impact { .. }) || !b.rollers.is_empty();
+        let contacts = b
+            .geometry
+            .iter()
+            .zip(&b.meshes)
+            .map(|(g, m)| GearContact::new(g, m.face_width, m.slices()))
+            .collect();
         Ok(Gearbox {
             name: d.name.clone(),
             bodies: b.bodies,
             springs: b.springs,
             bearings: b.bearings,
+            rollers: b.rollers,
             shafts,
             meshes: b.meshes,
             mass,
@@ -752,6 +844,7 @@ impl Gearbox {
             rated_rotor_torque: rated,
             nonlinear,
             brake: Default::default(),
+            contacts,
             geometry: b.geometry,
         })
     }

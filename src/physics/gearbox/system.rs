@@ -8,13 +8,16 @@ use crate::solver::system::{Friction, InputLoad, Linearisation, Linearity, Mass,
 use nalgebra::DMatrix;
 
 impl Gearbox {
-    /// Springs' forces (bearings, shafts) into `out` (added).
+    /// Springs' forces (bearings, shafts) and the roller sets' into `out` (added).
     fn add_spring_forces(&self, q: &[f64], v: &[f64], out: &mut [f64]) {
-        for s in &self.springs {
+        for s in self.springs.iter().filter(|s| !s.lamina) {
             let f = s.force(q, v);
             if f != 0.0 {
                 s.row.axpy(f, out);
             }
+        }
+        for r in &self.rollers {
+            r.add_forces(q, v, out);
         }
     }
 
@@ -93,21 +96,24 @@ impl Gearbox {
         self.meshes.iter().map(|m| m.slices()).sum()
     }
 
-    /// c_c·C + c_k·K of the springs (constant).
-    fn add_spring_tangent(&self, c_c: f64, c_k: f64, j: &mut DMatrix<f64>) {
-        for s in &self.springs {
+    /// c_c·C + c_k·K of the springs (constant); `modal` keeps the linear springs of the directions
+    /// roller sets carry in the dynamics.
+    fn add_spring_tangent(&self, c_c: f64, c_k: f64, modal: bool, j: &mut DMatrix<f64>) {
+        for s in self.springs.iter().filter(|s| modal || !s.lamina) {
             add_outer(j, c_k * s.stiffness + c_c * s.damping, &s.row, &s.row);
         }
     }
 
     /// The linearisation with every mesh engaged on its drive flank at mean stiffness (no errors,
-    /// no backlash): what modal analysis of a gearbox means. Speeds are zero (no gyroscopics).
+    /// no backlash) and every bearing at its description's linear stiffness (roller sets in
+    /// clearance have none at rest): what modal analysis of a gearbox means. Speeds are zero (no
+    /// gyroscopics).
     pub fn engaged_linearisation(&self) -> Linearisation {
         let n = self.dofs();
         let mut k = DMatrix::zeros(n, n);
         let mut c = DMatrix::zeros(n, n);
-        self.add_spring_tangent(0.0, 1.0, &mut k);
-        self.add_spring_tangent(1.0, 0.0, &mut c);
+        self.add_spring_tangent(0.0, 1.0, true, &mut k);
+        self.add_spring_tangent(1.0, 0.0, true, &mut c);
         for m in &self.meshes {
             let (s0, s1, s2) = m
                 .zeta
@@ -154,7 +160,10 @@ impl SecondOrderSystem for Gearbox {
     }
 
     fn add_tangent(&self, _t: f64, q: &[f64], v: &[f64], c_c: f64, c_k: f64, j: &mut DMatrix<f64>) {
-        self.add_spring_tangent(c_c, c_k, j);
+        self.add_spring_tangent(c_c, c_k, false, j);
+        for r in &self.rollers {
+            r.add_tangent(q, v, c_c, c_k, j);
+        }
         for m in &self.meshes {
             m.add_tangent(q, v, c_c, c_k, j);
         }

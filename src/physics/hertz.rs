@@ -73,6 +73,27 @@ impl LineContact {
     }
 }
 
+/// Where the subsurface stresses of a frictionless line contact peak, per unit p_max and per unit
+/// half-width: they depend on Poisson's ratio alone, so one scan serves every contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SubsurfacePeaks {
+    /// (τ_max / p_max, depth / a)
+    pub max_shear: (f64, f64),
+    /// (σ_vM / p_max, depth / a)
+    pub von_mises: (f64, f64),
+}
+
+pub fn subsurface_peaks(nu: f64) -> SubsurfacePeaks {
+    let unit = LineContact {
+        half_width: 1.0,
+        max_pressure: 1.0,
+    };
+    SubsurfacePeaks {
+        max_shear: unit.peak_along_depth(|z| unit.max_shear_at_depth(z, nu)),
+        von_mises: unit.peak_along_depth(|z| unit.von_mises_at_depth(z, nu)),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -93,6 +114,14 @@ mod tests {
         let (vm, z_vm) = c.peak_along_depth(|z| c.von_mises_at_depth(z, 0.3));
         assert!((vm / c.max_pressure - 0.557).abs() < 0.003, "{}", vm / c.max_pressure);
         assert!((z_vm / c.half_width - 0.704).abs() < 0.004, "{}", z_vm / c.half_width);
+        // the unit contact gives the same ratios
+        let p = subsurface_peaks(0.3);
+        assert!(
+            (p.max_shear.0 - tau / c.max_pressure).abs() < 1e-6 && (p.max_shear.1 - z_tau / c.half_width).abs() < 1e-6
+        );
+        assert!(
+            (p.von_mises.0 - vm / c.max_pressure).abs() < 1e-6 && (p.von_mises.1 - z_vm / c.half_width).abs() < 1e-6
+        );
     }
 
     /// REFERENCE-DATA.md §4 worked example: Ø40 roller on Ø200 race (R' = 16.67 mm), steel/steel,

@@ -1,0 +1,306 @@
+//! Rolling bearings by the roller–lamina model (the slicing of ISO/TS 16281): every roller at its
+//! angle in a cage that turns at its kinematic speed, each roller cut into laminae along its length;
+//! a lamina loaded as far as its approach exceeds half the clearance, q = (c/n)·δ^e with e = 10/9 for
+//! line and 1.5 for point contact. The bearing acts on five relative coordinates of its races, inner
+//! minus outer at the bearing's centre, x = (u_x, u_y, u_z, θ_x, θ_y): radial and axial approach,
+//! and the tilt that loads the laminae of a roller unevenly. Forces and tangents on those five
+//! coordinates reach the model's DOFs through five constant rows (as a linear bearing's springs do).
+
+use super::description::{Contact, Rollers};
+use super::row::{Row, add_outer};
+use crate::physics::hertz::{LineContact, effective_modulus, subsurface_peaks};
+use nalgebra::DMatrix;
+use std::f64::consts::TAU;
+
+/// ISO/TS 16281's line-contact constant for a roller between two steel races, N/mm^(10/9) per
+/// mm^(8/9) of effective length: Q = 35 948·L_we^(8/9)·δ^(10/9) (N, mm).
+const ISO_LINE_CONSTANT: f64 = 35_948.0;
+const LINE_EXPONENT: f64 = 10.0 / 9.0;
+const POINT_EXPONENT: f64 = 1.5;
+/// Bearing steel (E = 210 GPa, ν = 0.3 for both races and rollers).
+const STEEL_E: f64 = 210e9;
+const STEEL_NU: f64 = 0.3;
+
+/// One row of rollers: its contact angle and axial place in the bearing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct RollerRow {
+    cos: f64,
+    sin: f64,
+    /// Centre of the row from the bearing's centre along the axis, m.
+    z: f64,
+}
+
+/// What one evaluation of a bearing yields.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct RollerLoads {
+    /// Generalised force on the five relative coordinates (what the races push back with).
+    pub force: [f64; 5],
+    /// Rollers with at least one loaded lamina.
+    pub rollers_in_contact: usize,
+    /// Largest roller load, N.
+    pub max_roller_load: f64,
+    /// Largest lamina load, N (the Hertz pressures follow from it).
+    pub max_lamina_load: f64,
+}
+
+/// Contact stresses of the most loaded lamina.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct RaceStresses {
+    /// Maximum Hertz pressure at the inner and the outer race, Pa.
+    pub inner_pressure: f64,
+    pub outer_pressure: f64,
+    /// Largest subsurface shear (Tresca) under the inner race, the more loaded contact, Pa, and its
+    /// depth, m.
+    pub max_shear: f64,
+    pub max_shear_depth: f64,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct RollerBearing {
+    /// Index of the named bearing this roller set belongs to.
+    pub bearing: usize,
+    /// x = rows·q: inner race minus outer race, (u_x, u_y, u_z, θ_x, θ_y).
+    pub rows: [Row; 5],
+    /// The cage angle in the bearing's frame, rad (cage·q).
+    pub cage: Row,
+    /// Subtracted from the radial approach (a pin position error), m.
+    offset: [f64; 2],
+    /// −1 when the body the bearing belongs to is its outer race (a planet on its pin), else 1:
+    /// the rows are the linear springs' (body minus the other side) times this.
+    pub sign: f64,
+    count: usize,
+    pitch_radius: f64,
+    roller_rows: Vec<RollerRow>,
+    /// Lamina offsets from the roller's centre along the axis, m, and their profile drop, m.
+    laminae: Vec<(f64, f64)>,
+    /// Per lamina: q = k·δ^e (N, m).
+    k_lamina: f64,
+    exponent: f64,
+    /// Diametral radial and axial clearance, m (negative: preload).
+    clearance: f64,
+    axial_clearance: f64,
+    damping_time: f64,
+    lamina_width: f64,
+    /// Hertz line contact: effective radii at the inner and outer race (m) and E* (Pa); None for
+    /// point contact, whose pressure needs the crown radii the description does not carry.
+    hertz: Option<(f64, f64, f64)>,
+    /// Subsurface Tresca shear peak per unit p_max and its depth per unit half-width.
+    shear_peak: (f64, f64),
+}
+
+/// The geometry a roller set needs from the model: its rows, its cage row and which race is the
+/// body's.
+pub struct Mounting {
+    pub bearing: usize,
+    pub rows: [Row; 5],
+    pub cage: Row,
+    pub offset: [f64; 2],
+    pub sign: f64,
+}
+
+impl RollerBearing {
+    pub fn new(r: &Rollers, m: Mounting, damping_time: f64) -> Self {
+        let mm = 1e-3;
+        let (d, length, dm) = (r.diameter_mm * mm, r.length_mm * mm, r.pitch_diameter_mm * mm);
+        let alpha = r.contact_angle_deg.to_radians();
+        let roller_rows: Vec<RollerRow> = if r.rows == 2 {
+            let half = 0.5 * r.row_spacing_mm * mm;
+            vec![
+                RollerRow {
+                    cos: alpha.cos(),
+                    sin: -alpha.sin(),
+                    z: -half,
+                },
+                RollerRow {
+                    cos: alpha.cos(),
+                    sin: alpha.sin(),
+                    z: half,
+                },
+            ]
+        } else {
+            vec![RollerRow {
+                cos: alpha.cos(),
+                sin: alpha.sin(),
+                z: 0.0,
+            }]
+        };
+        let n = r.laminae as usize;
+        let width = length / n as f64;
+        let crown = r.crowning_um * 1e-6;
+        let laminae = (0..n)
+            .map(|k| {
+                let s = -0.5 * length + (k as f64 + 0.5) * width;
+                // parabolic crown: the full drop at the roller's ends
+                (s, crown * (2.0 * s / length).powi(2))
+            })
+            .collect();
+        let (exponent, c_roller) = match (r.contact, r.roller_stiffness) {
+            (Contact::Line, None) => {
+                // N/mm^(10/9) with L in mm, in SI: × 1000^(8/9 + 10/9) = 1e6
+                (LINE_EXPONENT, ISO_LINE_CONSTANT * 1e6 * length.powf(8.0 / 9.0))
+            }
+            (Contact::Line, Some(c)) => (LINE_EXPONENT, c),
+            (Contact::Point, c) => (POINT_EXPONENT, c.unwrap_or(0.0)),
+        };
+        let hertz = (r.contact == Contact::Line).then(|| {
+            let cos = alpha.cos();
+            // races' radii normal to the contact (a tapered race is a cone: its radius / cos α)
+            let inner = 0.5 * (dm - d * cos) / cos;
+            let outer = 0.5 * (dm + d * cos) / cos;
+            let roller = 0.5 * d;
+            (
+                1.0 / (1.0 / roller + 1.0 / inner),
+                1.0 / (1.0 / roller - 1.0 / outer),
+                effective_modulus(STEEL_E, STEEL_NU, STEEL_E, STEEL_NU),
+            )
+        });
+        RollerBearing {
+            bearing: m.bearing,
+            rows: m.rows,
+            cage: m.cage,
+            offset: m.offset,
+            sign: m.sign,
+            count: r.count as usize,
+            pitch_radius: 0.5 * dm,
+            roller_rows,
+            laminae,
+            k_lamina: c_roller / n as f64,
+            exponent,
+            clearance: r.clearance_um * 1e-6,
+            axial_clearance: r.axial_clearance_um * 1e-6,
+            damping_time,
+            lamina_width: width,
+            hertz,
+            shear_peak: subsurface_peaks(STEEL_NU).max_shear,
+        }
+    }
+
+    /// The five relative coordinates, their rates and the cage angle at (q, v).
+    pub fn kinematics(&self, q: &[f64], v: &[f64]) -> ([f64; 5], [f64; 5], f64) {
+        let x = std::array::from_fn(|i| self.rows[i].dot(q) - self.offset.get(i).copied().unwrap_or(0.0));
+        let xd = std::array::from_fn(|i| self.rows[i].dot(v));
+        (x, xd, self.cage.dot(q))
+    }
+
+    /// Loads at relative displacement x, rate xd and cage angle ψ_c. With `tangent`, also adds
+    /// ∂f/∂x to the first and ∂f/∂ẋ to the second matrix (the cage angle held: the load zone
+    /// moves slowly against the contact stiffness).
+    pub fn evaluate(
+        &self,
+        x: &[f64; 5],
+        xd: &[f64; 5],
+        cage: f64,
+        mut tangent: Option<(&mut [[f64; 5]; 5], &mut [[f64; 5]; 5])>,
+    ) -> RollerLoads {
+        let mut out = RollerLoads::default();
+        let half_length = self.laminae.last().map_or(0.0, |l| l.0.abs());
+        let pitch = TAU / self.count as f64;
+        for row in &self.roller_rows {
+            let gap = row.cos * 0.5 * self.clearance + row.sin.abs() * 0.5 * self.axial_clearance;
+            for j in 0..self.count {
+                let (sn, cs) = (cage + j as f64 * pitch).sin_cos();
+                // approach along the roller's normal at the row's centre, and its change per metre
+                // along the axis (the tilt)
+                let radial = x[0] * cs + x[1] * sn;
+                let per_metre = x[4] * cs - x[3] * sn;
+                let axial = x[2] + self.pitch_radius * (x[3] * sn - x[4] * cs);
+                let centre = row.cos * (radial + row.z * per_metre) + row.sin * axial - gap;
+                let spread = row.cos * per_metre;
+                if centre + spread.abs() * half_length <= 0.0 {
+                    continue;
+                }
+                let mut roller = 0.0;
+                for &(s, drop) in &self.laminae {
+                    let delta = centre + spread * s - drop;
+                    if delta <= 0.0 {
+                        continue;
+                    }
+                    let z = row.z + s;
+                    let grad = [
+                        row.cos * cs,
+                        row.cos * sn,
+                        row.sin,
+                        -row.cos * z * sn + row.sin * self.pitch_radius * sn,
+                        row.cos * z * cs - row.sin * self.pitch_radius * cs,
+                    ];
+                    let elastic = self.k_lamina * delta.powf(self.exponent);
+                    let stiffness = self.exponent * elastic / delta;
+                    let rate: f64 = grad.iter().zip(xd).map(|(g, r)| g * r).sum();
+                    let damping = self.damping_time * stiffness;
+                    let q = elastic + damping * rate;
+                    // a contact pushes, never pulls: damping cannot make it sticky
+                    if q <= 0.0 {
+                        continue;
+                    }
+                    roller += q;
+                    out.max_lamina_load = out.max_lamina_load.max(q);
+                    for (f, g) in out.force.iter_mut().zip(&grad) {
+                        *f += q * g;
+                    }
+                    if let Some((k, c)) = tangent.as_mut() {
+                        for a in 0..5 {
+                            for b in 0..5 {
+                                let gg = grad[a] * grad[b];
+                                k[a][b] += stiffness * gg;
+                                c[a][b] += damping * gg;
+                            }
+                        }
+                    }
+                }
+                if roller > 0.0 {
+                    out.rollers_in_contact += 1;
+                    out.max_roller_load = out.max_roller_load.max(roller);
+                }
+            }
+        }
+        out
+    }
+
+    /// f_int += the bearing's force at (q, v); returns its loads.
+    pub fn add_forces(&self, q: &[f64], v: &[f64], out: &mut [f64]) -> RollerLoads {
+        let (x, xd, cage) = self.kinematics(q, v);
+        let loads = self.evaluate(&x, &xd, cage, None);
+        for (row, f) in self.rows.iter().zip(loads.force) {
+            if f != 0.0 {
+                row.axpy(f, out);
+            }
+        }
+        loads
+    }
+
+    /// j += c_c·C + c_k·K of the bearing at (q, v).
+    pub fn add_tangent(&self, q: &[f64], v: &[f64], c_c: f64, c_k: f64, j: &mut DMatrix<f64>) {
+        let (x, xd, cage) = self.kinematics(q, v);
+        let (mut k, mut c) = ([[0.0; 5]; 5], [[0.0; 5]; 5]);
+        self.evaluate(&x, &xd, cage, Some((&mut k, &mut c)));
+        for a in 0..5 {
+            for b in 0..5 {
+                add_outer(j, c_k * k[a][b] + c_c * c[a][b], &self.rows[a], &self.rows[b]);
+            }
+        }
+    }
+
+    /// Hertz pressures and the subsurface shear of the most loaded lamina of `loads` (zeros for
+    /// point contact).
+    pub fn stresses(&self, loads: &RollerLoads) -> RaceStresses {
+        let Some((r_inner, r_outer, e_star)) = self.hertz else {
+            return RaceStresses::default();
+        };
+        if loads.max_lamina_load <= 0.0 {
+            return RaceStresses::default();
+        }
+        let w = loads.max_lamina_load / self.lamina_width;
+        let inner = LineContact::new(w, r_inner, e_star);
+        let outer = LineContact::new(w, r_outer, e_star);
+        RaceStresses {
+            inner_pressure: inner.max_pressure,
+            outer_pressure: outer.max_pressure,
+            max_shear: self.shear_peak.0 * inner.max_pressure,
+            max_shear_depth: self.shear_peak.1 * inner.half_width,
+        }
+    }
+
+    pub fn roller_count(&self) -> usize {
+        self.count * self.roller_rows.len()
+    }
+}
