@@ -29,6 +29,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Modes(args) => windrive::cli::modes::run(&args),
+        Command::Gearbox(args) => windrive::cli::gearbox::run(&args),
         Command::StepResponse(args) => windrive::cli::step::run(&args),
         Command::Bench(args) => windrive::cli::bench::run(&args),
         Command::Rainflow(args) => windrive::cli::fatigue::run_rainflow(&args),

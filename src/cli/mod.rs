@@ -6,6 +6,7 @@ pub mod bode;
 pub mod campbell;
 pub mod coupling;
 pub mod fatigue;
+pub mod gearbox;
 pub mod gearbox_bench;
 pub mod life;
 pub mod modes;
@@ -60,6 +61,16 @@ pub enum Command {
     /// leaves the drivetrain free–free with a zero mode (variable speed or tripped); locked holds the
     /// HSS at standstill (brake engaged).
     Modes(modes::ModesArgs),
+    /// A 6-DOF gearbox at a steady operating point: every bearing's loads, rollers in contact, race
+    /// pressures and subsurface shear; every mesh's slice loads, K_Hβ and contact stress; each roller
+    /// set's radial stiffness there beside its description's linear value.
+    ///
+    /// Examples:
+    ///   windrive gearbox                                   the GRC 750 kW at rated torque, gravity, lamina bearings
+    ///   windrive gearbox --bearings linear --json          the same with the 6×6 linear bearings, as JSON
+    ///   windrive gearbox --torque-ratio 1.3 --tilt-moment 2e5 --thrust 1e5   a shutdown's peak with the rotor's loads
+    #[command(verbatim_doc_comment)]
+    Gearbox(gearbox::GearboxArgs),
     /// Rated-torque step on a drivetrain through its torsional FMU; prints peak torques, the dominant
     /// HSS-torque frequency and the modes, and writes a CSV.
     StepResponse(step::StepArgs),

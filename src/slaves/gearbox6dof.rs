@@ -8,7 +8,8 @@ use crate::models::gearbox6dof as xml;
 use crate::models::gearbox6dof::vr;
 use crate::physics::brake::DiskBrake;
 use crate::physics::gearbox::Gearbox;
-use crate::physics::gearbox::description::{Description, MeshStiffnessModel};
+use crate::physics::gearbox::description::{BearingModel, Description, MeshStiffnessModel};
+use crate::physics::gearbox::loads::BearingLoad;
 use crate::physics::gearbox::loads::Loads;
 use crate::physics::gearbox::model::{INPUT_BRAKE_COMMAND, INPUT_GENERATOR_TORQUE, INPUT_ROTOR_TORQUE};
 use crate::physics::gearbox::statics::equilibrium;
@@ -89,6 +90,14 @@ impl Params {
         }
         if self.gravity >= 0.0 {
             d.model.gravity = self.gravity;
+        }
+        match self.bearing_model.trim().to_ascii_lowercase().as_str() {
+            "" => {}
+            "linear" => d.model.bearings = BearingModel::Linear,
+            "lamina" => d.model.bearings = BearingModel::Lamina,
+            other => {
+                return Err(ParameterError::invalid("bearing_model", &other, "use linear or lamina (or empty)").into());
+            }
         }
         let rho = self.spectral_radius;
         let radius = |a: Result<Alpha, String>| a.map_err(|e| ParameterError::invalid("spectral_radius", &rho, &e));
@@ -191,11 +200,14 @@ impl Gearbox6dofSlave {
             self.built = Some(Arc::new(built));
             self.loads = None;
         }
-        let built = self.built.as_ref().unwrap();
         if self.state.is_none() {
+            // the initial equilibrium carries the rotor's moments and thrust as the inputs have them
+            self.apply_rotor_loads();
+            let built = self.built.as_ref().unwrap();
             self.state = Some(self.params.initial_state(built)?);
             self.loads = None;
         }
+        let built = self.built.as_ref().unwrap();
         Ok((built, self.state.as_mut().unwrap()))
     }
 
@@ -226,13 +238,34 @@ impl Gearbox6dofSlave {
 }
 
 /// Per-mesh output families: value reference of the first slot.
-const FAMILIES: [u32; 5] = [
+const FAMILIES: [u32; 8] = [
     vr::MESH_FORCE_RING_PLANET_1,
     vr::MAX_SLICE_LOAD_RING_PLANET_1,
     vr::MAX_SLICE_POSITION_RING_PLANET_1,
     vr::FACE_LOAD_FACTOR_RING_PLANET_1,
     vr::TRANSMISSION_ERROR_RING_PLANET_1,
+    vr::MAX_CONTACT_PRESSURE_RING_PLANET_1,
+    vr::MAX_SUBSURFACE_SHEAR_RING_PLANET_1,
+    vr::MAX_SHEAR_DEPTH_RING_PLANET_1,
 ];
+
+/// Outputs per bearing, in value-reference order from `<first bearing>_radial_load` on.
+const BEARING_OUTPUTS: usize = 9;
+
+fn bearing_output(l: &BearingLoad, k: usize) -> f64 {
+    let s = &l.stresses;
+    [
+        l.radial,
+        l.axial,
+        l.tilting,
+        l.rollers_in_contact as f64,
+        l.max_roller_load,
+        s.inner_pressure,
+        s.outer_pressure,
+        s.max_shear,
+        s.max_shear_depth,
+    ][k]
+}
 
 impl Slave for Gearbox6dofSlave {
     crate::slave_interface_from_xml!();
@@ -276,9 +309,10 @@ impl Slave for Gearbox6dofSlave {
             vr::LOAD_SHARING_FACTOR_2 => b.model.load_sharing(loads, "2").unwrap_or(0.0),
             r if r >= vr::MAIN_RADIAL_LOAD => {
                 let k = (r - vr::MAIN_RADIAL_LOAD) as usize;
-                match b.bearings.get(k / 3).copied().flatten().map(|i| loads.bearings[i]) {
-                    Some(l) => [l.radial, l.axial, l.tilting][k % 3],
-                    None if k / 3 < b.bearings.len() => 0.0,
+                let slot = k / BEARING_OUTPUTS;
+                match b.bearings.get(slot).copied().flatten().map(|i| &loads.bearings[i]) {
+                    Some(l) => bearing_output(l, k % BEARING_OUTPUTS),
+                    None if slot < b.bearings.len() => 0.0,
                     None => return Err(xml::no_getter(VarType::Real, r)),
                 }
             }
@@ -295,7 +329,10 @@ impl Slave for Gearbox6dofSlave {
                     1 => m.max_slice,
                     2 => m.max_position,
                     3 => m.face_load_factor,
-                    _ => m.transmission_error,
+                    4 => m.transmission_error,
+                    5 => m.contact.pressure,
+                    6 => m.contact.max_shear,
+                    _ => m.contact.max_shear_depth,
                 })
             }
         })
@@ -354,16 +391,8 @@ impl Slave for Gearbox6dofSlave {
     fn do_step(&mut self, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
         self.ensure()?;
         self.loads = None;
-        let mut built = self.built.take().unwrap();
-        // the main-shaft moments act in the housing frame and are turned into the rotor's frame
-        // with its angle: held over the communication step (they change at rotor frequencies)
-        let moment = [
-            self.inputs.main_shaft_tilt_moment.at(0.0),
-            self.inputs.main_shaft_yaw_moment.at(0.0),
-        ];
-        if built.model.external_moment != moment {
-            Arc::make_mut(&mut built).model.external_moment = moment;
-        }
+        self.apply_rotor_loads();
+        let built = self.built.take().unwrap();
         let result = self.step_with(&built, t, h, log);
         self.built = Some(built);
         result
@@ -371,6 +400,23 @@ impl Slave for Gearbox6dofSlave {
 }
 
 impl Gearbox6dofSlave {
+    /// The main-shaft moments (housing frame, turned into the rotor's frame with its angle) and the
+    /// thrust, held over the communication step (they change at rotor frequencies).
+    fn apply_rotor_loads(&mut self) {
+        let moment = [
+            self.inputs.main_shaft_tilt_moment.at(0.0),
+            self.inputs.main_shaft_yaw_moment.at(0.0),
+        ];
+        let thrust = self.inputs.rotor_thrust.at(0.0);
+        if let Some(built) = self.built.as_mut()
+            && (built.model.external_moment != moment || built.model.thrust != thrust)
+        {
+            let model = &mut Arc::make_mut(built).model;
+            model.external_moment = moment;
+            model.thrust = thrust;
+        }
+    }
+
     fn step_with(&mut self, built: &Built, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
         let inputs = &self.inputs;
         let st = self.state.as_mut().unwrap();

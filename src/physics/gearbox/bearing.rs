@@ -300,6 +300,20 @@ impl RollerBearing {
         }
     }
 
+    /// Radial stiffness along the radial load at (q, v), N/m (the tangent a linear bearing at this
+    /// operating point would need); 0 with no radial load.
+    pub fn radial_stiffness(&self, q: &[f64], v: &[f64]) -> f64 {
+        let (x, xd, cage) = self.kinematics(q, v);
+        let (mut k, mut c) = ([[0.0; 5]; 5], [[0.0; 5]; 5]);
+        let l = self.evaluate(&x, &xd, cage, Some((&mut k, &mut c)));
+        let f = l.force[0].hypot(l.force[1]);
+        if f == 0.0 {
+            return 0.0;
+        }
+        let n = [l.force[0] / f, l.force[1] / f];
+        (0..2).map(|a| (0..2).map(|b| n[a] * k[a][b] * n[b]).sum::<f64>()).sum()
+    }
+
     pub fn roller_count(&self) -> usize {
         self.count * self.roller_rows.len()
     }

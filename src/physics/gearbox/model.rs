@@ -120,6 +120,8 @@ pub struct Gearbox {
     /// Moments about the housing's transverse axes at the rotor (or first carrier), N·m: set by the
     /// owner each communication step (held over it).
     pub external_moment: [f64; 2],
+    /// Rotor thrust on the input body along the shaft, positive downwind, N (set like the moment).
+    pub thrust: f64,
     pub input_body: usize,
     pub output_body: usize,
     /// Sign of the output body's spin when the input turns positive.
@@ -640,7 +642,12 @@ impl Gearbox {
                             roll_body: sun,
                             roll_teeth: p.teeth.sun,
                             phase: (f64::from(p.teeth.sun) * psi / TAU).rem_euclid(1.0),
-                            hand: -hand,
+                            // the planet meshes the sun and the ring on opposite sides, so the same
+                            // planet tooth hand tilts the normal the other way against the carrier's
+                            // tangent t (built from driver to driven, which flips between the two
+                            // meshes): with `hand` as for the ring, the axial components on a planet
+                            // cancel and form the overturning couple of a helical planet
+                            hand,
                         });
                     }
                     (carrier, sun, &p.sun)
@@ -837,6 +844,7 @@ impl Gearbox {
             rigid_dof: in_spin,
             gravity: [0.0, -g * tilt.cos(), g * tilt.sin()],
             external_moment: [0.0; 2],
+            thrust: 0.0,
             input_body,
             output_body,
             output_sign,

@@ -56,10 +56,11 @@ impl Gearbox {
                 out[f + UY] -= b.mass * (-s * g[0] + c * g[1]);
                 out[f + UZ] -= b.mass * g[2];
             }
-            if i == self.input_body && self.external_moment != [0.0; 2] {
+            if i == self.input_body {
                 let mo = self.external_moment;
                 out[f + TX] -= c * mo[0] + s * mo[1];
                 out[f + TY] -= -s * mo[0] + c * mo[1];
+                out[f + UZ] -= self.thrust;
             }
         }
     }
