@@ -158,7 +158,8 @@ pub fn run(args: &GearboxArgs) -> anyhow::Result<()> {
         r.gearbox,
         r.rotor_torque_nm / 1e3,
         r.rotor_speed_rad_s,
-        r.load_sharing_factor.map_or(String::new(), |k| format!(", K_γ = {k:.3}"))
+        r.load_sharing_factor
+            .map_or(String::new(), |k| format!(", K_γ = {k:.3}"))
     );
     println!(
         "\n{:<14} {:>7} {:>10} {:>9} {:>10} {:>7} {:>9} {:>8} {:>8} {:>8} {:>7} {:>11} {:>11}",
@@ -190,7 +191,8 @@ pub fn run(args: &GearboxArgs) -> anyhow::Result<()> {
             b.outer_race_pressure_pa / 1e6,
             b.max_subsurface_shear_pa / 1e6,
             b.max_shear_depth_m * 1e3,
-            b.radial_stiffness_n_per_m.map_or("-".into(), |k| format!("{:.2}", k / 1e9)),
+            b.radial_stiffness_n_per_m
+                .map_or("-".into(), |k| format!("{:.2}", k / 1e9)),
             b.linear_radial_stiffness_n_per_m / 1e9
         );
     }

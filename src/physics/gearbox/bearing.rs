@@ -7,6 +7,7 @@
 //! coordinates reach the model's DOFs through five constant rows (as a linear bearing's springs do).
 
 use super::description::{Contact, Rollers};
+use super::mesh::KeyBits;
 use super::row::{Row, add_outer};
 use crate::physics::hertz::{LineContact, effective_modulus, subsurface_peaks};
 use nalgebra::DMatrix;
@@ -20,6 +21,30 @@ const POINT_EXPONENT: f64 = 1.5;
 /// Bearing steel (E = 210 GPa, ν = 0.3 for both races and rollers).
 const STEEL_E: f64 = 210e9;
 const STEEL_NU: f64 = 0.3;
+
+/// δ^e for the two contact laws: the roller sets' inner loop spends its time here. δ^(10/9) as
+/// δ·exp(ln δ / 9) measured 9 ns against `powf`'s 12 and two `cbrt`s' 34 (this machine).
+fn power(delta: f64, exponent: f64) -> f64 {
+    if exponent == LINE_EXPONENT {
+        delta * (delta.ln() * (1.0 / 9.0)).exp()
+    } else if exponent == POINT_EXPONENT {
+        delta * delta.sqrt()
+    } else {
+        delta.powf(exponent)
+    }
+}
+
+/// The unit vectors (cos ψ_j, sin ψ_j) of the rollers of one row, by rotation rather than a
+/// `sin_cos` per roller (the rounding after 200 rotations stays below 1e-13).
+fn roller_angles(cage: f64, count: usize) -> impl Iterator<Item = (f64, f64)> {
+    let (s0, c0) = cage.sin_cos();
+    let (sp, cp) = (TAU / count as f64).sin_cos();
+    (0..count).scan((c0, s0), move |(c, s), _| {
+        let out = (*c, *s);
+        (*c, *s) = (*c * cp - *s * sp, *s * cp + *c * sp);
+        Some(out)
+    })
+}
 
 /// One row of rollers: its contact angle and axial place in the bearing.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -194,11 +219,9 @@ impl RollerBearing {
     ) -> RollerLoads {
         let mut out = RollerLoads::default();
         let half_length = self.laminae.last().map_or(0.0, |l| l.0.abs());
-        let pitch = TAU / self.count as f64;
         for row in &self.roller_rows {
             let gap = row.cos * 0.5 * self.clearance + row.sin.abs() * 0.5 * self.axial_clearance;
-            for j in 0..self.count {
-                let (sn, cs) = (cage + j as f64 * pitch).sin_cos();
+            for (cs, sn) in roller_angles(cage, self.count) {
                 // approach along the roller's normal at the row's centre, and its change per metre
                 // along the axis (the tilt)
                 let radial = x[0] * cs + x[1] * sn;
@@ -209,41 +232,44 @@ impl RollerBearing {
                 if centre + spread.abs() * half_length <= 0.0 {
                     continue;
                 }
-                let mut roller = 0.0;
+                // a lamina at z along the axis has the gradient u + z·w: the roller's sums over its
+                // laminae give its force and tangent without a 5×5 product per lamina
+                let r = self.pitch_radius;
+                let u = [row.cos * cs, row.cos * sn, row.sin, row.sin * r * sn, -row.sin * r * cs];
+                let w = [0.0, 0.0, 0.0, -row.cos * sn, row.cos * cs];
+                let rate_u: f64 = u.iter().zip(xd).map(|(g, v)| g * v).sum();
+                let rate_w: f64 = w.iter().zip(xd).map(|(g, v)| g * v).sum();
+                let (mut roller, mut moment) = (0.0, 0.0);
+                let (mut k0, mut k1, mut k2, mut c0, mut c1, mut c2) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
                 for &(s, drop) in &self.laminae {
                     let delta = centre + spread * s - drop;
                     if delta <= 0.0 {
                         continue;
                     }
                     let z = row.z + s;
-                    let grad = [
-                        row.cos * cs,
-                        row.cos * sn,
-                        row.sin,
-                        -row.cos * z * sn + row.sin * self.pitch_radius * sn,
-                        row.cos * z * cs - row.sin * self.pitch_radius * cs,
-                    ];
-                    let elastic = self.k_lamina * delta.powf(self.exponent);
+                    let elastic = self.k_lamina * power(delta, self.exponent);
                     let stiffness = self.exponent * elastic / delta;
-                    let rate: f64 = grad.iter().zip(xd).map(|(g, r)| g * r).sum();
                     let damping = self.damping_time * stiffness;
-                    let q = elastic + damping * rate;
+                    let q = elastic + damping * (rate_u + z * rate_w);
                     // a contact pushes, never pulls: damping cannot make it sticky
                     if q <= 0.0 {
                         continue;
                     }
                     roller += q;
+                    moment += q * z;
                     out.max_lamina_load = out.max_lamina_load.max(q);
-                    for (f, g) in out.force.iter_mut().zip(&grad) {
-                        *f += q * g;
-                    }
-                    if let Some((k, c)) = tangent.as_mut() {
-                        for a in 0..5 {
-                            for b in 0..5 {
-                                let gg = grad[a] * grad[b];
-                                k[a][b] += stiffness * gg;
-                                c[a][b] += damping * gg;
-                            }
+                    (k0, k1, k2) = (k0 + stiffness, k1 + stiffness * z, k2 + stiffness * z * z);
+                    (c0, c1, c2) = (c0 + damping, c1 + damping * z, c2 + damping * z * z);
+                }
+                for i in 0..5 {
+                    out.force[i] += roller * u[i] + moment * w[i];
+                }
+                if let Some((k, c)) = tangent.as_mut() {
+                    for a in 0..5 {
+                        for b in 0..5 {
+                            let (uu, uw, ww) = (u[a] * u[b], u[a] * w[b] + w[a] * u[b], w[a] * w[b]);
+                            k[a][b] += k0 * uu + k1 * uw + k2 * ww;
+                            c[a][b] += c0 * uu + c1 * uw + c2 * ww;
                         }
                     }
                 }
@@ -254,6 +280,33 @@ impl RollerBearing {
             }
         }
         out
+    }
+
+    /// The contact pattern the integrators key their factorisations by: per row, how many rollers
+    /// approach their races (6 bits) and the octant the radial approach points to (3 bits). The
+    /// lamina law is nearly linear between patterns (its stiffness goes as δ^(1/9): a load twice as
+    /// high stiffens a roller by 8 %), so a factorisation serves while the pattern holds and the
+    /// modified Newton iteration converges in a few steps.
+    pub fn key(&self, q: &[f64], bits: &mut KeyBits) {
+        let x: [f64; 5] = std::array::from_fn(|i| self.rows[i].dot(q) - self.offset.get(i).copied().unwrap_or(0.0));
+        let cage = self.cage.dot(q);
+        let octant = ((x[1].atan2(x[0]) / TAU * 8.0).floor() as i64).rem_euclid(8) as u64;
+        for row in &self.roller_rows {
+            let gap = row.cos * 0.5 * self.clearance + row.sin.abs() * 0.5 * self.axial_clearance;
+            let touching = roller_angles(cage, self.count)
+                .filter(|&(cs, sn)| {
+                    let axial = x[2] + self.pitch_radius * (x[3] * sn - x[4] * cs);
+                    row.cos * (x[0] * cs + x[1] * sn) + row.sin * axial > gap
+                })
+                .count()
+                .min(63) as u64;
+            for b in 0..6 {
+                bits.push(touching >> b & 1 == 1);
+            }
+            for b in 0..3 {
+                bits.push(touching > 0 && octant >> b & 1 == 1);
+            }
+        }
     }
 
     /// f_int += the bearing's force at (q, v); returns its loads.

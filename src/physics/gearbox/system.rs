@@ -175,6 +175,9 @@ impl SecondOrderSystem for Gearbox {
         for m in &self.meshes {
             m.key(q, &mut bits);
         }
+        for r in &self.rollers {
+            r.key(q, &mut bits);
+        }
         bits.finish();
     }
 
