@@ -4,11 +4,29 @@ use windrive::cli::{Cli, Command};
 /// Errors reach the user as their message and causes, one per line: never a stack backtrace, even
 /// with `RUST_BACKTRACE` set (anyhow's `Debug` form, which `fn main() -> Result` prints, appends one).
 fn main() -> std::process::ExitCode {
+    quiet_on_closed_pipe();
     match run(Cli::parse()) {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {}", windrive::cli::error_chain(&e));
             std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+/// `windrive gearbox | head` ends quietly as Unix tools do: Rust ignores SIGPIPE, so a closed pipe
+/// would make `println!` panic with a backtrace; the default action ends the process instead.
+fn quiet_on_closed_pipe() {
+    #[cfg(target_os = "linux")]
+    {
+        unsafe extern "C" {
+            fn signal(signum: i32, handler: usize) -> usize;
+        }
+        const SIGPIPE: i32 = 13;
+        const SIG_DFL: usize = 0;
+        // SAFETY: resetting a signal to its default action at start-up, before any thread exists.
+        unsafe {
+            signal(SIGPIPE, SIG_DFL);
         }
     }
 }

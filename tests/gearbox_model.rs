@@ -3,7 +3,7 @@
 //! and the rotating-frame terms on a spinning carrier.
 
 use windrive::physics::drivetrain::preset_d;
-use windrive::physics::gearbox::description::{Description, PRESETS};
+use windrive::physics::gearbox::description::{BearingModel, Description, PRESETS};
 use windrive::physics::gearbox::modal::{Family, modes};
 use windrive::physics::gearbox::model::{Gearbox, INPUT_GENERATOR_TORQUE, INPUT_ROTOR_TORQUE};
 use windrive::physics::gearbox::statics::equilibrium;
@@ -354,13 +354,16 @@ fn a_planet_on_a_spinning_carrier_feels_the_centripetal_load() {
 
 /// Started in its loaded, spinning equilibrium, the undisturbed GRC gearbox stays there: speeds,
 /// shaft torques and mesh forces constant through 0.2 s of implicit steps (the frame terms of the
-/// dynamics are those of the statics, and the rotating frames keep every row constant).
+/// dynamics are those of the statics, and the rotating frames keep every row constant). Linear
+/// bearings: rollers passing through a lamina bearing's load zone vary its stiffness (see
+/// `roller_passage_excites_the_bearings_at_their_ball_pass_frequency`).
 #[test]
 fn the_loaded_spinning_gearbox_stays_in_equilibrium() {
     use windrive::solver::alpha::Alpha;
     use windrive::solver::{Driver, DynState, Method};
     let mut d = Description::load("grc750").unwrap();
     d.model.gravity = 0.0;
+    d.model.bearings = BearingModel::Linear;
     let g = Gearbox::new(&d).unwrap();
     let t = g.rated_rotor_torque.unwrap();
     let speed = 18.6 * std::f64::consts::TAU / 60.0;
@@ -399,6 +402,7 @@ fn varying_mesh_stiffness_excites_the_mesh_frequency() {
     use windrive::solver::{Driver, DynState, Method};
     let mut d = Description::load("grc750").unwrap();
     d.model.gravity = 0.0;
+    d.model.bearings = BearingModel::Linear;
     d.model.mesh_stiffness = MeshStiffnessModel::Varying;
     let g = Gearbox::new(&d).unwrap();
     let t = g.rated_rotor_torque.unwrap();

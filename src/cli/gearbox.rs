@@ -37,6 +37,12 @@ pub struct GearboxArgs {
     /// Print JSON instead of tables
     #[arg(long)]
     pub json: bool,
+    /// Fit the first planetary stage's carrier-web torsional stiffness so that its planets'
+    /// upwind bearings carry this many times the downwind ones' mean radial load at this operating
+    /// point (the thesis's GRC: 1.41–1.47 at rated torque); prints the stiffness to write into the
+    /// description's [stage.planetary.carrier_webs]
+    #[arg(long, value_name = "RATIO")]
+    pub fit_webs: Option<f64>,
 }
 
 #[derive(Serialize)]
@@ -78,7 +84,8 @@ struct Report {
     load_sharing_factor: Option<f64>,
 }
 
-fn report(args: &GearboxArgs) -> anyhow::Result<Report> {
+/// The description with the command line's bearing model and gravity.
+fn description(args: &GearboxArgs) -> anyhow::Result<Description> {
     let mut d = Description::load(&args.gearbox)?;
     match args.bearings.as_deref() {
         None => {}
@@ -89,7 +96,11 @@ fn report(args: &GearboxArgs) -> anyhow::Result<Report> {
     if let Some(g) = args.gravity {
         d.model.gravity = g;
     }
-    let mut g = Gearbox::new(&d).map_err(|e| anyhow!("{}: {e}", args.gearbox))?;
+    Ok(d)
+}
+
+fn report(args: &GearboxArgs, d: &Description) -> anyhow::Result<Report> {
+    let mut g = Gearbox::new(d).map_err(|e| anyhow!("{}: {e}", args.gearbox))?;
     g.external_moment = [args.tilt_moment, args.yaw_moment];
     g.thrust = args.thrust;
     let rated = g
@@ -147,8 +158,67 @@ fn report(args: &GearboxArgs) -> anyhow::Result<Report> {
     })
 }
 
+/// Mean radial load of the first stage's planets' upwind bearings over their downwind ones'.
+fn upwind_over_downwind(r: &Report) -> Option<f64> {
+    let mean = |end: &str| {
+        let loads: Vec<f64> = r
+            .bearings
+            .iter()
+            .filter(|b| b.name.starts_with("planet_") && b.name.ends_with(end))
+            .map(|b| b.radial_n)
+            .collect();
+        (!loads.is_empty()).then(|| loads.iter().sum::<f64>() / loads.len() as f64)
+    };
+    Some(mean("_uw")? / mean("_dw")?)
+}
+
+/// Bisection on log k of the carrier webs: a stiffer carrier shares the load more evenly.
+fn fit_webs(args: &GearboxArgs, target: f64) -> anyhow::Result<()> {
+    use crate::physics::gearbox::description::Stage;
+    let base = description(args)?;
+    let ratio_at = |k: f64| -> anyhow::Result<f64> {
+        let mut d = base.clone();
+        let Some(Stage::Planetary(p)) = d.stages.first_mut() else {
+            return Err(anyhow!("{}: the first stage is not planetary", args.gearbox));
+        };
+        let webs = p.carrier_webs.as_mut().ok_or_else(|| {
+            anyhow!(
+                "{}: the first planetary stage has no [stage.planetary.carrier_webs] to fit",
+                args.gearbox
+            )
+        })?;
+        webs.torsional = k;
+        let r = report(args, &d)?;
+        upwind_over_downwind(&r).ok_or_else(|| anyhow!("{}: no planet bearings named *_uw and *_dw", args.gearbox))
+    };
+    let (mut lo, mut hi) = (1e6f64.ln(), 1e12f64.ln());
+    let (r_soft, r_stiff) = (ratio_at(lo.exp())?, ratio_at(hi.exp())?);
+    if !(r_stiff..=r_soft).contains(&target) {
+        return Err(anyhow!(
+            "upwind/downwind {target} is outside what the webs can give here ({r_stiff:.3} rigid to {r_soft:.3} at 1e6 N·m/rad)"
+        ));
+    }
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if ratio_at(mid.exp())? > target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let k = (0.5 * (lo + hi)).exp();
+    println!(
+        "carrier webs torsional = {k:.4e} N·m/rad gives upwind/downwind {:.4} (target {target})",
+        ratio_at(k)?
+    );
+    Ok(())
+}
+
 pub fn run(args: &GearboxArgs) -> anyhow::Result<()> {
-    let r = report(args)?;
+    if let Some(target) = args.fit_webs {
+        return fit_webs(args, target);
+    }
+    let r = report(args, &description(args)?)?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&r)?);
         return Ok(());

@@ -35,13 +35,30 @@ def fmpy_rated(path, stop=0.5):
 def test_fmpy_runs_it_at_rated_torque_with_the_torsional_statics(gearbox):
     r = fmpy_rated(gearbox)
     # started in its loaded equilibrium at rated speed, it stays there: the torque splits as the
-    # gear ratio says, the planets share equally but for gravity's 0.5 %, the bearings are loaded
+    # gear ratio says, the bearings are loaded
     assert r["rotor_speed"][-1] == pytest.approx(18.6 * math.pi / 30, rel=1e-4)
     assert r["generator_speed"][-1] == pytest.approx(RATIO * r["rotor_speed"][-1], rel=1e-4)
     assert r["lss_torque"][-1] == pytest.approx(T_ROTOR, rel=0.01)
     assert r["hss_torque"][-1] == pytest.approx(T_GEN, rel=0.01)
-    assert 1.0 <= r["load_sharing_factor"][-1] < 1.02
+    # K_γ: the carrier's plates twist (fitted to the thesis's upwind/downwind bearing loads) and
+    # gravity loads the planets unevenly: 1.05 at the start angle
+    assert 1.0 <= r["load_sharing_factor"][-1] < 1.08
     assert r["planet_1_uw_radial_load"][-1] > 1e5 and r["hss_a_radial_load"][-1] > 1e3
+
+
+def test_alone_with_its_defaults_it_shows_the_upwind_planet_bearings_carrying_more(gearbox):
+    # nothing connected, no start values: the GRC at rated torque, gravity and the rotor's weight,
+    # lamina bearings; the thesis's upwind planet bearings carry 41-47 % more than the downwind ones
+    r = simulate_fmu(gearbox, stop_time=0.2, output_interval=1e-3,
+                     output=["lss_torque", "planet_1_uw_radial_load", "planet_1_dw_radial_load",
+                             "planet_1_uw_rollers_in_contact", "planet_1_uw_inner_race_pressure",
+                             "max_contact_pressure_gear_pinion_2", "hss_a_max_shear_depth"])
+    assert r["lss_torque"][-1] == pytest.approx(T_ROTOR, rel=0.01)
+    assert r["planet_1_uw_radial_load"][-1] > 1.2 * r["planet_1_dw_radial_load"][-1]
+    assert 6 <= r["planet_1_uw_rollers_in_contact"][-1] <= 10
+    assert 1.3e9 < r["planet_1_uw_inner_race_pressure"][-1] < 2.2e9
+    assert 0.8e9 < r["max_contact_pressure_gear_pinion_2"][-1] < 1.6e9
+    assert 0.05e-3 < r["hss_a_max_shear_depth"][-1] < 0.65e-3
 
 
 def test_libcosim_gives_fmpys_outputs(gearbox):

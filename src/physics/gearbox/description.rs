@@ -384,11 +384,34 @@ pub struct Planetary {
     #[serde(default)]
     pub ring_planet: MeshData,
     pub carrier: Body,
+    /// The carrier as two plates joined by its webs (None: one rigid body). Torque enters the
+    /// upwind plate; the downwind plate lags by the webs' twist, tilting every pin about its radial
+    /// axis, so a planet's upwind bearing carries more than its downwind one (thesis ch. 7, where a
+    /// flexible carrier gives this). Bearings downwind of the carrier's or a planet's centre sit in
+    /// the downwind plate.
+    #[serde(default)]
+    pub carrier_webs: Option<CarrierWebs>,
     pub planet: Body,
     pub sun: Body,
     /// None = rigid to the housing; Some = elastically mounted (give its support).
     #[serde(default)]
     pub ring: Option<Body>,
+}
+
+/// Stiffness between a carrier's plates: torsional (N·m/rad), radial and axial (N/m), tilting
+/// (N·m/rad), and the downwind plate's share of the carrier's mass and inertia.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CarrierWebs {
+    pub torsional: f64,
+    pub radial: f64,
+    pub tilting: f64,
+    #[serde(default = "default_downwind_share")]
+    pub downwind_share: f64,
+}
+
+fn default_downwind_share() -> f64 {
+    0.4
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -534,6 +557,18 @@ impl Description {
                     }
                     for (b, name) in [(&p.carrier, "carrier"), (&p.planet, "planet"), (&p.sun, "sun")] {
                         check_body(b, &at(name))?;
+                    }
+                    if let Some(w) = &p.carrier_webs {
+                        for (f, v) in [("torsional", w.torsional), ("radial", w.radial), ("tilting", w.tilting)] {
+                            positive(&at(&format!("carrier_webs.{f}")), v)?;
+                        }
+                        if !(w.downwind_share > 0.0 && w.downwind_share < 1.0) {
+                            return Err(format!(
+                                "{} = {} outside (0, 1)",
+                                at("carrier_webs.downwind_share"),
+                                w.downwind_share
+                            ));
+                        }
                     }
                     if let Some(r) = &p.ring {
                         check_body(r, &at("ring"))?;

@@ -171,6 +171,11 @@ struct Builder<'a> {
     geometry: Vec<PairGeometry>,
     /// (upstream body, downstream body, shaft spec, name)
     shafts: Vec<(usize, usize, desc::Shaft, String)>,
+    /// (carrier, its downwind plate) while a planetary stage with carrier webs is built: bearings
+    /// downwind of the centre of the carrier or a planet sit in the plate.
+    downwind_plate: Option<(usize, usize)>,
+    /// Entries of `shafts` that are carrier webs: springs like a shaft's, not reported as one.
+    webs: Vec<usize>,
     dofs: usize,
 }
 
@@ -399,6 +404,13 @@ impl Builder<'_> {
             } else {
                 format!("{prefix}_{}", br.name)
             };
+            let (b, other) = match self.downwind_plate {
+                Some((carrier, plate)) if br.position > 0.0 && b == carrier => (plate, other),
+                Some((carrier, plate)) if br.position > 0.0 && other.is_some_and(|o| o.0 == carrier) => {
+                    (b, other.map(|(_, pin)| (plate, pin)))
+                }
+                _ => (b, other),
+            };
             let rollers = br
                 .rollers
                 .as_ref()
@@ -478,6 +490,8 @@ impl Gearbox {
             springs: Vec::new(),
             bearings: Vec::new(),
             rollers: Vec::new(),
+            downwind_plate: None,
+            webs: Vec::new(),
             meshes: Vec::new(),
             geometry: Vec::new(),
             shafts: Vec::new(),
@@ -537,15 +551,44 @@ impl Gearbox {
                     let grp = rp.geometry().map_err(|e| format!("{}: ring–planet {e}", at("teeth")))?;
                     let w = t.face_width_mm * 1e-3;
                     let carrier_index = b.bodies.len();
+                    let carrier_inertia = inertia(&p.carrier, None, density, &at("carrier"))?;
+                    let upwind_share = p.carrier_webs.map_or(1.0, |w| 1.0 - w.downwind_share);
+                    let share = |s: f64| (carrier_inertia.0 * s, carrier_inertia.1 * s, carrier_inertia.2 * s);
                     let carrier = b.add_body(
                         format!("carrier_{planetary_count}"),
                         BodyKind::Carrier,
                         Some(s),
                         Some(carrier_index),
                         [0.0; 2],
-                        inertia(&p.carrier, None, density, &at("carrier"))?,
+                        share(upwind_share),
                         false,
                     );
+                    let plate = p.carrier_webs.map(|w| {
+                        let plate = b.add_body(
+                            format!("carrier_{planetary_count}_downwind"),
+                            BodyKind::Carrier,
+                            Some(s),
+                            Some(carrier),
+                            [0.0; 2],
+                            share(w.downwind_share),
+                            false,
+                        );
+                        // the webs' damping from the shaft damping ratio and the plate's own inertia
+                        let c = 2.0
+                            * b.d.model.shaft_damping_ratio
+                            * (w.torsional * carrier_inertia.1 * w.downwind_share).sqrt();
+                        let webs = desc::Shaft {
+                            torsional: w.torsional,
+                            torsional_damping: Some(c),
+                            radial: w.radial,
+                            axial: w.radial,
+                            tilting: w.tilting,
+                        };
+                        b.webs.push(b.shafts.len());
+                        b.shafts.push((carrier, plate, webs, format!("carrier_webs{suffix}")));
+                        plate
+                    });
+                    b.downwind_plate = plate.map(|pl| (carrier, pl));
                     b.supports("", carrier, &p.carrier, None, [0.0; 2]);
                     let sun_r = sp.reference_radius(0);
                     let planet_r = sp.reference_radius(1);
@@ -577,6 +620,7 @@ impl Gearbox {
                         );
                         planets.push((i, psi.to_radians(), e));
                     }
+                    b.downwind_plate = None;
                     let sun = b.add_body(
                         format!("sun_{planetary_count}"),
                         BodyKind::Sun,
@@ -1074,7 +1118,7 @@ fn finish(b: &mut Builder, rigid: &Option<Vec<f64>>) -> Result<(Vec<ShaftSpring>
         }
     };
     let shaft_list = b.shafts.clone();
-    for (u, d, spec, name) in shaft_list {
+    for (index, (u, d, spec, name)) in shaft_list.into_iter().enumerate() {
         let same_frame = b.bodies[u].frame == b.bodies[d].frame;
         if !same_frame && (spec.radial > 0.0 || spec.tilting > 0.0) {
             return Err(format!(
@@ -1105,11 +1149,13 @@ fn finish(b: &mut Builder, rigid: &Option<Vec<f64>>) -> Result<(Vec<ShaftSpring>
         torsion.add(fu + SPIN, 1.0);
         torsion.add(fd + SPIN, -1.0);
         let spring = b.spring(torsion, spec.torsional, c, 0.0);
-        shafts.push(ShaftSpring {
-            name: name.clone(),
-            spring,
-            sign: ratio.signum(),
-        });
+        if !b.webs.contains(&index) {
+            shafts.push(ShaftSpring {
+                name: name.clone(),
+                spring,
+                sign: ratio.signum(),
+            });
+        }
         let tau = b.d.model.bearing_damping_time;
         for (k, stiffness) in [
             (UX, spec.radial),
