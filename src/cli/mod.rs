@@ -36,6 +36,7 @@ pub fn error_chain(e: &anyhow::Error) -> String {
         windrive pack                                       build and pack every FMU into target/fmu/\n  \
         windrive modes --preset D --fidelity 2 --generator connected\n  \
         windrive modes --gearbox grc750                     the 6-DOF gearbox's modes, classified\n  \
+        windrive gearbox                                    the GRC at rated torque: bearing and gear stresses\n  \
         windrive run scenes/d-shutdown-6dof                 drivetrain D's shutdown with the 6-DOF gearbox\n  \
         windrive step-response --preset D                   rated-torque step through the FMU, modes beside it\n  \
         windrive bench torsional                            speed and accuracy of the FMU, with baselines\n  \

@@ -16,6 +16,9 @@ import pytest
     (["aero", "--blade", "/nonexistent/blade"], ["/nonexistent/blade/blade.csv"]),
     (["aero", "--preset", "Z"], ["Z", "A, B, C or D"]),
     (["step-response", "--fmu", "/nonexistent/x.fmu", "--out", "/tmp/windrive-x.csv"], ["/nonexistent/x.fmu"]),
+    (["gearbox", "--bearings", "balls"], ["balls", "linear or lamina"]),
+    (["gearbox", "--gearbox", "planetary-spur", "--fit-webs", "1.4"], ["planetary-spur", "carrier_webs"]),
+    (["gearbox", "--fit-webs", "0.5"], ["0.5", "outside what the webs can give"]),
 ])
 def test_bad_arguments_are_named(windrive, tmp_path, args, words):
     out = subprocess.run([windrive, *args], capture_output=True, text=True, cwd=tmp_path)
@@ -106,6 +109,7 @@ def one_fmu_scene(tmp_path, name):
     ("gearbox6dof", ["integrator=rk4"], ["integrator", "RK4 is not offered"]),
     ("gearbox6dof", ["mesh_stiffness=wavy"], ["mesh_stiffness", "wavy", "mean or varying"]),
     ("gearbox6dof", ["slices=500"], ["slices = 500", "above its maximum 200"]),
+    ("gearbox6dof", ["bearing_model=balls"], ["bearing_model", "balls", "linear or lamina"]),
     ("rotor", ["aerodynamics=vortex"], ["aerodynamics", "vortex", "bem or analytic"]),
     ("rotor", ["blade=no-such-blade"], ["no-such-blade/blade.csv"]),
     ("rotor", ["initial_pitch=2"], ["initial_pitch = 2", "pitch_max"]),
@@ -126,6 +130,16 @@ def test_bad_fmu_parameters_are_named(windrive, tmp_path, fmu, params, words):
     ("name = 'x'\n[[stage]]\n[stage.planetary]\nplanets = 3\nteeth = { sun = 20, planet = 40, ring = 99 }\n"
      "toothing = { module_mm = 10, face_width_mm = 100 }\ncarrier = {}\nplanet = {}\nsun = {}\n",
      ["stage[1].teeth", "not an integer"]),
+    ("name = 'x'\n[[stage]]\n[stage.parallel]\nteeth = { gear = 80, pinion = 20 }\n"
+     "toothing = { module_mm = 5, face_width_mm = 100 }\n[stage.parallel.gear]\n"
+     "bearings = [{ name = 'a', rollers = { count = 20, diameter_mm = 30, length_mm = 40, pitch_diameter_mm = 20 } }]\n"
+     "[stage.parallel.pinion]\n",
+     ["stage[1].gear.bearings[1].rollers.pitch_diameter_mm", "must exceed the roller diameter"]),
+    ("name = 'x'\n[[stage]]\n[stage.parallel]\nteeth = { gear = 80, pinion = 20 }\n"
+     "toothing = { module_mm = 5, face_width_mm = 100 }\n[stage.parallel.gear]\n"
+     "bearings = [{ name = 'a', rollers = { count = 20, diameter_mm = 30, length_mm = 40, pitch_diameter_mm = 200, "
+     "contact = 'point' } }]\n[stage.parallel.pinion]\n",
+     ["point contact needs roller_stiffness"]),
 ])
 def test_bad_gearbox_description_is_named(windrive, tmp_path, content, words):
     """A description file's mistakes reach the user with the file, the line or the field."""

@@ -13,6 +13,9 @@ use crate::physics::hertz::{LineContact, effective_modulus, subsurface_peaks};
 use nalgebra::DMatrix;
 use std::f64::consts::TAU;
 
+/// A 5×5 block on the relative coordinates (stiffness or damping).
+pub type Matrix5 = [[f64; 5]; 5];
+
 /// ISO/TS 16281's line-contact constant for a roller between two steel races, N/mm^(10/9) per
 /// mm^(8/9) of effective length: Q = 35 948·L_we^(8/9)·δ^(10/9) (N, mm).
 const ISO_LINE_CONSTANT: f64 = 35_948.0;
@@ -215,7 +218,7 @@ impl RollerBearing {
         x: &[f64; 5],
         xd: &[f64; 5],
         cage: f64,
-        mut tangent: Option<(&mut [[f64; 5]; 5], &mut [[f64; 5]; 5])>,
+        mut tangent: Option<(&mut Matrix5, &mut Matrix5)>,
     ) -> RollerLoads {
         let mut out = RollerLoads::default();
         let half_length = self.laminae.last().map_or(0.0, |l| l.0.abs());

@@ -721,7 +721,7 @@ fn check_rollers(r: &Rollers, at: &str) -> Result<(), String> {
             r.pitch_diameter_mm, r.diameter_mm
         ));
     }
-    if !(r.contact_angle_deg.abs() < 60.0) {
+    if r.contact_angle_deg.is_nan() || r.contact_angle_deg.abs() >= 60.0 {
         return Err(format!(
             "{at}.contact_angle_deg = {} outside (−60, 60)",
             r.contact_angle_deg
