@@ -1,9 +1,13 @@
 //! Drivetrain D's shutdown scene with `gearbox6dof` (the GRC description) in place of `torsional`,
 //! through the master (scenes/d-shutdown-6dof against scenes/d-shutdown): the same connectors, the
-//! same loads. The 6-DOF gearbox's bearing compliance lowers the first drivetrain mode by 5 %, so the
+//! same loads. The 6-DOF gearbox's bearing compliance lowers the first drivetrain mode by 4 %, so the
 //! two runs drift out of phase once the held rotor rocks; what must agree is the load each shaft
-//! carries: the RMS torque of every shaft in normal operation, while the brake slips and while it
-//! holds, within 3 %.
+//! carries: the RMS torque of every shaft in normal operation and while the brake slips, within 3 %.
+//! While the brake holds, the rotor rocks through zero torque, where the roller bearings' clearance
+//! lets the planets and shafts float: the drivetrain is softer there than the torsional model's
+//! linear springs, and the rocking's RMS differs by up to 20 % (with linear bearings it agrees within
+//! 3 %: docs/GEARBOX.md). The planets' upwind bearings carry 6–10 rollers in normal operation and
+//! fall to 2 or fewer when the torque reverses in the shutdown (thesis ch. 7: 6–7, then 1–2).
 
 mod common;
 
@@ -26,7 +30,9 @@ fn the_6dof_gearbox_carries_the_torsional_models_shaft_loads_and_reverses_after_
         "mesh_force_sun_planet_1",
         "brake_locked",
     ];
-    let six = run("d-shutdown-6dof", "gearbox", &names);
+    let mut with_rollers = names.to_vec();
+    with_rollers.push("planet_1_uw_rollers_in_contact");
+    let six = run("d-shutdown-6dof", "gearbox", &with_rollers);
     let tor = run("d-shutdown", "torsional", &names);
     let t = &six[0];
     let at = |time: f64| t.iter().position(|&x| x >= time).unwrap();
@@ -39,7 +45,8 @@ fn the_6dof_gearbox_carries_the_torsional_models_shaft_loads_and_reverses_after_
         ] {
             let (a, b) = (rms(&six[k + 1][from..to]), rms(&tor[k + 1][from..to]));
             println!("{shaft} {phase}: RMS {a:.1} (6-DOF) vs {b:.1} (torsional)");
-            assert!((a / b - 1.0).abs() < 0.03, "{shaft}, {phase}: {a} vs {b}");
+            let tolerance = if phase == "brake holding" { 0.25 } else { 0.03 };
+            assert!((a / b - 1.0).abs() < tolerance, "{shaft}, {phase}: {a} vs {b}");
         }
     }
     let force = &six[5];
@@ -50,5 +57,20 @@ fn the_6dof_gearbox_carries_the_torsional_models_shaft_loads_and_reverses_after_
     assert!(
         force[at(5.5)..].iter().any(|&f| f < 0.0),
         "no back-flank contact after the brake engages"
+    );
+    let rollers = &six[7];
+    let fewest = |x: &[f64]| x.iter().fold(f64::MAX, |m, &v| m.min(v));
+    let most = |x: &[f64]| x.iter().fold(0.0f64, |m, &v| m.max(v));
+    let normal = &rollers[at(0.5)..at(5.0)];
+    assert!(
+        fewest(normal) >= 6.0 && most(normal) <= 10.0,
+        "normal operation: {}–{} rollers",
+        fewest(normal),
+        most(normal)
+    );
+    assert!(
+        fewest(&rollers[lock..]) <= 2.0,
+        "shutdown: never fewer than {} rollers",
+        fewest(&rollers[lock..])
     );
 }
