@@ -76,9 +76,100 @@ fn corrupt_serialised_state_is_refused() {
     let st = a.get_state().unwrap();
     let mut bytes = a.serialize_state(&st).unwrap();
     a.free_state(st).unwrap();
+    let whole = bytes.clone();
     bytes.truncate(bytes.len() / 2);
     let err = a.deserialize_state(&bytes).unwrap_err().to_string();
     assert!(err.contains("corrupt serialised state"), "{err}");
+    // one flipped bit anywhere, trailing garbage, another format version: each refused
+    for at in [0, 5, 9, 13, 20, whole.len() / 2, whole.len() - 1] {
+        let mut flipped = whole.clone();
+        flipped[at] ^= 0x10;
+        let err = a.deserialize_state(&flipped).unwrap_err().to_string();
+        assert!(err.contains("serialised state"), "bit flipped at {at}: {err}");
+    }
+    let mut padded = whole.clone();
+    padded.extend_from_slice(b"garbage");
+    let err = a.deserialize_state(&padded).unwrap_err().to_string();
+    assert!(err.contains("payload bytes where the header says"), "{err}");
+    let mut future = whole.clone();
+    future[4] = 2;
+    let err = a.deserialize_state(&future).unwrap_err().to_string();
+    assert!(err.contains("format 2"), "{err}");
+    // the intact bytes still restore
+    let st = a.deserialize_state(&whole).unwrap();
+    a.free_state(st).unwrap();
+}
+
+/// A state holds only what changes: every FMU's serialised state stays below a bound (the rotor's
+/// carried its synthesised turbulence and was 472 kB; the parameters rebuild what never changes).
+#[test]
+fn serialised_states_hold_only_what_changes() {
+    for (name, bound) in [
+        ("rotor", 4_096),
+        ("torsional", 8_192),
+        ("generator", 4_096),
+        ("gearbox6dof", 16_384),
+    ] {
+        let fmu = Fmu::open(&fmu_path(name)).unwrap();
+        let mut inst = initialised(&fmu, &[], &[]);
+        inst.do_step(0.0, 1e-3).unwrap();
+        let st = inst.get_state().unwrap();
+        let size = inst.serialize_state(&st).unwrap().len();
+        println!("{name}: {size} bytes");
+        assert!(
+            size < bound,
+            "{name}: a serialised state of {size} bytes (bound {bound})"
+        );
+        inst.free_state(st).unwrap();
+    }
+}
+
+/// A host that takes states and frees the instance without fmi2FreeFMUstate leaks nothing: the
+/// instance frees what it handed out. Run under valgrind by the test below.
+#[test]
+#[ignore = "run under valgrind by states_kept_across_free_instance_leak_nothing"]
+fn cycles_keeping_states_across_free_instance() {
+    for name in ["rotor", "torsional", "generator", "gearbox6dof"] {
+        let fmu = Fmu::open(&fmu_path(name)).unwrap();
+        for _ in 0..3 {
+            let mut inst = initialised(&fmu, &[], &[]);
+            inst.do_step(0.0, 1e-3).unwrap();
+            let kept = inst.get_state().unwrap();
+            let bytes = inst.serialize_state(&kept).unwrap();
+            let _restored = inst.deserialize_state(&bytes).unwrap();
+            let _another = inst.get_state().unwrap();
+            // the host lets go of its states (SavedState has no Drop) and frees the instance
+            drop(inst);
+        }
+    }
+}
+
+/// valgrind (on every machine of this project's kind) over the cycles above: no byte definitely
+/// or indirectly lost. Before states were tracked, 10 such cycles lost 4.7 MB (rotor), 13.6 kB
+/// (torsional) and 6.5 kB (generator).
+#[test]
+fn states_kept_across_free_instance_leak_nothing() {
+    let exe = std::env::current_exe().unwrap();
+    let out = std::process::Command::new("valgrind")
+        .args([
+            "--leak-check=full",
+            "--errors-for-leak-kinds=definite,indirect",
+            "--error-exitcode=9",
+            // leaks are the question here; libm's `floor` trips valgrind's definedness tracking
+            "--undef-value-errors=no",
+            "--quiet",
+        ])
+        .arg(&exe)
+        .args([
+            "--ignored",
+            "--exact",
+            "cycles_keeping_states_across_free_instance",
+            "--test-threads=1",
+        ])
+        .output()
+        .expect("valgrind runs (apt install valgrind)");
+    let report = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "valgrind found leaks or errors:\n{report}");
 }
 
 #[test]

@@ -15,7 +15,8 @@ pub struct BenchArgs {
     /// What to benchmark: torsional (the FMU), gearbox (the 6-DOF gearbox in drivetrain D's shutdown
     /// scene with lamina bearings and 35, 11 and 5 slices, and linear bearings, against torsional and RK4), rainflow (counting and DELs), solvers (explicit
     /// inverse, dense LU and sparse LU on gearbox-shaped iteration matrices), coupling (every
-    /// co-simulation algorithm on scenes/d-grid-step against its exact solution), master (our
+    /// co-simulation algorithm on scenes/d-grid-step against its exact solution), states (each FMU's
+    /// state size and cost, iterative against gauss-seidel on scenes/c-shutdown), master (our
     /// master's overhead per FMU-step against the bare FMI calls)
     pub target: String,
     #[arg(long, default_value = "D")]
@@ -52,6 +53,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         "solvers" => return linear_solvers(),
         "coupling" => return super::coupling::run(args.stop_time, args.work_precision.as_deref()),
         "gearbox" => return super::gearbox_bench::run(args.stop_time),
+        "states" => return super::states_bench::run(args.stop_time),
         "master" => {
             let scene = args
                 .scene
@@ -60,7 +62,9 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             return super::overhead::run(&scene, args.macro_steps);
         }
         other => {
-            bail!("unknown benchmark {other:?}: available: torsional, gearbox, rainflow, coupling, master, solvers")
+            bail!(
+                "unknown benchmark {other:?}: available: torsional, gearbox, rainflow, coupling, master, solvers, states"
+            )
         }
     }
     let fmu = torsional_fmu(args.fmu.as_deref())?;

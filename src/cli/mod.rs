@@ -14,6 +14,7 @@ pub mod overhead;
 pub mod plot;
 pub mod run;
 pub mod shutdown;
+pub mod states_bench;
 pub mod step;
 
 use clap::{Parser, Subcommand};

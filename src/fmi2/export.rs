@@ -98,12 +98,49 @@ pub struct Instance<S: Slave> {
     last_successful_time: f64,
     slave: S,
     returned_strings: Vec<CString>,
+    /// Every FMU state this instance handed out and the host has not freed: fmi2FreeInstance frees
+    /// them (FMI 2.0: the instance owns what it allocated), and a pointer not in here is refused
+    /// rather than dereferenced.
+    states: Vec<*mut Snapshot<S>>,
+}
+
+impl<S: Slave> Drop for Instance<S> {
+    fn drop(&mut self) {
+        for &p in &self.states {
+            // SAFETY: every pointer here came from Box::into_raw and was not freed (freeing removes it).
+            drop(unsafe { Box::from_raw(p) });
+        }
+    }
+}
+
+impl<S: Slave> Instance<S> {
+    /// The state behind a host's pointer, if this instance handed it out and it is still alive.
+    fn owned(&self, state: Fmi2FmuState) -> Result<*mut Snapshot<S>, String> {
+        let p = state as *mut Snapshot<S>;
+        if self.states.contains(&p) {
+            Ok(p)
+        } else {
+            Err("FMUstate was not handed out by this instance, or was freed already".into())
+        }
+    }
+
+    /// Hands a new state to the host, tracked until freed.
+    fn hand_out(&mut self, snap: Snapshot<S>) -> Fmi2FmuState {
+        let p = Box::into_raw(Box::new(snap));
+        self.states.push(p);
+        p as Fmi2FmuState
+    }
+
+    fn release(&mut self, p: *mut Snapshot<S>) {
+        self.states.retain(|&q| q != p);
+        // SAFETY: `p` was owned (checked by the caller) and is no longer listed.
+        drop(unsafe { Box::from_raw(p) });
+    }
 }
 
 /// A saved FMU state (fmi2GetFMUstate) and the unit of serialisation.
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
 struct Snapshot<S> {
-    guid: String,
     state: ModelState,
     time: f64,
     start_time: f64,
@@ -274,6 +311,7 @@ pub unsafe fn instantiate<S: Slave>(
             last_successful_time: 0.0,
             slave,
             returned_strings: Vec::new(),
+            states: Vec::new(),
         }))
     }));
     match built {
@@ -648,26 +686,22 @@ pub unsafe fn set_string<S: Slave>(
 
 fn snapshot<S: Slave>(inst: &Instance<S>) -> Snapshot<S> {
     Snapshot {
-        guid: S::GUID.to_string(),
         state: inst.state,
         time: inst.time,
         start_time: inst.start_time,
         stop_time: inst.stop_time,
         last_successful_time: inst.last_successful_time,
-        slave: inst.slave.clone(),
+        slave: inst.slave.snapshot(),
     }
 }
 
-fn restore<S: Slave>(inst: &mut Instance<S>, snap: Snapshot<S>) -> Result<(), String> {
-    if snap.guid != S::GUID {
-        return Err(format!("state belongs to GUID {}, this FMU is {}", snap.guid, S::GUID));
-    }
+fn restore<S: Slave>(inst: &mut Instance<S>, snap: &Snapshot<S>) -> Result<(), String> {
     inst.state = snap.state;
     inst.time = snap.time;
     inst.start_time = snap.start_time;
     inst.stop_time = snap.stop_time;
     inst.last_successful_time = snap.last_successful_time;
-    inst.slave = snap.slave;
+    inst.slave.restore(&snap.slave);
     Ok(())
 }
 
@@ -683,12 +717,18 @@ pub unsafe fn get_fmu_state<S: Slave>(c: Fmi2Component, state: *mut Fmi2FmuState
                 if state.is_null() {
                     return Err("FMUstate pointer is null".into());
                 }
-                let snap = snapshot(inst);
                 if (*state).is_null() {
-                    *state = Box::into_raw(Box::new(snap)) as Fmi2FmuState;
+                    let snap = snapshot(inst);
+                    *state = inst.hand_out(snap);
                 } else {
-                    // FMI 2.0: a non-null *FMUstate is updated in place.
-                    *((*state) as *mut Snapshot<S>) = snap;
+                    // FMI 2.0: a non-null *FMUstate is updated in place (reusing its allocations).
+                    let into = &mut *inst.owned(*state)?;
+                    into.state = inst.state;
+                    into.time = inst.time;
+                    into.start_time = inst.start_time;
+                    into.stop_time = inst.stop_time;
+                    into.last_successful_time = inst.last_successful_time;
+                    inst.slave.snapshot_into(&mut into.slave);
                 }
                 Ok(Fmi2Status::Ok)
             },
@@ -704,7 +744,7 @@ pub unsafe fn set_fmu_state<S: Slave>(c: Fmi2Component, state: Fmi2FmuState) -> 
             if state.is_null() {
                 return Err("FMUstate is null".into());
             }
-            let snap = (*(state as *const Snapshot<S>)).clone();
+            let snap = &*inst.owned(state)?;
             restore(inst, snap)?;
             Ok(Fmi2Status::Ok)
         })
@@ -715,12 +755,13 @@ pub unsafe fn set_fmu_state<S: Slave>(c: Fmi2Component, state: Fmi2FmuState) -> 
 /// As [`set_fmu_state`]; `*state` is set to null.
 pub unsafe fn free_fmu_state<S: Slave>(c: Fmi2Component, state: *mut Fmi2FmuState) -> Fmi2Status {
     unsafe {
-        call::<S>(c, "fmi2FreeFMUstate", ANY, |_| {
+        call::<S>(c, "fmi2FreeFMUstate", ANY, |inst| {
             if state.is_null() {
                 return Err("FMUstate pointer is null".into());
             }
             if !(*state).is_null() {
-                drop(Box::from_raw((*state) as *mut Snapshot<S>));
+                let p = inst.owned(*state)?;
+                inst.release(p);
                 *state = std::ptr::null_mut();
             }
             Ok(Fmi2Status::Ok)
@@ -728,8 +769,63 @@ pub unsafe fn free_fmu_state<S: Slave>(c: Fmi2Component, state: *mut Fmi2FmuStat
     }
 }
 
+/// A serialised state: "WDST", the format version, the payload's length and its CRC-32, then the
+/// payload (postcard). A flipped bit, a truncated or padded buffer, another version: all refused.
+const STATE_MAGIC: &[u8; 4] = b"WDST";
+const STATE_FORMAT: u32 = 1;
+const STATE_HEADER: usize = 16;
+
 fn encode<S: Slave>(snap: &Snapshot<S>) -> Result<Vec<u8>, String> {
-    postcard::to_allocvec(snap).map_err(|e| format!("cannot serialise state: {e}"))
+    let payload = postcard::to_allocvec(&(S::GUID, snap)).map_err(|e| format!("cannot serialise state: {e}"))?;
+    let mut out = Vec::with_capacity(STATE_HEADER + payload.len());
+    out.extend_from_slice(STATE_MAGIC);
+    out.extend_from_slice(&STATE_FORMAT.to_le_bytes());
+    out.extend_from_slice(&(payload.len() as u32).to_le_bytes());
+    out.extend_from_slice(&crc32fast::hash(&payload).to_le_bytes());
+    out.extend_from_slice(&payload);
+    Ok(out)
+}
+
+fn decode<S: Slave>(data: &[u8]) -> Result<Snapshot<S>, String> {
+    let word = |k: usize| u32::from_le_bytes(data[4 * k..4 * k + 4].try_into().expect("4 bytes"));
+    if data.len() < STATE_HEADER || &data[..4] != STATE_MAGIC {
+        return Err(format!(
+            "corrupt serialised state: {} bytes without the WDST header",
+            data.len()
+        ));
+    }
+    if word(1) != STATE_FORMAT {
+        return Err(format!(
+            "serialised state has format {}, this FMU reads {STATE_FORMAT}",
+            word(1)
+        ));
+    }
+    let payload = &data[STATE_HEADER..];
+    if payload.len() != word(2) as usize {
+        return Err(format!(
+            "corrupt serialised state: {} payload bytes where the header says {}",
+            payload.len(),
+            word(2)
+        ));
+    }
+    if crc32fast::hash(payload) != word(3) {
+        return Err("corrupt serialised state: checksum mismatch".into());
+    }
+    let ((guid, snap), rest): ((String, Snapshot<S>), _) =
+        postcard::take_from_bytes(payload).map_err(|e| format!("corrupt serialised state: {e}"))?;
+    if !rest.is_empty() {
+        return Err(format!(
+            "corrupt serialised state: {} bytes after the state",
+            rest.len()
+        ));
+    }
+    if guid != S::GUID {
+        return Err(format!(
+            "serialised state belongs to GUID {guid}, this FMU is {}",
+            S::GUID
+        ));
+    }
+    Ok(snap)
 }
 
 /// # Safety
@@ -740,11 +836,11 @@ pub unsafe fn serialized_fmu_state_size<S: Slave>(
     size: *mut usize,
 ) -> Fmi2Status {
     unsafe {
-        call::<S>(c, "fmi2SerializedFMUstateSize", ANY, |_| {
+        call::<S>(c, "fmi2SerializedFMUstateSize", ANY, |inst| {
             if state.is_null() || size.is_null() {
                 return Err("FMUstate or size pointer is null".into());
             }
-            *size = encode(&*(state as *const Snapshot<S>))?.len();
+            *size = encode(&*inst.owned(state)?)?.len();
             Ok(Fmi2Status::Ok)
         })
     }
@@ -759,11 +855,11 @@ pub unsafe fn serialize_fmu_state<S: Slave>(
     size: usize,
 ) -> Fmi2Status {
     unsafe {
-        call::<S>(c, "fmi2SerializeFMUstate", ANY, |_| {
+        call::<S>(c, "fmi2SerializeFMUstate", ANY, |inst| {
             if state.is_null() || bytes.is_null() {
                 return Err("FMUstate or byte buffer is null".into());
             }
-            let encoded = encode(&*(state as *const Snapshot<S>))?;
+            let encoded = encode(&*inst.owned(state)?)?;
             if encoded.len() > size {
                 return Err(format!(
                     "buffer of {size} bytes is smaller than the state ({} bytes)",
@@ -785,23 +881,17 @@ pub unsafe fn deserialize_fmu_state<S: Slave>(
     state: *mut Fmi2FmuState,
 ) -> Fmi2Status {
     unsafe {
-        call::<S>(c, "fmi2DeSerializeFMUstate", ANY, |_| {
+        call::<S>(c, "fmi2DeSerializeFMUstate", ANY, |inst| {
             if bytes.is_null() || state.is_null() {
                 return Err("byte buffer or FMUstate pointer is null".into());
             }
             let data = std::slice::from_raw_parts(bytes as *const u8, size);
-            let snap: Snapshot<S> = postcard::from_bytes(data).map_err(|e| format!("corrupt serialised state: {e}"))?;
-            if snap.guid != S::GUID {
-                return Err(format!(
-                    "serialised state belongs to GUID {}, this FMU is {}",
-                    snap.guid,
-                    S::GUID
-                ));
-            }
+            let snap: Snapshot<S> = decode(data)?;
             if !(*state).is_null() {
-                drop(Box::from_raw((*state) as *mut Snapshot<S>));
+                let p = inst.owned(*state)?;
+                inst.release(p);
             }
-            *state = Box::into_raw(Box::new(snap)) as Fmi2FmuState;
+            *state = inst.hand_out(snap);
             Ok(Fmi2Status::Ok)
         })
     }

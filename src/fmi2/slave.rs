@@ -209,6 +209,25 @@ pub trait Slave: Sized + Clone + Send + Serialize + DeserializeOwned + 'static {
         Err(cannot_set(Self::variable(VarType::String, vr), VarType::String, vr))
     }
 
+    /// What fmi2GetFMUstate keeps: by default the whole slave. A slave with a workspace (an
+    /// integrator's cached factorisations) leaves it out: a state holds only what changes.
+    fn snapshot(&self) -> Self {
+        self.clone()
+    }
+
+    /// Overwrites an earlier snapshot (fmi2GetFMUstate on a non-null state); slaves that can reuse
+    /// its allocations do, so the master's state at every macro step allocates nothing.
+    fn snapshot_into(&self, into: &mut Self) {
+        *into = self.snapshot();
+    }
+
+    /// Returns to a snapshot (fmi2SetFMUstate): by default a copy of it. A slave with a workspace
+    /// keeps its own while the model is the same: its caches serve the restored state as well, and
+    /// results stay bit-identical (a cached factorisation is the one a rebuild would compute).
+    fn restore(&mut self, snap: &Self) {
+        *self = snap.clone();
+    }
+
     /// Checks the parameters and builds the model; called by fmi2ExitInitializationMode.
     fn initialize(&mut self, start_time: f64, log: &mut dyn Log) -> SlaveResult<()>;
 

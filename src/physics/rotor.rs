@@ -190,9 +190,12 @@ pub struct RotorOutputs {
     pub pitch: f64,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// The model: what never changes once built (`source`: blade, polars, the synthesised turbulence or
+/// the played-back series, hundreds of kB) is shared, so a copy of the model (an FMU state taken at
+/// every macro step for rollback) costs a pointer, not the data.
+#[derive(Debug, Clone, PartialEq)]
 pub struct RotorModel {
-    pub source: Source,
+    pub source: std::sync::Arc<Source>,
     pub shutdown: Shutdown,
     pub state: PitchState,
     pub time: f64,
@@ -203,7 +206,7 @@ const CONTROL_STEP: f64 = 0.01;
 
 impl RotorModel {
     pub fn wind(&self, t: f64) -> f64 {
-        match &self.source {
+        match &*self.source {
             Source::Aero {
                 mean_wind, turbulence, ..
             } => (mean_wind + turbulence.as_ref().map_or(0.0, |s| s.at(t))).max(0.0),
@@ -213,7 +216,7 @@ impl RotorModel {
 
     pub fn outputs(&self, rotor_speed: f64) -> RotorOutputs {
         let t = self.time;
-        match &self.source {
+        match &*self.source {
             Source::Aero { rotor, tilt, .. } => {
                 let v = self.wind(t);
                 let (torque, thrust) = rotor.torque_thrust(rotor_speed, v, self.state.pitch);
@@ -244,7 +247,7 @@ impl RotorModel {
             target,
             gear_ratio,
             ..
-        } = &self.source
+        } = &*self.source
         {
             let n = (h / CONTROL_STEP).ceil().max(1.0) as usize;
             let dt = h / n as f64;

@@ -270,6 +270,53 @@ fn bearing_output(l: &BearingLoad, k: usize) -> f64 {
 impl Slave for Gearbox6dofSlave {
     crate::slave_interface_from_xml!();
 
+    /// The integrator's workspace (cached factorisations) and the loads cache stay out of a state.
+    fn snapshot(&self) -> Self {
+        Self {
+            params: self.params.clone(),
+            inputs: self.inputs,
+            resources: self.resources.clone(),
+            state: self.state.clone(),
+            built: self.built.clone(),
+            driver: implicit_driver(),
+            loads: None,
+        }
+    }
+
+    /// Reuses the earlier snapshot's vectors and strings.
+    fn snapshot_into(&self, into: &mut Self) {
+        if into.params != self.params {
+            into.params = self.params.clone();
+        }
+        into.inputs.clone_from(&self.inputs);
+        into.resources.clone_from(&self.resources);
+        into.state.clone_from(&self.state);
+        into.built.clone_from(&self.built);
+        into.loads = None;
+    }
+
+    /// Keeps this instance's integrator while the model is the snapshot's own (the same build).
+    fn restore(&mut self, snap: &Self) {
+        let same_model = match (&self.built, &snap.built) {
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            _ => false,
+        };
+        if self.params != snap.params {
+            self.params = snap.params.clone();
+        }
+        self.inputs.clone_from(&snap.inputs);
+        self.resources = snap.resources.clone();
+        self.state.clone_from(&snap.state);
+        self.loads = None;
+        if !same_model {
+            self.built = snap.built.clone();
+            self.driver = snap
+                .built
+                .as_ref()
+                .map_or_else(implicit_driver, |b| Driver::new(b.method));
+        }
+    }
+
     fn instantiate(resources: Option<&Path>) -> Self {
         Self {
             params: Params::default(),

@@ -108,6 +108,20 @@ impl GeneratorSlave {
 impl Slave for GeneratorSlave {
     crate::slave_interface_from_xml!();
 
+    /// Reuses an earlier snapshot's strings: the parameters are copied only when they differ.
+    fn snapshot_into(&self, into: &mut Self) {
+        if into.params != self.params {
+            into.params = self.params.clone();
+        }
+        into.inputs.clone_from(&self.inputs);
+        into.model = self.model;
+        into.stepped = self.stepped;
+    }
+
+    fn restore(&mut self, snap: &Self) {
+        snap.snapshot_into(self);
+    }
+
     fn instantiate(_resources: Option<&Path>) -> Self {
         Self {
             params: Params::default(),

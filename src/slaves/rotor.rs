@@ -22,7 +22,7 @@ pub type Params = xml::Parameters;
 pub type Inputs = xml::Inputs;
 
 /// What a set of parameters builds, with the numbers the calculated parameters report.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
 struct Built {
     model: RotorModel,
     rated_wind_speed: f64,
@@ -297,7 +297,7 @@ impl Params {
         };
         Ok(Built {
             model: RotorModel {
-                source,
+                source: std::sync::Arc::new(source),
                 shutdown,
                 state,
                 time: 0.0,
@@ -316,8 +316,13 @@ pub struct RotorSlave {
     pub params: Params,
     pub inputs: Inputs,
     resources: Option<PathBuf>,
+    /// Rebuilt from the parameters when missing (after deserialising a state): a serialised state
+    /// carries only `motion`, what changes.
+    #[serde(skip)]
     built: Option<Built>,
     start_time: f64,
+    /// The model's pitch state and clock after the last step (None: at the start time).
+    motion: Option<(PitchState, f64)>,
     /// Outputs at (time, rotor speed) last computed: a master reads several per step.
     #[serde(skip)]
     cache: Option<(f64, f64, RotorOutputs)>,
@@ -328,6 +333,7 @@ impl RotorSlave {
     fn changed(&mut self, what: Changed) {
         if what == Changed::Parameter {
             self.built = None;
+            self.motion = None;
         }
         self.cache = None;
     }
@@ -335,7 +341,10 @@ impl RotorSlave {
     fn ensure(&mut self) -> SlaveResult<&mut Built> {
         if self.built.is_none() {
             let mut b = self.params.build(self.resources.as_deref())?;
-            b.model.time = self.start_time;
+            match self.motion {
+                Some((state, time)) => (b.model.state, b.model.time) = (state, time),
+                None => b.model.time = self.start_time,
+            }
             self.built = Some(b);
         }
         Ok(self.built.as_mut().expect("just built"))
@@ -345,6 +354,24 @@ impl RotorSlave {
 impl Slave for RotorSlave {
     crate::slave_interface_from_xml!();
 
+    /// A state shares the model (its blade, polars and series behind an `Arc`) and reuses an
+    /// earlier snapshot's strings.
+    fn snapshot_into(&self, into: &mut Self) {
+        if into.params != self.params {
+            into.params = self.params.clone();
+        }
+        into.inputs.clone_from(&self.inputs);
+        into.resources.clone_from(&self.resources);
+        into.built.clone_from(&self.built);
+        into.start_time = self.start_time;
+        into.motion = self.motion;
+        into.cache = self.cache;
+    }
+
+    fn restore(&mut self, snap: &Self) {
+        snap.snapshot_into(self);
+    }
+
     fn instantiate(resources: Option<&Path>) -> Self {
         Self {
             params: Params::default(),
@@ -352,6 +379,7 @@ impl Slave for RotorSlave {
             resources: resources.map(Path::to_path_buf),
             built: None,
             start_time: 0.0,
+            motion: None,
             cache: None,
         }
     }
@@ -447,6 +475,7 @@ impl Slave for RotorSlave {
         }
         // the controller sees the speed at the middle of the step (second order in h)
         b.model.advance(w.at(h / 2.0), h);
+        self.motion = Some((b.model.state, b.model.time));
         self.inputs.advance(h);
         Ok(())
     }

@@ -201,6 +201,47 @@ const MESH_COUNT: u32 = crate::physics::torsional::MESH_SLOTS.len() as u32;
 impl Slave for TorsionalSlave {
     crate::slave_interface_from_xml!();
 
+    /// The integrator's workspace (cached factorisations, step maps) stays out of a state.
+    fn snapshot(&self) -> Self {
+        Self {
+            params: self.params.clone(),
+            inputs: self.inputs,
+            state: self.state.clone(),
+            built: self.built.clone(),
+            driver: implicit_driver(),
+        }
+    }
+
+    /// Reuses the earlier snapshot's vectors and strings.
+    fn snapshot_into(&self, into: &mut Self) {
+        if into.params != self.params {
+            into.params = self.params.clone();
+        }
+        into.inputs.clone_from(&self.inputs);
+        into.state.clone_from(&self.state);
+        into.built.clone_from(&self.built);
+    }
+
+    /// Keeps this instance's integrator while the model is the snapshot's own (the same build).
+    fn restore(&mut self, snap: &Self) {
+        let same_model = match (&self.built, &snap.built) {
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            _ => false,
+        };
+        if self.params != snap.params {
+            self.params = snap.params.clone();
+        }
+        self.inputs.clone_from(&snap.inputs);
+        self.state.clone_from(&snap.state);
+        if !same_model {
+            self.built = snap.built.clone();
+            self.driver = snap
+                .built
+                .as_ref()
+                .map_or_else(implicit_driver, |b| Driver::new(b.method));
+        }
+    }
+
     fn instantiate(_resources: Option<&Path>) -> Self {
         Self::blank()
     }

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 /// The dynamic state of a second-order system.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, PartialEq, Serialize, Deserialize)]
 pub struct DynState {
     pub q: Vec<f64>,
     pub v: Vec<f64>,
@@ -16,6 +16,30 @@ pub struct DynState {
     pub friction_force: f64,
     /// The inputs `a` is consistent with (empty: not yet computed).
     pub applied: Vec<f64>,
+}
+
+/// `clone_from` reuses the vectors: an FMU state updated in place at every macro step (the
+/// master's rollback) allocates nothing.
+impl Clone for DynState {
+    fn clone(&self) -> Self {
+        Self {
+            q: self.q.clone(),
+            v: self.v.clone(),
+            a: self.a.clone(),
+            locked: self.locked,
+            friction_force: self.friction_force,
+            applied: self.applied.clone(),
+        }
+    }
+
+    fn clone_from(&mut self, other: &Self) {
+        self.q.clone_from(&other.q);
+        self.v.clone_from(&other.v);
+        self.a.clone_from(&other.a);
+        self.locked = other.locked;
+        self.friction_force = other.friction_force;
+        self.applied.clone_from(&other.applied);
+    }
 }
 
 impl DynState {
