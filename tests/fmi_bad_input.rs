@@ -387,3 +387,34 @@ fn generator_integer_parameters_outside_their_range_are_refused() {
     inst.get_integer(&[poles], &mut v).unwrap();
     assert_eq!(v[0], 4);
 }
+
+/// fmi2DoStep(0, 1e6) is legal but absurd: every FMU refuses it at once (the torsional and rotor
+/// FMUs ran for minutes; the generator already refused), naming max_steps_per_call and the step
+/// asked for.
+#[test]
+fn an_absurd_communication_step_is_refused_at_once() {
+    for name in ["torsional", "rotor", "gearbox6dof"] {
+        let fmu = Fmu::open(&fmu_path(name)).unwrap();
+        let mut inst = initialised(&fmu, &[], &[]);
+        let start = std::time::Instant::now();
+        let err = inst.do_step(0.0, 1e6).unwrap_err().to_string();
+        assert!(
+            start.elapsed().as_secs_f64() < 1.0,
+            "{name}: took {:?}",
+            start.elapsed()
+        );
+        assert!(
+            err.contains("max_steps_per_call") && err.contains("1000000 s"),
+            "{name}: {err}"
+        );
+    }
+    // the limit is the user's: 100 internal steps of 1 ms pass a 0.1 s step and refuse 0.2 s
+    let fmu = torsional();
+    let mut inst = initialised(&fmu, &[], &[("max_steps_per_call", 100.0), ("max_internal_step", 1e-3)]);
+    inst.do_step(0.0, 0.1).unwrap();
+    let err = inst.do_step(0.1, 0.2).unwrap_err().to_string();
+    assert!(
+        err.contains("200 internal steps") && err.contains("max_steps_per_call = 100"),
+        "{err}"
+    );
+}

@@ -202,7 +202,7 @@ pub struct RotorModel {
 }
 
 /// Pitch control runs at this rate at most, whatever the communication step.
-const CONTROL_STEP: f64 = 0.01;
+pub const CONTROL_STEP: f64 = 0.01;
 
 impl RotorModel {
     pub fn wind(&self, t: f64) -> f64 {

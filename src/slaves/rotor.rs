@@ -9,8 +9,8 @@ use crate::physics::bem::BemRotor;
 use crate::physics::blade::Blade;
 use crate::physics::drivetrain::Drivetrain;
 use crate::physics::rotor::{
-    Aerodynamics, PitchTarget, RotorModel, RotorOutputs, Shutdown, Source, TiltModel, TorqueSeries, preset_rotor,
-    rated_wind_speed, trim_pitch,
+    Aerodynamics, CONTROL_STEP, PitchTarget, RotorModel, RotorOutputs, Shutdown, Source, TiltModel, TorqueSeries,
+    preset_rotor, rated_wind_speed, trim_pitch,
 };
 use crate::physics::turbulence::{TurbulenceModel, TurbulenceSeries, iec_sigma, kaimal_length};
 use serde::{Deserialize, Serialize};
@@ -457,6 +457,14 @@ impl Slave for RotorSlave {
     }
 
     fn do_step(&mut self, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
+        let steps = (h / CONTROL_STEP).ceil();
+        if steps > self.params.max_steps_per_call {
+            return Err(crate::fmi2::slave::err(format!(
+                "the communication step of {h} s needs {steps:.0} pitch-control steps of {CONTROL_STEP} s, more than \
+                 max_steps_per_call = {:.0}; take shorter communication steps or raise the limit",
+                self.params.max_steps_per_call
+            )));
+        }
         let w = self.inputs.rotor_speed;
         let b = self.ensure()?;
         let sd = b.model.shutdown;

@@ -332,6 +332,7 @@ impl TorsionalSlave {
     fn step_with(&mut self, built: &Built, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
         let inputs = &self.inputs;
         let st = self.state.as_mut().unwrap();
+        self.driver.max_steps_per_call = self.params.max_steps_per_call;
         let result = self.driver.advance(
             &built.model,
             st,

@@ -43,6 +43,9 @@ pub struct Driver {
     fi: Vec<f64>,
     /// The dense mass matrix's factor for consistent accelerations.
     mass: MassSolver,
+    /// Most internal steps one `advance` may take: a host's absurd communication step (1e6 s) is
+    /// refused at once instead of running for minutes.
+    pub max_steps_per_call: f64,
 }
 
 impl Driver {
@@ -62,6 +65,7 @@ impl Driver {
             f: Vec::new(),
             fi: Vec::new(),
             mass: MassSolver::default(),
+            max_steps_per_call: 1e6,
         }
     }
 
@@ -87,6 +91,13 @@ impl Driver {
         }
         self.events.clear();
         let substeps = (h / max_step * (1.0 - 1e-12)).ceil().max(1.0);
+        if substeps > self.max_steps_per_call {
+            return Err(SolverError::TooManySteps {
+                step: h,
+                steps: substeps,
+                limit: self.max_steps_per_call,
+            });
+        }
         let hs = h / substeps;
         if let Method::Rk4 { stability_limit } = self.method
             && hs > stability_limit

@@ -101,6 +101,11 @@ pub enum SolverError {
     },
     #[error("step size {step} s is not positive and finite")]
     BadStep { step: f64 },
+    #[error(
+        "the communication step of {step} s needs {steps:.0} internal steps, more than max_steps_per_call = {limit:.0}; \
+         take shorter communication steps or raise the limit"
+    )]
+    TooManySteps { step: f64, steps: f64, limit: f64 },
 }
 
 impl SolverError {
