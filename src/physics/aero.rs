@@ -131,14 +131,17 @@ impl PitchController {
         let gk = 1.0 / (1.0 + st.pitch / self.gain_halving_pitch);
         st.integral += e * h;
         // anti-windup: the integral alone may not command beyond the pitch limits
+        // max/min rather than clamp: a limit pair the owner failed to check must not panic
         if self.ki > 0.0 {
             let lo = self.min_pitch / (gk * self.ki);
             let hi = self.max_pitch / (gk * self.ki);
-            st.integral = st.integral.clamp(lo, hi);
+            st.integral = st.integral.max(lo).min(hi);
         }
-        let target = (gk * (self.kp * e + self.ki * st.integral)).clamp(self.min_pitch, self.max_pitch);
+        let target = (gk * (self.kp * e + self.ki * st.integral))
+            .max(self.min_pitch)
+            .min(self.max_pitch);
         let max_change = self.max_rate * h;
-        st.pitch += (target - st.pitch).clamp(-max_change, max_change);
+        st.pitch += (target - st.pitch).max(-max_change).min(max_change);
         st.pitch
     }
 }

@@ -134,7 +134,45 @@ impl Params {
         }
     }
 
+    /// The controller's and the shutdown's numbers, checked before any reaches the physics (where a
+    /// limit of −inf or a NaN gain would make `clamp` panic or the pitch non-finite).
+    fn check_control(&self) -> SlaveResult<()> {
+        let finite = [
+            ("pitch_kp", self.pitch_kp),
+            ("pitch_ki", self.pitch_ki),
+            ("power_kp", self.power_kp),
+            ("power_ki", self.power_ki),
+            ("pitch_max_rate", self.pitch_max_rate),
+            ("pitch_max", self.pitch_max),
+            ("feather_rate", self.feather_rate),
+        ];
+        for (name, v) in finite {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(ParameterError::invalid(name, &v, "must be finite and ≥ 0").into());
+            }
+        }
+        // 0 or below: the rated wind speed
+        if !self.wind_speed.is_finite() {
+            return Err(ParameterError::invalid("wind_speed", &self.wind_speed, "must be finite").into());
+        }
+        if !(self.pitch_gain_halving.is_finite() && self.pitch_gain_halving > 0.0) {
+            return Err(ParameterError::invalid(
+                "pitch_gain_halving",
+                &self.pitch_gain_halving,
+                "must be finite and positive",
+            )
+            .into());
+        }
+        if self.pitch_max > std::f64::consts::PI {
+            return Err(
+                ParameterError::invalid("pitch_max", &self.pitch_max, "beyond π rad: not a pitch angle").into(),
+            );
+        }
+        Ok(())
+    }
+
     fn build(&self, resources: Option<&Path>) -> SlaveResult<Built> {
+        self.check_control()?;
         let preset = self.preset.as_str();
         let drivetrain = Drivetrain::preset(preset)
             .ok_or_else(|| ParameterError::invalid("preset", &preset, "unknown drivetrain, use A, B, C or D"))?;
