@@ -490,3 +490,46 @@ fn no_rotor_parameter_combination_panics() {
         }
     }
 }
+
+/// Inputs at 1e300 drive a model's outputs out of range: whatever an FMU then returns with OK is
+/// finite, and a non-finite output is an error naming the variable (the generator returned
+/// stored_energy = inf and electrical_power = −inf with OK).
+#[test]
+fn non_finite_outputs_are_errors_naming_the_variable() {
+    let mut refused = 0;
+    for name in ["torsional", "rotor", "generator", "gearbox6dof"] {
+        let fmu = Fmu::open(&fmu_path(name)).unwrap();
+        let vars = &fmu.description.model_variables.variables;
+        let inputs: Vec<u32> = vars
+            .iter()
+            .filter(|v| v.causality == "input" && v.real.is_some())
+            .map(|v| v.value_reference)
+            .collect();
+        let outputs: Vec<(&str, u32)> = vars
+            .iter()
+            .filter(|v| v.causality == "output" && v.real.is_some())
+            .map(|v| (v.name.as_str(), v.value_reference))
+            .collect();
+        let mut inst = initialised(&fmu, &[], &[]);
+        for &vr in &inputs {
+            let _ = inst.set_real(&[vr], &[1e300]);
+        }
+        let _ = inst.do_step(0.0, 1e-3);
+        for (out, vr) in outputs {
+            let mut v = [0.0];
+            match inst.get_real(&[vr], &mut v) {
+                Ok(()) => assert!(v[0].is_finite(), "{name}: {out} = {} returned with OK", v[0]),
+                Err(e) => {
+                    let e = e.to_string();
+                    assert!(!e.contains("internal error"), "{name}: {out}: {e}");
+                    if e.contains("not finite") {
+                        assert!(e.contains(out), "{name}: the error does not name {out}: {e}");
+                        refused += 1;
+                    }
+                }
+            }
+        }
+    }
+    // the rotor, the generator and the gearbox each had outputs out of range here
+    assert!(refused >= 3, "only {refused} non-finite outputs refused");
+}

@@ -524,6 +524,44 @@ unsafe fn arrays_mut<'a, T>(
     })
 }
 
+/// A computed value (output, calculated parameter, local) must be finite: a model whose outputs
+/// became inf or NaN says so with an error naming the variable, rather than handing them on with OK.
+trait Finite {
+    fn finite(&self) -> bool;
+}
+
+impl Finite for f64 {
+    fn finite(&self) -> bool {
+        self.is_finite()
+    }
+}
+
+impl Finite for i32 {
+    fn finite(&self) -> bool {
+        true
+    }
+}
+
+impl Finite for bool {
+    fn finite(&self) -> bool {
+        true
+    }
+}
+
+fn check_computed<T: Finite + std::fmt::Debug>(var: &Variable, v: &T) -> Result<(), String> {
+    let computed = matches!(
+        var.causality,
+        Causality::Output | Causality::CalculatedParameter | Causality::Local
+    );
+    if computed && !v.finite() {
+        return Err(format!(
+            "{} = {v:?} is not finite: the model's state or inputs are out of range",
+            var.name
+        ));
+    }
+    Ok(())
+}
+
 macro_rules! getter {
     ($name:ident, $fmi:literal, $t:ty, $ty:expr, $method:ident, $conv:expr) => {
         /// # Safety
@@ -538,8 +576,9 @@ macro_rules! getter {
                 call::<S>(c, $fmi, READABLE, |inst| {
                     let (vrs, out) = arrays_mut(vr, n, value)?;
                     for (r, o) in vrs.iter().zip(out.iter_mut()) {
-                        known::<S>($ty, *r)?;
+                        let var = known::<S>($ty, *r)?;
                         let v = inst.slave.$method(*r).map_err(|e| e.0)?;
+                        check_computed(var, &v)?;
                         *o = $conv(v);
                     }
                     Ok(Fmi2Status::Ok)
