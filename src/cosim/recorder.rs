@@ -1,6 +1,8 @@
 //! Results as CSV in fmpy's layout: `time,<component>.<variable>,...`, one row per recorded
-//! communication point. Rows are written as they come (buffered, flushed on finish and on drop),
-//! so a run that fails keeps every row up to its last good step. [`CsvWriter`] is the one writer of
+//! communication point. Rows are written as they come, whole (a row never straddles a buffer
+//! flush), and the buffer reaches the file at least every quarter second of wall time, on finish and
+//! on drop: a run that fails keeps every row up to its last good step, and a run whose process an
+//! FMU crashes loses at most the last quarter second. [`CsvWriter`] is the one writer of
 //! that layout; every command that writes a CSV goes through it.
 
 use super::master::{MasterError, read_recorded};
@@ -13,7 +15,11 @@ use std::path::{Path, PathBuf};
 pub struct CsvWriter {
     out: std::io::BufWriter<std::fs::File>,
     line: String,
+    flushed: std::time::Instant,
 }
+
+/// How long recorded rows may wait in memory: what a crashing process can cost.
+const FLUSH_INTERVAL: std::time::Duration = std::time::Duration::from_millis(250);
 
 impl CsvWriter {
     /// Creates the file (and its folder) and writes the header: `time`, then `columns`.
@@ -34,6 +40,7 @@ impl CsvWriter {
         Ok(Self {
             out,
             line: String::new(),
+            flushed: std::time::Instant::now(),
         })
     }
 
@@ -49,10 +56,15 @@ impl CsvWriter {
             self.line.push_str(buf.format(v));
         }
         self.line.push('\n');
-        self.out.write_all(self.line.as_bytes())
+        self.out.write_all(self.line.as_bytes())?;
+        if self.flushed.elapsed() >= FLUSH_INTERVAL {
+            self.flush()?;
+        }
+        Ok(())
     }
 
     pub fn flush(&mut self) -> std::io::Result<()> {
+        self.flushed = std::time::Instant::now();
         self.out.flush()
     }
 }
