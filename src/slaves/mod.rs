@@ -20,3 +20,9 @@ pub fn log_brake_events(events: &[crate::solver::Event], log: &mut dyn crate::fm
         log.event(&format!("t = {:.6} s: HSS brake {what}", e.time));
     }
 }
+
+/// Whether two slaves share one build of their model (a state taken since the last parameter
+/// change): then the instance's integrator workspace serves the restored state too.
+pub(crate) fn same_build<B>(a: &Option<std::sync::Arc<B>>, b: &Option<std::sync::Arc<B>>) -> bool {
+    matches!((a, b), (Some(a), Some(b)) if std::sync::Arc::ptr_eq(a, b))
+}

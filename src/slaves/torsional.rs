@@ -224,18 +224,10 @@ impl Slave for TorsionalSlave {
 
     /// Keeps this instance's integrator while the model is the snapshot's own (the same build).
     fn restore(&mut self, snap: &Self) {
-        let same_model = match (&self.built, &snap.built) {
-            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
-            _ => false,
-        };
-        if self.params != snap.params {
-            self.params = snap.params.clone();
-        }
-        self.inputs.clone_from(&snap.inputs);
-        self.state.clone_from(&snap.state);
+        let same_model = super::same_build(&self.built, &snap.built);
+        snap.snapshot_into(self);
         if !same_model {
-            self.built = snap.built.clone();
-            self.driver = snap
+            self.driver = self
                 .built
                 .as_ref()
                 .map_or_else(implicit_driver, |b| Driver::new(b.method));
