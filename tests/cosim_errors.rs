@@ -109,7 +109,11 @@ fn file_errors_name_the_file() {
     std::fs::remove_file(unpacked.join("binaries/linux64/generator.so")).unwrap();
     assert_contains(
         &build_error(&dir),
-        &["component generator", "generator.so", "file not found"],
+        &[
+            "component generator",
+            "no binaries/linux64/generator.so",
+            "binaries/linux64 holds nothing",
+        ],
     );
     // an FMU whose modelDescription.xml does not parse
     let (_g8, dir) = common::scene_copy("d-grid-step");

@@ -7,7 +7,7 @@ pub mod recorder;
 pub mod ssp;
 pub mod system;
 pub mod unit;
-mod xml;
+pub mod xml;
 
 pub use master::{Algorithm, Master, MasterError, Options, Stats};
 pub use ssp::{Scene, SspError, Value};

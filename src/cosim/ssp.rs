@@ -5,7 +5,7 @@
 //! Prefixes are not interpreted (see `xml.rs`), so `ssd:Component` and `Component` read the same.
 
 use super::xml::{self, Element};
-use crate::fmi2::import::{TempDir, unzip};
+use crate::fmi2::import::{ImportError, TempDir, unzip};
 use std::path::{Path, PathBuf};
 
 #[derive(Debug, thiserror::Error)]
@@ -18,6 +18,25 @@ pub enum SspError {
         line: usize,
         message: String,
     },
+}
+
+impl SspError {
+    /// The same error with a path under `from` (an archive's temporary folder) named under `to`
+    /// (the archive), so that messages name the file the user gave.
+    fn relocated(self, from: &Path, to: &Path) -> Self {
+        let moved = |p: PathBuf| p.strip_prefix(from).map_or_else(|_| p.clone(), |rel| to.join(rel));
+        match self {
+            Self::File { path, message } => Self::File {
+                path: moved(path),
+                message: message.replace(&from.display().to_string(), &to.display().to_string()),
+            },
+            Self::Content { path, line, message } => Self::Content {
+                path: moved(path),
+                line,
+                message: message.replace(&from.display().to_string(), &to.display().to_string()),
+            },
+        }
+    }
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -155,9 +174,13 @@ impl Scene {
             return Self::read(path.to_path_buf(), root, None);
         }
         let tmp = TempDir::new("windrive-ssp").map_err(|e| file_error(path, e))?;
-        unzip(path, tmp.path()).map_err(|e| file_error(path, e))?;
+        unzip(path, tmp.path()).map_err(|e| match e {
+            ImportError::Archive { message, .. } => file_error(path, message),
+            other => file_error(path, other),
+        })?;
         let root = tmp.path().to_path_buf();
-        let mut scene = Self::read(root.join("SystemStructure.ssd"), root, Some(tmp))?;
+        let mut scene = Self::read(root.join("SystemStructure.ssd"), root.clone(), Some(tmp))
+            .map_err(|e| e.relocated(&root, path))?;
         scene.ssd = path.join("SystemStructure.ssd");
         Ok(scene)
     }
@@ -177,7 +200,7 @@ impl Scene {
             .ok_or_else(|| content_error(&ssd, doc.line, "no <ssd:System> element"))?;
         let mut components = Vec::new();
         for c in system.list("Elements", "Component") {
-            components.push(read_component(&ssd, &root, c)?);
+            components.push(read_component(&ssd, &root, unpacked.is_some(), c)?);
         }
         for other in system.child("Elements").into_iter().flat_map(|e| &e.children) {
             if other.name != "Component" {
@@ -257,7 +280,50 @@ fn find_descendant<'a>(e: &'a Element, name: &str) -> Option<&'a Element> {
     })
 }
 
-fn read_component(ssd: &Path, root: &Path, c: &Element) -> Result<Component, SspError> {
+/// `rel` joined to `root`, or None when it is absolute or climbs out of `root` (judged on the
+/// words, before any file is touched).
+fn inside(root: &Path, rel: &str) -> Option<PathBuf> {
+    use std::path::Component as Part;
+    let mut depth = 0usize;
+    for part in Path::new(rel).components() {
+        match part {
+            Part::Normal(_) => depth += 1,
+            Part::CurDir => {}
+            Part::ParentDir => depth = depth.checked_sub(1)?,
+            Part::RootDir | Part::Prefix(_) => return None,
+        }
+    }
+    Some(root.join(rel))
+}
+
+/// Where a file a scene names lies. An `.ssp` archive (`confined`) may only name its own files: an
+/// absolute or climbing path there would load whatever the machine has at that place.
+fn scene_file(
+    ssd: &Path,
+    root: &Path,
+    confined: bool,
+    line: usize,
+    what: &str,
+    src: &str,
+) -> Result<PathBuf, SspError> {
+    let rel = src.strip_prefix("file:").unwrap_or(src).trim_start_matches("./");
+    if confined {
+        return inside(root, rel).ok_or_else(|| {
+            content_error(
+                ssd,
+                line,
+                format!("{what} \"{src}\" lies outside the .ssp archive; an archive may only name files it holds"),
+            )
+        });
+    }
+    Ok(if Path::new(rel).is_absolute() {
+        PathBuf::from(rel)
+    } else {
+        root.join(rel)
+    })
+}
+
+fn read_component(ssd: &Path, root: &Path, confined: bool, c: &Element) -> Result<Component, SspError> {
     let name = required(ssd, c, "name")?.to_string();
     let source = required(ssd, c, "source")?.to_string();
     if let Some(t) = c.attr("type")
@@ -269,12 +335,14 @@ fn read_component(ssd: &Path, root: &Path, c: &Element) -> Result<Component, Ssp
             format!("component {name}: type {t} is not supported (only application/x-fmu-sharedlibrary)"),
         ));
     }
-    let rel = source.strip_prefix("file:").unwrap_or(&source).trim_start_matches("./");
-    let path = if Path::new(rel).is_absolute() {
-        PathBuf::from(rel)
-    } else {
-        root.join(rel)
-    };
+    let path = scene_file(
+        ssd,
+        root,
+        confined,
+        c.line,
+        &format!("component {name}: source"),
+        &source,
+    )?;
     let connectors = c
         .list("Connectors", "Connector")
         .map(|k| {
@@ -290,7 +358,14 @@ fn read_component(ssd: &Path, root: &Path, c: &Element) -> Result<Component, Ssp
         let prefix = binding.attr("prefix").unwrap_or("");
         let (file, set) = match binding.attr("source") {
             Some(src) => {
-                let file = root.join(src.trim_start_matches("./"));
+                let file = scene_file(
+                    ssd,
+                    root,
+                    confined,
+                    binding.line,
+                    &format!("component {name}: parameter binding"),
+                    src,
+                )?;
                 let text = std::fs::read_to_string(&file).map_err(|e| file_error(&file, e))?;
                 let doc = xml::parse(&text).map_err(|e| file_error(&file, e))?;
                 (file, doc)

@@ -62,6 +62,10 @@ fn element(start: &BytesStart, line: usize) -> Result<Element, String> {
     })
 }
 
+/// Deeper nesting is refused: no SSP file needs more than a dozen levels, and a tree of millions
+/// would exhaust the stack when it is dropped.
+pub const MAX_DEPTH: usize = 200;
+
 /// Parses a whole document and returns its root element.
 pub fn parse(text: &str) -> Result<Element, String> {
     let mut reader = quick_xml::Reader::from_str(text);
@@ -73,7 +77,13 @@ pub fn parse(text: &str) -> Result<Element, String> {
             .read_event()
             .map_err(|e| format!("line {}: {e}", line_at(text, reader.error_position() as usize)))?;
         match event {
-            Event::Start(s) => stack.push(element(&s, line_at(text, pos))?),
+            Event::Start(s) => {
+                if stack.len() == MAX_DEPTH {
+                    let line = line_at(text, pos);
+                    return Err(format!("line {line}: elements nested deeper than {MAX_DEPTH} levels"));
+                }
+                stack.push(element(&s, line_at(text, pos))?)
+            }
             Event::Empty(s) => {
                 let e = element(&s, line_at(text, pos))?;
                 match stack.last_mut() {

@@ -2,6 +2,7 @@
 //! symbols up front, and drive instances through a safe [`Instance`] whose every call returns a
 //! `Result` the caller must handle. Messages an FMU logs are collected per instance.
 
+pub use super::archive::{TempDir, unzip};
 use super::description::ModelDescription;
 use super::types::*;
 use libloading::Library;
@@ -32,11 +33,17 @@ pub enum ImportError {
     UnknownVariable { model: String, name: String },
 }
 
+/// The FMU's messages after an error: the last few, which say what went wrong.
 fn log_suffix(log: &[String]) -> String {
-    if log.is_empty() {
-        String::new()
-    } else {
-        format!(": {}", log.join(" | "))
+    const SHOWN: usize = 8;
+    match log.len() {
+        0 => String::new(),
+        n if n <= SHOWN => format!(": {}", log.join(" | ")),
+        n => format!(
+            ": ({} earlier messages not shown) {}",
+            n - SHOWN,
+            log[n - SHOWN..].join(" | ")
+        ),
     }
 }
 
@@ -126,63 +133,6 @@ fn load_python_runtime() -> Result<String, String> {
     ))
 }
 
-/// A temporary directory removed on drop.
-#[derive(Debug)]
-pub struct TempDir(PathBuf);
-
-impl TempDir {
-    pub fn new(prefix: &str) -> std::io::Result<Self> {
-        use std::sync::atomic::{AtomicU64, Ordering};
-        static COUNTER: AtomicU64 = AtomicU64::new(0);
-        let nanos = std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0, |d| d.as_nanos());
-        let path = std::env::temp_dir().join(format!(
-            "{prefix}-{}-{}-{nanos}",
-            std::process::id(),
-            COUNTER.fetch_add(1, Ordering::Relaxed)
-        ));
-        std::fs::create_dir_all(&path)?;
-        Ok(Self(path))
-    }
-    pub fn path(&self) -> &Path {
-        &self.0
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-/// Unpacks a zip archive into `dest`, refusing entries that would land outside it.
-pub fn unzip(archive: &Path, dest: &Path) -> Result<(), ImportError> {
-    let fail = |message: String| ImportError::Archive {
-        path: archive.to_path_buf(),
-        message,
-    };
-    let file = std::fs::File::open(archive).map_err(|e| fail(e.to_string()))?;
-    let mut zip = zip::ZipArchive::new(file).map_err(|e| fail(format!("not a valid zip archive: {e}")))?;
-    for i in 0..zip.len() {
-        let mut entry = zip.by_index(i).map_err(|e| fail(e.to_string()))?;
-        let rel = entry
-            .enclosed_name()
-            .ok_or_else(|| fail(format!("entry {:?} escapes the archive folder", entry.name())))?;
-        let out = dest.join(rel);
-        if entry.is_dir() {
-            std::fs::create_dir_all(&out).map_err(|e| fail(e.to_string()))?;
-        } else {
-            if let Some(parent) = out.parent() {
-                std::fs::create_dir_all(parent).map_err(|e| fail(e.to_string()))?;
-            }
-            let mut w = std::fs::File::create(&out).map_err(|e| fail(e.to_string()))?;
-            std::io::copy(&mut entry, &mut w).map_err(|e| fail(e.to_string()))?;
-        }
-    }
-    Ok(())
-}
-
 macro_rules! api {
     ($($field:ident : $sym:literal : $ty:ty,)*) => {
         /// Every FMI 2.0 Co-Simulation function, resolved when the library is loaded.
@@ -250,44 +200,41 @@ pub struct Fmu {
 
 impl Fmu {
     /// Opens a `.fmu` archive (unpacked into a private temporary folder, removed on drop) or an
-    /// already unpacked folder.
+    /// already unpacked folder. Errors name `path`, never the temporary folder.
     pub fn open(path: &Path) -> Result<Self, ImportError> {
         if path.is_dir() {
-            return Self::load(path.to_path_buf(), None);
+            return Self::load(path.to_path_buf(), None, path);
         }
         let tmp = TempDir::new("windrive-fmu").map_err(|e| ImportError::Archive {
             path: path.to_path_buf(),
             message: e.to_string(),
         })?;
         unzip(path, tmp.path())?;
-        Self::load(tmp.path().to_path_buf(), Some(tmp))
+        Self::load(tmp.path().to_path_buf(), Some(tmp), path)
     }
 
-    fn load(dir: PathBuf, unpacked: Option<TempDir>) -> Result<Self, ImportError> {
+    /// Reads the description and loads the binary of the unpacked FMU in `dir`; `origin` (the
+    /// `.fmu` or folder the user named) is what messages name.
+    fn load(dir: PathBuf, unpacked: Option<TempDir>, origin: &Path) -> Result<Self, ImportError> {
+        let describe = |message: String| ImportError::Description {
+            path: origin.to_path_buf(),
+            message,
+        };
         let md_path = dir.join("modelDescription.xml");
-        let xml = std::fs::read_to_string(&md_path).map_err(|e| ImportError::Description {
-            path: dir.clone(),
-            message: e.to_string(),
-        })?;
-        let description = ModelDescription::parse(&xml).map_err(|e| ImportError::Description {
-            path: dir.clone(),
-            message: e.to_string(),
-        })?;
+        let xml = std::fs::read_to_string(&md_path).map_err(|e| describe(e.to_string()))?;
+        let description = ModelDescription::parse(&xml).map_err(|e| describe(e.to_string()))?;
         let cs = description
             .co_simulation
             .as_ref()
-            .ok_or_else(|| ImportError::Description {
-                path: dir.clone(),
-                message: "no <CoSimulation> element: only Co-Simulation FMUs are supported".into(),
-            })?;
-        let lib_path = dir
-            .join("binaries")
+            .ok_or_else(|| describe("no <CoSimulation> element: only Co-Simulation FMUs are supported".into()))?;
+        let binary = Path::new("binaries")
             .join("linux64")
             .join(format!("{}.so", cs.model_identifier));
+        let lib_path = dir.join(&binary);
         if !lib_path.is_file() {
             return Err(ImportError::Library {
-                path: lib_path,
-                message: "file not found".into(),
+                path: origin.to_path_buf(),
+                message: format!("no {} in the FMU ({})", binary.display(), platforms(&dir)),
             });
         }
         let api = Self::load_library(&lib_path)?;
@@ -359,15 +306,75 @@ impl Fmu {
     }
 }
 
-/// Messages kept per instance until drained; later ones are dropped (echo still shows them).
-const MAX_KEPT_LOG_RECORDS: usize = 10_000;
+/// What an unpacked FMU has instead of the binary this host needs, as a phrase for a message: the
+/// files of its linux64 folder, or the platforms it has binaries for.
+fn platforms(dir: &Path) -> String {
+    let names = |d: PathBuf, dirs: bool| -> Vec<String> {
+        let mut found: Vec<String> = std::fs::read_dir(d)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .filter(|e| e.file_type().is_ok_and(|t| t.is_dir() == dirs))
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect();
+        found.sort();
+        found
+    };
+    let platforms = names(dir.join("binaries"), true);
+    if platforms.iter().any(|p| p == "linux64") {
+        let files = names(dir.join("binaries").join("linux64"), false);
+        return format!(
+            "binaries/linux64 holds {}",
+            if files.is_empty() {
+                "nothing".into()
+            } else {
+                files.join(", ")
+            }
+        );
+    }
+    if platforms.is_empty() {
+        "it has no binaries: a source-only or Model Exchange-only FMU?".into()
+    } else {
+        format!(
+            "it has binaries for {} only; this host needs linux64",
+            platforms.join(", ")
+        )
+    }
+}
+
+/// The newest messages kept per instance until drained; older ones are dropped and counted (a chatty
+/// or flooding FMU must not grow memory without bound over a long run, and the newest messages are
+/// the ones that explain an error).
+const MAX_KEPT_LOG_RECORDS: usize = 1_000;
+/// Longer messages are cut here (with their length said): 1 000 of them bound a log to 4 MB.
+const MAX_LOG_MESSAGE_BYTES: usize = 4_096;
 
 /// One logged message: (status, category, text).
 pub type LogRecord = (Fmi2Status, String, String);
 
+#[derive(Default)]
+struct LogRecords {
+    newest: std::collections::VecDeque<LogRecord>,
+    dropped: usize,
+}
+
 struct LogTarget {
-    records: Mutex<Vec<LogRecord>>,
+    records: Mutex<LogRecords>,
     echo: bool,
+}
+
+/// `text` cut to at most [`MAX_LOG_MESSAGE_BYTES`] at a character boundary, saying so.
+fn bounded(mut text: String) -> String {
+    if text.len() > MAX_LOG_MESSAGE_BYTES {
+        let total = text.len();
+        let mut cut = MAX_LOG_MESSAGE_BYTES;
+        while !text.is_char_boundary(cut) {
+            cut -= 1;
+        }
+        text.truncate(cut);
+        text.push_str(&format!("… (message of {total} bytes cut)"));
+    }
+    text
 }
 
 unsafe extern "C" {
@@ -407,17 +414,35 @@ pub unsafe extern "C" fn windrive_log_sink(
         // SAFETY: env is the boxed LogTarget owned by the instance that is calling.
         let target = unsafe { &*(env as *const LogTarget) };
         let status = Fmi2Status::from_raw(status);
-        let (instance, category, message) = (text(instance), text(category), text(message));
+        let (instance, category, message) = (text(instance), bounded(text(category)), bounded(text(message)));
         if target.echo {
             eprintln!("[{instance}] {} {category}: {message}", status.name());
         }
         if let Ok(mut r) = target.records.lock() {
-            // a chatty FMU must not grow memory without bound over a long run
-            if r.len() < MAX_KEPT_LOG_RECORDS {
-                r.push((status, category, message));
+            if r.newest.len() == MAX_KEPT_LOG_RECORDS {
+                r.newest.pop_front();
+                r.dropped += 1;
             }
+            r.newest.push_back((status, category, message));
         }
     });
+}
+
+/// The kept messages, oldest first, after a note of how many were dropped before them.
+fn drain(target: &LogTarget) -> Vec<LogRecord> {
+    let Ok(mut r) = target.records.lock() else {
+        return Vec::new();
+    };
+    let r = std::mem::take(&mut *r);
+    let note = (r.dropped > 0).then(|| {
+        let text = format!(
+            "({} earlier messages dropped; the newest {} kept)",
+            r.dropped,
+            r.newest.len()
+        );
+        (Fmi2Status::Warning, "windrive".to_string(), text)
+    });
+    note.into_iter().chain(r.newest).collect()
 }
 
 /// An FMU state saved by fmi2GetFMUstate or restored by fmi2DeSerializeFMUstate. Free it with
@@ -444,7 +469,7 @@ unsafe impl Send for Instance {}
 impl Instance {
     fn new(api: Arc<Api>, name: &str, guid: &str, resources: &str, logging_on: bool) -> Result<Self, ImportError> {
         let log = Box::new(LogTarget {
-            records: Mutex::new(Vec::new()),
+            records: Mutex::new(LogRecords::default()),
             echo: std::env::var_os("WINDRIVE_FMU_LOG").is_some(),
         });
         let callbacks = Box::new(Fmi2CallbackFunctions {
@@ -471,14 +496,9 @@ impl Instance {
             )
         };
         if c.is_null() {
-            let log = log
-                .records
-                .lock()
-                .map(|r| r.iter().map(|x| x.2.clone()).collect())
-                .unwrap_or_default();
             return Err(ImportError::Instantiate {
                 instance: name.into(),
-                log,
+                log: drain(&log).into_iter().map(|r| r.2).collect(),
             });
         }
         Ok(Self {
@@ -490,13 +510,10 @@ impl Instance {
         })
     }
 
-    /// Messages the FMU logged so far (drained).
+    /// Messages the FMU logged so far (drained); when older ones were dropped, the first record
+    /// says how many.
     pub fn take_log(&self) -> Vec<LogRecord> {
-        self.log
-            .records
-            .lock()
-            .map(|mut r| std::mem::take(&mut *r))
-            .unwrap_or_default()
+        drain(&self.log)
     }
 
     /// Ok and Warning are results (the warning's text stays in the log for the caller to drain);
@@ -663,4 +680,42 @@ unsafe extern "C" fn free_shim(p: *mut c_void) {
         fn free(p: *mut c_void);
     }
     unsafe { free(p) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_log_flood_keeps_the_newest_thousand_messages_cut_to_4_kb() {
+        let target = LogTarget {
+            records: Mutex::new(LogRecords::default()),
+            echo: false,
+        };
+        let env = &target as *const LogTarget as *mut c_void;
+        let long = CString::new("x".repeat(100_000)).unwrap();
+        let name = CString::new("flood").unwrap();
+        for k in 0..5_000 {
+            let text = if k == 4_999 {
+                CString::new("the last one").unwrap()
+            } else {
+                long.clone()
+            };
+            // SAFETY: env is the LogTarget above; the strings are NUL-terminated.
+            unsafe { windrive_log_sink(env, name.as_ptr(), 3, name.as_ptr(), text.as_ptr()) };
+        }
+        let log = drain(&target);
+        assert_eq!(log.len(), MAX_KEPT_LOG_RECORDS + 1);
+        assert_eq!(log[0].2, "(4000 earlier messages dropped; the newest 1000 kept)");
+        assert!(log[1].2.ends_with("… (message of 100000 bytes cut)") && log[1].2.len() < 4_200);
+        assert_eq!(log[MAX_KEPT_LOG_RECORDS].2, "the last one");
+        assert!(drain(&target).is_empty());
+        // an error shows the last few messages, not a thousand
+        let texts: Vec<String> = (0..1_000).map(|k| format!("m{k}")).collect();
+        let suffix = log_suffix(&texts);
+        assert!(
+            suffix.starts_with(": (992 earlier messages not shown) m992 | "),
+            "{suffix}"
+        );
+    }
 }

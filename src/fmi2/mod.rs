@@ -7,6 +7,8 @@ pub mod types;
 pub mod variables;
 
 #[cfg(feature = "cli")]
+pub mod archive;
+#[cfg(feature = "cli")]
 pub mod description;
 #[cfg(feature = "cli")]
 pub mod import;
