@@ -382,7 +382,6 @@ impl<'s> Master<'s> {
             a.push([l.factor * p[0] + l.offset, l.factor * p[1], l.factor * p[2]]);
         }
         let order = self.opts.order;
-        let discrete = DiscreteInputs::of(&self.sys.units, u);
         let unit = &mut self.sys.units[u];
         let interpolate = unit.can_interpolate_inputs && order > 0;
         for (k, p) in a.iter().enumerate() {
@@ -413,7 +412,7 @@ impl<'s> Master<'s> {
                 }
             }
         }
-        discrete.set(unit).map_err(|e| fail(unit, e))
+        DiscreteInputs::send(&mut self.sys.units, u).map_err(|e| fail(&self.sys.units[u], e))
     }
 
     /// One pass over all units for [t, t+h]. Jacobi: every unit's inputs from the values at t

@@ -342,6 +342,8 @@ impl System {
                 scratch_int: Vec::new(),
                 scratch_bool: Vec::new(),
                 saved: None,
+                discrete_held: DiscreteInputs::default(),
+                discrete_scratch: DiscreteInputs::default(),
             });
             remaps.push(remap);
         }
@@ -469,12 +471,11 @@ impl System {
             .iter()
             .map(|l| l.factor * values(l) + l.offset)
             .collect();
-        let discrete = DiscreteInputs::of(&self.units, u);
         let unit = &mut self.units[u];
         if !unit.real_in.vr.is_empty() {
             unit.instance.set_real(&unit.real_in.vr, &real)?;
         }
-        discrete.set(unit)
+        DiscreteInputs::send(&mut self.units, u)
     }
 
     pub fn terminate(&mut self) {

@@ -114,6 +114,9 @@ pub struct Unit {
     pub scratch_int: Vec<i32>,
     pub scratch_bool: Vec<bool>,
     pub saved: Option<SavedState>,
+    /// The Integer and Boolean input values the FMU holds, and scratch to gather the next ones.
+    pub discrete_held: DiscreteInputs,
+    pub discrete_scratch: DiscreteInputs,
 }
 
 impl Drop for Unit {
@@ -157,6 +160,7 @@ impl Unit {
     }
 
     pub fn restore_state(&mut self) -> Result<(), ImportError> {
+        self.discrete_held.held = false;
         match &self.saved {
             Some(s) => self.instance.set_state(s),
             None => unreachable!("restore_state before save_state"),
@@ -169,28 +173,52 @@ impl Unit {
     }
 }
 
-/// Integer and Boolean inputs of one unit: always the source's current value.
+/// What a unit's Integer and Boolean inputs were last set to, so that an unchanged value (a brake
+/// command, a mode switch: they change a few times per run) costs no call. Forgotten when the FMU's
+/// state is restored, since a restored state may hold other input values.
+#[derive(Debug, Default)]
 pub struct DiscreteInputs {
     integers: Vec<i32>,
     booleans: Vec<bool>,
+    /// Whether `integers` and `booleans` are what the FMU holds.
+    held: bool,
 }
 
 impl DiscreteInputs {
-    pub fn of(units: &[Unit], u: usize) -> Self {
+    /// Sets unit `u`'s Integer and Boolean inputs to their sources' current values, calling the FMU
+    /// only for a kind whose values changed.
+    pub fn send(units: &mut [Unit], u: usize) -> Result<(), ImportError> {
+        let mut next = std::mem::take(&mut units[u].discrete_scratch);
+        next.integers.clear();
+        next.booleans.clear();
         let value = |l: &Link| units[l.src_unit].values[l.src];
-        Self {
-            integers: units[u].integer_in.links.iter().map(|l| value(l) as i32).collect(),
-            booleans: units[u].boolean_in.links.iter().map(|l| value(l) != 0.0).collect(),
-        }
+        next.integers
+            .extend(units[u].integer_in.links.iter().map(|l| value(l) as i32));
+        next.booleans
+            .extend(units[u].boolean_in.links.iter().map(|l| value(l) != 0.0));
+        let unit = &mut units[u];
+        let result = unit.set_discrete(&next);
+        unit.discrete_scratch = next;
+        result
     }
+}
 
-    pub fn set(&self, unit: &mut Unit) -> Result<(), ImportError> {
-        if !self.integers.is_empty() {
-            unit.instance.set_integer(&unit.integer_in.vr, &self.integers)?;
+impl Unit {
+    fn set_discrete(&mut self, next: &DiscreteInputs) -> Result<(), ImportError> {
+        let held = &mut self.discrete_held;
+        if !next.integers.is_empty() && !(held.held && held.integers == next.integers) {
+            held.held = false;
+            self.instance.set_integer(&self.integer_in.vr, &next.integers)?;
+            held.integers.clone_from(&next.integers);
         }
-        if !self.booleans.is_empty() {
-            unit.instance.set_boolean(&unit.boolean_in.vr, &self.booleans)?;
+        if !next.booleans.is_empty() && !(held.held && held.booleans == next.booleans) {
+            held.held = false;
+            self.instance.set_boolean(&self.boolean_in.vr, &next.booleans)?;
+            held.booleans.clone_from(&next.booleans);
         }
+        held.integers.resize(next.integers.len(), 0);
+        held.booleans.resize(next.booleans.len(), false);
+        held.held = true;
         Ok(())
     }
 }
