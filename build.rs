@@ -694,9 +694,9 @@ fn generate_faces(m: &Model, s: &mut String) {
         )
         .unwrap();
         writeln!(s, "#[inline]\npub fn get_{m}(p: &Parameters, i: &Inputs, r: u32) -> Option<{}> {{\n    p.get_{m}(r).or_else(|| i.get_{m}(r)){to_owned}\n}}", t.owned).unwrap();
-        writeln!(s, "\n/// Sets {} {f} parameter or input by value reference (see [`Parameters::set_{m}`] and\n/// [`Inputs::set_{m}`]); anything else is refused by name.", a.to_lowercase()).unwrap();
-        writeln!(s, "#[inline]\npub fn set_{m}(p: &mut Parameters, i: &mut Inputs, r: u32, value: {}, log: &mut dyn s::Log) -> s::SlaveResult<s::Changed> {{", t.arg).unwrap();
-        writeln!(s, "    if i.set_{m}(r, value, log) {{\n        Ok(s::Changed::Input)\n    }} else if p.set_{m}(r, value)? {{\n        Ok(s::Changed::Parameter)\n    }} else {{\n        Err(s::cannot_set(variable(VarType::{f}, r), VarType::{f}, r))\n    }}\n}}").unwrap();
+        writeln!(s, "\n/// Sets {} {f} parameter or input by value reference (see [`Parameters::set_{m}`] and\n/// [`Inputs::set_{m}`]); anything else is refused by name. The parameters are shared with the\n/// FMU states taken since they last changed: only a parameter's value copies them (an input's\n/// never does).", a.to_lowercase()).unwrap();
+        writeln!(s, "#[inline]\npub fn set_{m}(p: &mut std::sync::Arc<Parameters>, i: &mut Inputs, r: u32, value: {}, log: &mut dyn s::Log) -> s::SlaveResult<s::Changed> {{", t.arg).unwrap();
+        writeln!(s, "    if i.set_{m}(r, value, log) {{\n        Ok(s::Changed::Input)\n    }} else if std::sync::Arc::make_mut(p).set_{m}(r, value)? {{\n        Ok(s::Changed::Parameter)\n    }} else {{\n        Err(s::cannot_set(variable(VarType::{f}, r), VarType::{f}, r))\n    }}\n}}").unwrap();
     }
 }
 

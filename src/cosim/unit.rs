@@ -175,7 +175,8 @@ impl Unit {
 
 /// What a unit's Integer and Boolean inputs were last set to, so that an unchanged value (a brake
 /// command, a mode switch: they change a few times per run) costs no call. Forgotten when the FMU's
-/// state is restored, since a restored state may hold other input values.
+/// state is restored: a restored state holds the inputs it was taken with (FMI 2.0 §2.1.8), and an
+/// FMU that gets this wrong must not be left with a value nobody sent (one call per restore).
 #[derive(Debug, Default)]
 pub struct DiscreteInputs {
     integers: Vec<i32>,
@@ -206,12 +207,12 @@ impl DiscreteInputs {
 impl Unit {
     fn set_discrete(&mut self, next: &DiscreteInputs) -> Result<(), ImportError> {
         let held = &mut self.discrete_held;
-        if !next.integers.is_empty() && !(held.held && held.integers == next.integers) {
+        if !next.integers.is_empty() && (!held.held || held.integers != next.integers) {
             held.held = false;
             self.instance.set_integer(&self.integer_in.vr, &next.integers)?;
             held.integers.clone_from(&next.integers);
         }
-        if !next.booleans.is_empty() && !(held.held && held.booleans == next.booleans) {
+        if !next.booleans.is_empty() && (!held.held || held.booleans != next.booleans) {
             held.held = false;
             self.instance.set_boolean(&self.boolean_in.vr, &next.booleans)?;
             held.booleans.clone_from(&next.booleans);

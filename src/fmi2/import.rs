@@ -428,6 +428,18 @@ pub unsafe extern "C" fn windrive_log_sink(
     });
 }
 
+/// Runs `f` on `n` copies of `fill`, on the stack when `n` is small: the per-call arrays of FMI's
+/// Boolean and derivative functions cost no allocation at every step.
+fn with_buffer<T: Copy, R>(n: usize, fill: T, f: impl FnOnce(&mut [T]) -> R) -> R {
+    const ON_STACK: usize = 32;
+    if n <= ON_STACK {
+        let mut small = [fill; ON_STACK];
+        f(&mut small[..n])
+    } else {
+        f(&mut vec![fill; n])
+    }
+}
+
 /// The kept messages, oldest first, after a note of how many were dropped before them.
 fn drain(target: &LogTarget) -> Vec<LogRecord> {
     let Ok(mut r) = target.records.lock() else {
@@ -584,18 +596,19 @@ impl Instance {
     }
     pub fn set_boolean(&mut self, vr: &[u32], values: &[bool]) -> Result<(), ImportError> {
         assert_eq!(vr.len(), values.len());
-        let raw: Vec<Fmi2Boolean> = values.iter().map(|&b| b as Fmi2Boolean).collect();
-        let s = unsafe { (self.api.set_boolean)(self.c, vr.as_ptr(), vr.len(), raw.as_ptr()) };
+        let s = with_buffer(vr.len(), 0, |raw: &mut [Fmi2Boolean]| {
+            raw.iter_mut().zip(values).for_each(|(r, &b)| *r = b as Fmi2Boolean);
+            unsafe { (self.api.set_boolean)(self.c, vr.as_ptr(), vr.len(), raw.as_ptr()) }
+        });
         self.check("fmi2SetBoolean", s).map(|_| ())
     }
     /// Sets the `order`-th time derivative of real inputs for the next fmi2DoStep (the FMU must
     /// declare canInterpolateInputs).
     pub fn set_real_input_derivatives(&mut self, vr: &[u32], order: i32, values: &[f64]) -> Result<(), ImportError> {
         assert_eq!(vr.len(), values.len());
-        let orders = vec![order; vr.len()];
-        let s = unsafe {
+        let s = with_buffer(vr.len(), order, |orders| unsafe {
             (self.api.set_real_input_derivatives)(self.c, vr.as_ptr(), vr.len(), orders.as_ptr(), values.as_ptr())
-        };
+        });
         self.check("fmi2SetRealInputDerivatives", s).map(|_| ())
     }
     pub fn name(&self) -> &str {
@@ -606,11 +619,13 @@ impl Instance {
         self.check("fmi2GetInteger", s).map(|_| ())
     }
     pub fn get_boolean(&mut self, vr: &[u32], values: &mut [bool]) -> Result<(), ImportError> {
-        let mut raw = vec![0; vr.len()];
-        let s = unsafe { (self.api.get_boolean)(self.c, vr.as_ptr(), vr.len(), raw.as_mut_ptr()) };
-        self.check("fmi2GetBoolean", s)?;
-        values.iter_mut().zip(raw).for_each(|(v, r)| *v = r != 0);
-        Ok(())
+        assert_eq!(vr.len(), values.len());
+        let s = with_buffer(vr.len(), 0, |raw: &mut [Fmi2Boolean]| {
+            let s = unsafe { (self.api.get_boolean)(self.c, vr.as_ptr(), vr.len(), raw.as_mut_ptr()) };
+            values.iter_mut().zip(raw.iter()).for_each(|(v, r)| *v = *r != 0);
+            s
+        });
+        self.check("fmi2GetBoolean", s).map(|_| ())
     }
     pub fn set_string(&mut self, vr: &[u32], values: &[&str]) -> Result<(), ImportError> {
         let owned: Vec<CString> = values.iter().map(|v| CString::new(*v).unwrap_or_default()).collect();

@@ -175,7 +175,9 @@ impl Params {
 
 #[derive(Clone, Serialize, Deserialize)]
 pub struct Gearbox6dofSlave {
-    pub params: Params,
+    /// Shared, copy-on-write, with the states taken while they are unchanged: taking or restoring a
+    /// state compares a pointer instead of every parameter.
+    pub params: std::sync::Arc<Params>,
     pub inputs: Inputs,
     resources: Option<PathBuf>,
     state: Option<DynState>,
@@ -285,8 +287,8 @@ impl Slave for Gearbox6dofSlave {
 
     /// Reuses the earlier snapshot's vectors and strings.
     fn snapshot_into(&self, into: &mut Self) {
-        if into.params != self.params {
-            into.params = self.params.clone();
+        if !std::sync::Arc::ptr_eq(&into.params, &self.params) {
+            into.params = std::sync::Arc::clone(&self.params);
         }
         into.inputs.clone_from(&self.inputs);
         into.resources.clone_from(&self.resources);
@@ -309,7 +311,7 @@ impl Slave for Gearbox6dofSlave {
 
     fn instantiate(resources: Option<&Path>) -> Self {
         Self {
-            params: Params::default(),
+            params: std::sync::Arc::default(),
             inputs: Inputs::default(),
             resources: resources.map(Path::to_path_buf),
             state: None,

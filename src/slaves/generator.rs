@@ -29,7 +29,9 @@ struct Built {
 
 #[derive(Clone, Serialize, Deserialize)]
 pub struct GeneratorSlave {
-    pub params: Params,
+    /// Shared, copy-on-write, with the states taken while they are unchanged: taking or restoring a
+    /// state compares a pointer instead of every parameter.
+    pub params: std::sync::Arc<Params>,
     pub inputs: Inputs,
     model: Option<Built>,
     /// Once stepped, the state is the simulation's: a speed change no longer rebuilds it.
@@ -110,8 +112,8 @@ impl Slave for GeneratorSlave {
 
     /// Reuses an earlier snapshot's strings: the parameters are copied only when they differ.
     fn snapshot_into(&self, into: &mut Self) {
-        if into.params != self.params {
-            into.params = self.params.clone();
+        if !std::sync::Arc::ptr_eq(&into.params, &self.params) {
+            into.params = std::sync::Arc::clone(&self.params);
         }
         into.inputs.clone_from(&self.inputs);
         into.model = self.model;
@@ -124,7 +126,7 @@ impl Slave for GeneratorSlave {
 
     fn instantiate(_resources: Option<&Path>) -> Self {
         Self {
-            params: Params::default(),
+            params: std::sync::Arc::default(),
             inputs: Inputs::default(),
             model: None,
             stepped: false,

@@ -351,7 +351,9 @@ impl Params {
 
 #[derive(Clone, Serialize, Deserialize)]
 pub struct RotorSlave {
-    pub params: Params,
+    /// Shared, copy-on-write, with the states taken while they are unchanged: taking or restoring a
+    /// state compares a pointer instead of every parameter.
+    pub params: std::sync::Arc<Params>,
     pub inputs: Inputs,
     resources: Option<PathBuf>,
     /// Rebuilt from the parameters when missing (after deserialising a state): a serialised state
@@ -395,8 +397,8 @@ impl Slave for RotorSlave {
     /// A state shares the model (its blade, polars and series behind an `Arc`) and reuses an
     /// earlier snapshot's strings.
     fn snapshot_into(&self, into: &mut Self) {
-        if into.params != self.params {
-            into.params = self.params.clone();
+        if !std::sync::Arc::ptr_eq(&into.params, &self.params) {
+            into.params = std::sync::Arc::clone(&self.params);
         }
         into.inputs.clone_from(&self.inputs);
         into.resources.clone_from(&self.resources);
@@ -412,7 +414,7 @@ impl Slave for RotorSlave {
 
     fn instantiate(resources: Option<&Path>) -> Self {
         Self {
-            params: Params::default(),
+            params: std::sync::Arc::default(),
             inputs: Inputs::default(),
             resources: resources.map(Path::to_path_buf),
             built: None,

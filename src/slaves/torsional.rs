@@ -45,7 +45,9 @@ pub struct Built {
 
 #[derive(Clone, Serialize, Deserialize)]
 pub struct TorsionalSlave {
-    pub params: Params,
+    /// Shared, copy-on-write, with the states taken while they are unchanged: taking or restoring a
+    /// state compares a pointer instead of every parameter.
+    pub params: std::sync::Arc<Params>,
     pub inputs: Inputs,
     /// None until the model is first needed; rebuilt from `params` after deserialisation.
     state: Option<DynState>,
@@ -144,7 +146,7 @@ impl Params {
 impl TorsionalSlave {
     fn blank() -> Self {
         Self {
-            params: Params::default(),
+            params: std::sync::Arc::default(),
             inputs: Inputs::default(),
             state: None,
             built: None,
@@ -214,8 +216,8 @@ impl Slave for TorsionalSlave {
 
     /// Reuses the earlier snapshot's vectors and strings.
     fn snapshot_into(&self, into: &mut Self) {
-        if into.params != self.params {
-            into.params = self.params.clone();
+        if !std::sync::Arc::ptr_eq(&into.params, &self.params) {
+            into.params = std::sync::Arc::clone(&self.params);
         }
         into.inputs.clone_from(&self.inputs);
         into.state.clone_from(&self.state);
