@@ -278,3 +278,58 @@ fn rotor_and_generator_states_restore_bit_identically() {
         assert_eq!(reference, run(&mut b, 40, 80), "{name}");
     }
 }
+
+#[test]
+fn a_state_keeps_the_parameters_it_was_taken_with() {
+    // the parameters are shared copy-on-write between an instance and its states: setting one after
+    // a state was taken must change the instance only, and restoring the state must bring it back
+    for name in ["torsional", "generator", "rotor", "gearbox6dof"] {
+        let fmu = Fmu::open(&fmu_path(name)).unwrap();
+        let mut inst = fmu.instantiate("params", false).unwrap();
+        inst.setup_experiment(0.0, None).unwrap();
+        inst.enter_initialization_mode().unwrap();
+        let st = inst.get_state().unwrap();
+        // the first Real parameter that takes a value 1 % above its start
+        let (var, before, changed) = fmu
+            .description
+            .model_variables
+            .variables
+            .iter()
+            .filter(|v| v.causality == "parameter" && v.type_name() == "Real")
+            .find_map(|v| {
+                let vr = [v.value_reference];
+                let mut x = [0.0];
+                inst.get_real(&vr, &mut x).ok()?;
+                let changed = if x[0] == 0.0 { 1e-3 } else { x[0] * 1.01 };
+                inst.set_real(&vr, &[changed]).ok()?;
+                Some((v, x[0], changed))
+            })
+            .unwrap_or_else(|| panic!("{name}: no Real parameter could be changed"));
+        let vr = [var.value_reference];
+        let mut now = [0.0];
+        inst.get_real(&vr, &mut now).unwrap();
+        assert_eq!(now[0], changed, "{name}.{}", var.name);
+        inst.set_state(&st).unwrap();
+        inst.get_real(&vr, &mut now).unwrap();
+        assert_eq!(
+            now[0].to_bits(),
+            before.to_bits(),
+            "{name}.{} after the restore",
+            var.name
+        );
+        // the state itself did not change when the instance's parameter did
+        inst.set_real(&vr, &[changed]).unwrap();
+        let bytes = inst.serialize_state(&st).unwrap();
+        let back = inst.deserialize_state(&bytes).unwrap();
+        inst.set_state(&back).unwrap();
+        inst.get_real(&vr, &mut now).unwrap();
+        assert_eq!(
+            now[0].to_bits(),
+            before.to_bits(),
+            "{name}.{} from the serialised state",
+            var.name
+        );
+        inst.free_state(back).unwrap();
+        inst.free_state(st).unwrap();
+    }
+}

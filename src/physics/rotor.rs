@@ -193,12 +193,34 @@ pub struct RotorOutputs {
 /// The model: what never changes once built (`source`: blade, polars, the synthesised turbulence or
 /// the played-back series, hundreds of kB) is shared, so a copy of the model (an FMU state taken at
 /// every macro step for rollback) costs a pointer, not the data.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, PartialEq)]
 pub struct RotorModel {
     pub source: std::sync::Arc<Source>,
     pub shutdown: Shutdown,
     pub state: PitchState,
     pub time: f64,
+}
+
+impl Clone for RotorModel {
+    fn clone(&self) -> Self {
+        Self {
+            source: std::sync::Arc::clone(&self.source),
+            shutdown: self.shutdown,
+            state: self.state,
+            time: self.time,
+        }
+    }
+
+    /// Keeps the shared source when it is already the same one: a state updated at every macro step
+    /// costs no reference counting.
+    fn clone_from(&mut self, other: &Self) {
+        if !std::sync::Arc::ptr_eq(&self.source, &other.source) {
+            self.source = std::sync::Arc::clone(&other.source);
+        }
+        self.shutdown = other.shutdown;
+        self.state = other.state;
+        self.time = other.time;
+    }
 }
 
 /// Pitch control runs at this rate at most, whatever the communication step.

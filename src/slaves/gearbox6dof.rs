@@ -293,7 +293,7 @@ impl Slave for Gearbox6dofSlave {
         into.inputs.clone_from(&self.inputs);
         into.resources.clone_from(&self.resources);
         into.state.clone_from(&self.state);
-        into.built.clone_from(&self.built);
+        super::share_build(&mut into.built, &self.built);
         into.loads = None;
     }
 

@@ -23,6 +23,14 @@ pub fn log_brake_events(events: &[crate::solver::Event], log: &mut dyn crate::fm
 
 /// Whether two slaves share one build of their model (a state taken since the last parameter
 /// change): then the instance's integrator workspace serves the restored state too.
+/// Makes `into` share `from`'s build, touching the reference count only when it is another build
+/// (a state updated at every macro step then costs no atomic operation here).
+pub(crate) fn share_build<B>(into: &mut Option<std::sync::Arc<B>>, from: &Option<std::sync::Arc<B>>) {
+    if !same_build(into, from) {
+        into.clone_from(from);
+    }
+}
+
 pub(crate) fn same_build<B>(a: &Option<std::sync::Arc<B>>, b: &Option<std::sync::Arc<B>>) -> bool {
     matches!((a, b), (Some(a), Some(b)) if std::sync::Arc::ptr_eq(a, b))
 }

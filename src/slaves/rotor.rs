@@ -22,7 +22,7 @@ pub type Params = xml::Parameters;
 pub type Inputs = xml::Inputs;
 
 /// What a set of parameters builds, with the numbers the calculated parameters report.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, PartialEq)]
 struct Built {
     model: RotorModel,
     rated_wind_speed: f64,
@@ -30,6 +30,25 @@ struct Built {
     radius: f64,
     rated_rotor_torque: f64,
     sigma: f64,
+}
+
+impl Clone for Built {
+    fn clone(&self) -> Self {
+        Self {
+            model: self.model.clone(),
+            ..*self
+        }
+    }
+
+    /// Field by field, so that the model keeps its shared source (see `RotorModel::clone_from`).
+    fn clone_from(&mut self, other: &Self) {
+        self.model.clone_from(&other.model);
+        self.rated_wind_speed = other.rated_wind_speed;
+        self.rated_tip_speed_ratio = other.rated_tip_speed_ratio;
+        self.radius = other.radius;
+        self.rated_rotor_torque = other.rated_rotor_torque;
+        self.sigma = other.sigma;
+    }
 }
 
 /// A torque series the rotor cannot play back, naming the file and line.

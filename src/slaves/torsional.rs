@@ -221,7 +221,7 @@ impl Slave for TorsionalSlave {
         }
         into.inputs.clone_from(&self.inputs);
         into.state.clone_from(&self.state);
-        into.built.clone_from(&self.built);
+        super::share_build(&mut into.built, &self.built);
     }
 
     /// Keeps this instance's integrator while the model is the snapshot's own (the same build).
