@@ -150,7 +150,7 @@ fn sequence(fmu: &Fmu, rng: &mut Rng, calls: usize) {
                 let v: Vec<&str> = (0..n).map(|_| rng.pick(&STRINGS)).collect();
                 judge(&what, start, inst.set_string(&vr, &v));
             }
-            7 | 8 | 9 => {
+            7..=9 => {
                 // mostly contiguous steps, sometimes a wrong communication point
                 let t = if rng.below(5) == 0 { rng.pick(&REALS) } else { time };
                 let h = rng.pick(&STEPS);
