@@ -61,5 +61,6 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::PackScene(args) => windrive::cli::run::pack_scene(&args),
         Command::Shutdown(args) => windrive::cli::shutdown::run(&args),
         Command::Aero(args) => windrive::cli::aero::run(&args),
+        Command::FmuHost(args) => windrive::cli::fmu_host(&args),
     }
 }

@@ -8,11 +8,11 @@ use std::ptr::{null, null_mut};
 use windrive::fmi2::import::{Fmu, Instance};
 use windrive::fmi2::types::*;
 
-fn logged(inst: &Instance) -> String {
+fn logged(inst: &mut Instance) -> String {
     inst.take_log().into_iter().map(|r| r.2).collect::<Vec<_>>().join(" | ")
 }
 
-fn expect_error(inst: &Instance, status: Fmi2Status, words: &[&str]) {
+fn expect_error(inst: &mut Instance, status: Fmi2Status, words: &[&str]) {
     assert_eq!(status, Fmi2Status::Error);
     let log = logged(inst);
     for w in words {
@@ -23,7 +23,7 @@ fn expect_error(inst: &Instance, status: Fmi2Status, words: &[&str]) {
 #[test]
 fn null_pointers_are_refused() {
     let fmu = torsional();
-    let api = &fmu.api;
+    let api = fmu.api();
     let mut inst = initialised(&fmu, &[], &[]);
     let c = inst.raw();
     unsafe {
@@ -33,22 +33,22 @@ fn null_pointers_are_refused() {
         (api.free_instance)(null_mut());
         // null arrays with n > 0
         let s = (api.get_real)(c, null(), 2, null_mut());
-        expect_error(&inst, s, &["fmi2GetReal", "null"]);
+        expect_error(&mut inst, s, &["fmi2GetReal", "null"]);
     }
     inst.reset().unwrap();
     let c = inst.raw();
     unsafe {
         let s = (api.set_real)(c, null(), 1, null());
-        expect_error(&inst, s, &["fmi2SetReal", "null"]);
+        expect_error(&mut inst, s, &["fmi2SetReal", "null"]);
         inst.reset().unwrap();
         let s = (api.get_fmu_state)(c, null_mut());
-        expect_error(&inst, s, &["null"]);
+        expect_error(&mut inst, s, &["null"]);
         inst.reset().unwrap();
         let s = (api.set_string)(c, [0u32].as_ptr(), 1, [null()].as_ptr());
-        expect_error(&inst, s, &["preset", "null"]);
+        expect_error(&mut inst, s, &["preset", "null"]);
         inst.reset().unwrap();
         let s = (api.deserialize_fmu_state)(c, null(), 10, null_mut());
-        expect_error(&inst, s, &["null"]);
+        expect_error(&mut inst, s, &["null"]);
     }
     // n = 0 with null arrays is legal
     inst.reset().unwrap();
@@ -58,7 +58,7 @@ fn null_pointers_are_refused() {
 #[test]
 fn instantiate_refuses_wrong_guid_type_and_name() {
     let fmu = torsional();
-    let api = &fmu.api;
+    let api = fmu.api();
     let name = CString::new("x").unwrap();
     let bad_guid = CString::new("{00000000-0000-0000-0000-000000000000}").unwrap();
     let guid = CString::new(fmu.description.guid.clone()).unwrap();
@@ -234,16 +234,16 @@ fn bad_step_sizes_and_times_are_refused() {
 #[test]
 fn unsupported_functions_answer_honestly() {
     let fmu = torsional();
-    let api = &fmu.api;
-    let inst = initialised(&fmu, &[], &[]);
+    let api = fmu.api();
+    let mut inst = initialised(&fmu, &[], &[]);
     unsafe {
         let s = (api.get_directional_derivative)(inst.raw(), null(), 0, null(), 0, null(), null_mut());
-        expect_error(&inst, s, &["providesDirectionalDerivative"]);
+        expect_error(&mut inst, s, &["providesDirectionalDerivative"]);
     }
     let mut inst = initialised(&fmu, &[], &[]);
     unsafe {
         let s = (api.cancel_step)(inst.raw());
-        expect_error(&inst, s, &["no step in progress"]);
+        expect_error(&mut inst, s, &["no step in progress"]);
     }
     inst.reset().unwrap();
     inst.setup_experiment(0.0, None).unwrap();
@@ -258,7 +258,7 @@ fn unsupported_functions_answer_honestly() {
             order.as_ptr(),
             [1.0].as_ptr(),
         );
-        expect_error(&inst, s, &["order 3"]);
+        expect_error(&mut inst, s, &["order 3"]);
     }
 }
 
@@ -267,9 +267,9 @@ fn brake_command_outside_its_range_is_clamped_with_a_warning() {
     let fmu = torsional();
     let mut inst = initialised(&fmu, &[], &[]);
     let vr = fmu.vr("brake_command").unwrap();
-    let s = unsafe { (fmu.api.set_real)(inst.raw(), [vr].as_ptr(), 1, [1.5].as_ptr()) };
+    let s = unsafe { (fmu.api().set_real)(inst.raw(), [vr].as_ptr(), 1, [1.5].as_ptr()) };
     assert_eq!(s, Fmi2Status::Warning);
-    assert!(logged(&inst).contains("clamped"));
+    assert!(logged(&mut inst).contains("clamped"));
     assert_eq!(get(&fmu, &mut inst, "brake_command"), 1.0);
     inst.do_step(0.0, 1e-3).unwrap();
 }
@@ -287,15 +287,18 @@ fn status_queries_after_a_failed_step() {
     let mut terminated: Fmi2Boolean = 0;
     unsafe {
         assert_eq!(
-            (fmu.api.get_real_status)(inst.raw(), FMI2_LAST_SUCCESSFUL_TIME, &mut t),
+            (fmu.api().get_real_status)(inst.raw(), FMI2_LAST_SUCCESSFUL_TIME, &mut t),
             Fmi2Status::Ok
         );
         assert_eq!(
-            (fmu.api.get_boolean_status)(inst.raw(), FMI2_TERMINATED, &mut terminated),
+            (fmu.api().get_boolean_status)(inst.raw(), FMI2_TERMINATED, &mut terminated),
             Fmi2Status::Ok
         );
         let mut x = 0;
-        assert_eq!((fmu.api.get_integer_status)(inst.raw(), 0, &mut x), Fmi2Status::Discard);
+        assert_eq!(
+            (fmu.api().get_integer_status)(inst.raw(), 0, &mut x),
+            Fmi2Status::Discard
+        );
     }
     assert_eq!(t, 0.0);
     assert_eq!(terminated, 1);
@@ -372,9 +375,9 @@ fn generator_integer_parameters_outside_their_range_are_refused() {
     for (bad, words) in [(-2, "below its minimum 0"), (402, "above its maximum 400")] {
         inst.reset().unwrap();
         inst.setup_experiment(0.0, None).unwrap();
-        let s = unsafe { (fmu.api.set_integer)(inst.raw(), [poles].as_ptr(), 1, [bad].as_ptr()) };
+        let s = unsafe { (fmu.api().set_integer)(inst.raw(), [poles].as_ptr(), 1, [bad].as_ptr()) };
         expect_error(
-            &inst,
+            &mut inst,
             s,
             &["fmi2SetInteger", &format!("parameter poles = {bad}"), words],
         );

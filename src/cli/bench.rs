@@ -17,7 +17,8 @@ pub struct BenchArgs {
     /// inverse, dense LU and sparse LU on gearbox-shaped iteration matrices), coupling (every
     /// co-simulation algorithm on scenes/d-grid-step against its exact solution), states (each FMU's
     /// state size and cost, iterative against gauss-seidel on scenes/c-shutdown), master (our
-    /// master's overhead per FMU-step against the bare FMI calls)
+    /// master's overhead per FMU-step against the bare FMI calls), isolate (`run --isolate`, each FMU
+    /// in its own process, against in-process on the same scenes)
     pub target: String,
     #[arg(long, default_value = "D")]
     pub preset: String,
@@ -54,6 +55,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         "coupling" => return super::coupling::run(args.stop_time, args.work_precision.as_deref()),
         "gearbox" => return super::gearbox_bench::run(args.stop_time),
         "states" => return super::states_bench::run(args.stop_time),
+        "isolate" => return super::isolate_bench::run(args.stop_time),
         "master" => {
             let scene = args
                 .scene
@@ -63,7 +65,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         }
         other => {
             bail!(
-                "unknown benchmark {other:?}: available: torsional, gearbox, rainflow, coupling, master, solvers, states"
+                "unknown benchmark {other:?}: available: torsional, gearbox, rainflow, coupling, master, solvers, states, isolate"
             )
         }
     }

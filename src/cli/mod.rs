@@ -8,6 +8,7 @@ pub mod coupling;
 pub mod fatigue;
 pub mod gearbox;
 pub mod gearbox_bench;
+pub mod isolate_bench;
 pub mod life;
 pub mod modes;
 pub mod overhead;
@@ -122,4 +123,31 @@ pub enum Command {
     /// Damage-equivalent loads of one CSV channel: DEL = (Σ n_i S_i^m / N_eq)^(1/m), N_eq = feq × duration,
     /// optionally with MLife's Goodman mean-load correction.
     Del(fatigue::DelArgs),
+    /// Hosts one FMU instance for a master run with --isolate (started by the master, not by hand).
+    #[command(hide = true)]
+    FmuHost(FmuHostArgs),
+}
+
+#[derive(clap::Args)]
+pub struct FmuHostArgs {
+    /// The mailbox's memfd, inherited from the master
+    #[arg(long)]
+    pub fd: i32,
+    /// The unpacked FMU
+    #[arg(long)]
+    pub dir: std::path::PathBuf,
+    /// Instance name
+    #[arg(long)]
+    pub name: String,
+    /// The master's process id (the host ends when it is gone)
+    #[arg(long)]
+    pub master: u32,
+    #[arg(long)]
+    pub logging: bool,
+}
+
+/// `windrive fmu-host`: serves until the master says quit or is gone.
+pub fn fmu_host(args: &FmuHostArgs) -> anyhow::Result<()> {
+    crate::fmi2::isolate::host::serve(args.fd, &args.dir, &args.name, args.logging, args.master)
+        .map_err(|e| anyhow::anyhow!("fmu-host {}: {e}", args.name))
 }

@@ -65,6 +65,27 @@ impl System {
     /// `overrides` are (component, variable, value as text) from the command line; they are read
     /// as the variable's type and applied after the scene's own parameter bindings.
     pub fn build(scene: &Scene, overrides: &[(String, String, String)], record: &Record) -> Result<Self, SystemError> {
+        Self::build_with(scene, overrides, record, None)
+    }
+
+    /// Like [`System::build`], with every FMU instance in a process of its own run by `host` (the
+    /// `windrive` executable): an FMU that crashes ends the run with an error naming it instead of
+    /// taking the master down.
+    pub fn build_isolated(
+        scene: &Scene,
+        overrides: &[(String, String, String)],
+        record: &Record,
+        host: &std::path::Path,
+    ) -> Result<Self, SystemError> {
+        Self::build_with(scene, overrides, record, Some(host))
+    }
+
+    fn build_with(
+        scene: &Scene,
+        overrides: &[(String, String, String)],
+        record: &Record,
+        host: Option<&std::path::Path>,
+    ) -> Result<Self, SystemError> {
         let check = Checker { scene };
         let mut names: HashMap<&str, usize> = HashMap::new();
         for (i, c) in scene.components.iter().enumerate() {
@@ -94,7 +115,11 @@ impl System {
                             ),
                         ));
                     }
-                    let f = Arc::new(Fmu::open(&c.path).map_err(|error| SystemError::Load {
+                    let fmu = match host {
+                        Some(_) => Fmu::open_for_host(&c.path),
+                        None => Fmu::open(&c.path),
+                    };
+                    let f = Arc::new(fmu.map_err(|error| SystemError::Load {
                         component: c.name.clone(),
                         error,
                     })?);
@@ -285,7 +310,11 @@ impl System {
         let mut remaps = Vec::with_capacity(fmus.len());
         for (u, fmu) in fmus.iter().enumerate() {
             let name = scene.components[u].name.clone();
-            let instance = fmu.instantiate(&name, false).map_err(|error| SystemError::Load {
+            let instance = match host {
+                Some(host) => fmu.instantiate_isolated(&name, false, host),
+                None => fmu.instantiate(&name, false),
+            };
+            let instance = instance.map_err(|error| SystemError::Load {
                 component: name.clone(),
                 error,
             })?;

@@ -31,6 +31,14 @@ pub enum ImportError {
     },
     #[error("{model}: no variable named {name}")]
     UnknownVariable { model: String, name: String },
+    #[error("{instance}: its process ended during {calls}: {how}")]
+    Crashed {
+        instance: String,
+        calls: String,
+        how: String,
+    },
+    #[error("{instance}: {message}")]
+    Isolation { instance: String, message: String },
 }
 
 /// The FMU's messages after an error: the last few, which say what went wrong.
@@ -194,7 +202,8 @@ api! {
 pub struct Fmu {
     pub description: ModelDescription,
     pub dir: PathBuf,
-    pub api: Arc<Api>,
+    /// None when opened for a host process: the binary is then only loaded there.
+    api: Option<Arc<Api>>,
     _unpacked: Option<TempDir>,
 }
 
@@ -202,20 +211,30 @@ impl Fmu {
     /// Opens a `.fmu` archive (unpacked into a private temporary folder, removed on drop) or an
     /// already unpacked folder. Errors name `path`, never the temporary folder.
     pub fn open(path: &Path) -> Result<Self, ImportError> {
+        Self::open_with(path, true)
+    }
+
+    /// Like [`Fmu::open`], but leaves the binary unloaded (checking it is there): its instances are
+    /// made by [`Fmu::instantiate_isolated`], so none of the FMU's code runs in this process.
+    pub fn open_for_host(path: &Path) -> Result<Self, ImportError> {
+        Self::open_with(path, false)
+    }
+
+    fn open_with(path: &Path, load_binary: bool) -> Result<Self, ImportError> {
         if path.is_dir() {
-            return Self::load(path.to_path_buf(), None, path);
+            return Self::load(path.to_path_buf(), None, path, load_binary);
         }
         let tmp = TempDir::new("windrive-fmu").map_err(|e| ImportError::Archive {
             path: path.to_path_buf(),
             message: e.to_string(),
         })?;
         unzip(path, tmp.path())?;
-        Self::load(tmp.path().to_path_buf(), Some(tmp), path)
+        Self::load(tmp.path().to_path_buf(), Some(tmp), path, load_binary)
     }
 
     /// Reads the description and loads the binary of the unpacked FMU in `dir`; `origin` (the
     /// `.fmu` or folder the user named) is what messages name.
-    fn load(dir: PathBuf, unpacked: Option<TempDir>, origin: &Path) -> Result<Self, ImportError> {
+    fn load(dir: PathBuf, unpacked: Option<TempDir>, origin: &Path, load_binary: bool) -> Result<Self, ImportError> {
         let describe = |message: String| ImportError::Description {
             path: origin.to_path_buf(),
             message,
@@ -237,11 +256,15 @@ impl Fmu {
                 message: format!("no {} in the FMU ({})", binary.display(), platforms(&dir)),
             });
         }
-        let api = Self::load_library(&lib_path)?;
+        let api = if load_binary {
+            Some(Arc::new(Self::load_library(&lib_path)?))
+        } else {
+            None
+        };
         Ok(Self {
             description,
             dir,
-            api: Arc::new(api),
+            api,
             _unpacked: unpacked,
         })
     }
@@ -295,14 +318,38 @@ impl Fmu {
             })
     }
 
+    /// An instance in this process.
     pub fn instantiate(&self, name: &str, logging_on: bool) -> Result<Instance, ImportError> {
-        Instance::new(
-            Arc::clone(&self.api),
+        let Some(api) = &self.api else {
+            return Err(ImportError::Isolation {
+                instance: name.into(),
+                message: "the FMU was opened for a host process (Fmu::open_for_host): instantiate it isolated".into(),
+            });
+        };
+        InProcess::new(
+            Arc::clone(api),
             name,
             &self.description.guid,
             &self.resource_uri(),
             logging_on,
         )
+        .map(|i| Instance(Backend::InProcess(i)))
+    }
+
+    /// An instance in a process of its own, run by `host` (the `windrive` executable): a crash of
+    /// the FMU ends that process, and every later call on the instance says so.
+    pub fn instantiate_isolated(&self, name: &str, logging_on: bool, host: &Path) -> Result<Instance, ImportError> {
+        super::isolate::remote::Remote::spawn(self, name, logging_on, host).map(|r| Instance(Backend::Isolated(r)))
+    }
+
+    /// The loaded binary's functions, for tests that call them directly.
+    ///
+    /// # Panics
+    /// When the FMU was opened with [`Fmu::open_for_host`] (its binary is not loaded here).
+    pub fn api(&self) -> &Api {
+        self.api
+            .as_deref()
+            .expect("the FMU was opened without loading its binary")
     }
 }
 
@@ -465,8 +512,106 @@ pub struct SavedState(Fmi2FmuState);
 // SAFETY: a saved state is only handed back to the instance that made it, which is Send.
 unsafe impl Send for SavedState {}
 
-/// A live FMU instance. Freed on drop (terminated first when it was initialised).
-pub struct Instance {
+impl SavedState {
+    /// A state an isolated instance's host made, by the address the host knows it by.
+    pub(crate) fn from_handle(handle: u64) -> Self {
+        Self(handle as usize as Fmi2FmuState)
+    }
+
+    pub(crate) fn handle(&self) -> u64 {
+        self.0 as usize as u64
+    }
+}
+
+/// A live FMU instance, in this process or in a host process of its own
+/// ([`Fmu::instantiate_isolated`]): the same calls either way. Freed on drop.
+pub struct Instance(Backend);
+
+enum Backend {
+    InProcess(InProcess),
+    Isolated(super::isolate::remote::Remote),
+}
+
+/// Forwards each call to the backend that holds the instance.
+macro_rules! forward {
+    ($(fn $m:ident(&mut self $(, $a:ident: $t:ty)*) -> $r:ty;)*) => {
+        impl Instance {
+            $(pub fn $m(&mut self $(, $a: $t)*) -> $r {
+                match &mut self.0 {
+                    Backend::InProcess(i) => i.$m($($a),*),
+                    Backend::Isolated(i) => i.$m($($a),*),
+                }
+            })*
+        }
+    };
+}
+
+forward! {
+    fn setup_experiment(&mut self, start: f64, stop: Option<f64>) -> Result<(), ImportError>;
+    fn enter_initialization_mode(&mut self) -> Result<(), ImportError>;
+    fn exit_initialization_mode(&mut self) -> Result<(), ImportError>;
+    fn terminate(&mut self) -> Result<(), ImportError>;
+    fn reset(&mut self) -> Result<(), ImportError>;
+    fn set_real(&mut self, vr: &[u32], values: &[f64]) -> Result<(), ImportError>;
+    fn get_real(&mut self, vr: &[u32], values: &mut [f64]) -> Result<(), ImportError>;
+    fn set_integer(&mut self, vr: &[u32], values: &[i32]) -> Result<(), ImportError>;
+    fn get_integer(&mut self, vr: &[u32], values: &mut [i32]) -> Result<(), ImportError>;
+    fn set_boolean(&mut self, vr: &[u32], values: &[bool]) -> Result<(), ImportError>;
+    fn get_boolean(&mut self, vr: &[u32], values: &mut [bool]) -> Result<(), ImportError>;
+    fn set_string(&mut self, vr: &[u32], values: &[&str]) -> Result<(), ImportError>;
+    fn set_real_input_derivatives(&mut self, vr: &[u32], order: i32, values: &[f64]) -> Result<(), ImportError>;
+    fn do_step(&mut self, t: f64, h: f64) -> Result<(), ImportError>;
+    fn get_state(&mut self) -> Result<SavedState, ImportError>;
+    fn update_state(&mut self, st: &mut SavedState) -> Result<(), ImportError>;
+    fn set_state(&mut self, st: &SavedState) -> Result<(), ImportError>;
+    fn free_state(&mut self, st: SavedState) -> Result<(), ImportError>;
+    fn serialize_state(&mut self, st: &SavedState) -> Result<Vec<u8>, ImportError>;
+    fn deserialize_state(&mut self, bytes: &[u8]) -> Result<SavedState, ImportError>;
+    fn take_log(&mut self) -> Vec<LogRecord>;
+}
+
+impl Instance {
+    pub fn name(&self) -> &str {
+        match &self.0 {
+            Backend::InProcess(i) => i.name(),
+            Backend::Isolated(i) => i.name(),
+        }
+    }
+
+    /// The process the FMU runs in: this one, or its host's.
+    pub fn pid(&self) -> u32 {
+        match &self.0 {
+            Backend::InProcess(_) => std::process::id(),
+            Backend::Isolated(i) => i.pid(),
+        }
+    }
+
+    fn in_process(&self) -> &InProcess {
+        match &self.0 {
+            Backend::InProcess(i) => i,
+            Backend::Isolated(_) => panic!("{}: an isolated instance has no component pointer here", self.name()),
+        }
+    }
+
+    /// The component pointer, for tests that call the FMU's functions directly.
+    ///
+    /// # Panics
+    /// For an isolated instance (its component lives in the host process).
+    pub fn raw(&self) -> Fmi2Component {
+        self.in_process().c
+    }
+
+    /// The binary's functions, for tests that call them directly.
+    ///
+    /// # Panics
+    /// For an isolated instance.
+    pub fn api(&self) -> &Api {
+        &self.in_process().api
+    }
+}
+
+/// An FMU instance in this process. Freed on drop.
+pub struct InProcess {
     api: Arc<Api>,
     c: Fmi2Component,
     name: String,
@@ -476,9 +621,9 @@ pub struct Instance {
 
 // SAFETY: an FMI instance may be used from any one thread at a time (FMI 2.0 §2.1.5); Instance is
 // not Sync, so it is never used from two threads at once.
-unsafe impl Send for Instance {}
+unsafe impl Send for InProcess {}
 
-impl Instance {
+impl InProcess {
     fn new(api: Arc<Api>, name: &str, guid: &str, resources: &str, logging_on: bool) -> Result<Self, ImportError> {
         let log = Box::new(LogTarget {
             records: Mutex::new(LogRecords::default()),
@@ -540,14 +685,6 @@ impl Instance {
                 log: self.take_log().into_iter().map(|r| r.2).collect(),
             }),
         }
-    }
-
-    pub fn raw(&self) -> Fmi2Component {
-        self.c
-    }
-
-    pub fn api(&self) -> &Api {
-        &self.api
     }
 
     pub fn setup_experiment(&mut self, start: f64, stop: Option<f64>) -> Result<(), ImportError> {
@@ -676,7 +813,7 @@ impl Instance {
     }
 }
 
-impl Drop for Instance {
+impl Drop for InProcess {
     fn drop(&mut self) {
         // SAFETY: c came from fmi2Instantiate and is freed exactly once.
         unsafe { (self.api.free_instance)(self.c) };

@@ -12,6 +12,8 @@ pub mod archive;
 pub mod description;
 #[cfg(feature = "cli")]
 pub mod import;
+#[cfg(feature = "cli")]
+pub mod isolate;
 
 /// The interface items of a [`slave::Slave`] impl, taken from the generated `models::<name>` module
 /// the invoking file imports as `xml` (identifier, GUID, XML text, variable table and lookup).

@@ -7,6 +7,7 @@
 """
 import os
 import pathlib
+import re
 import shutil
 import subprocess
 import sys
@@ -253,12 +254,9 @@ def test_fmu_failing_halfway_keeps_rows(tmp_path, windrive, pyfmus, our_fmus):
     assert np.isfinite(r["torsional.hss_torque"]).all()
 
 
-def test_a_crashing_fmu_costs_only_the_last_quarter_second_of_rows(tmp_path, windrive, pyfmus):
-    """A third-party FMU takes the whole process down (SIGSEGV at t = 3 s) after a slow step at
-    t = 2.5 s: the master flushes rows at least every 0.25 s of wall time, so the CSV holds every row
-    up to the slow step (before, a 64 kB buffer still held ~2000 of them and the file ended near
-    2.2 s)."""
-    scene = write_scene(
+def rotor_and_shaft(tmp_path, pyfmus):
+    """PyRotor driving PyShaft for 5 s: the scene of the crash tests."""
+    return write_scene(
         tmp_path / "crash",
         [
             ("rotor", pyfmus / "PyRotor.fmu", [("rotor_torque", "output")]),
@@ -267,6 +265,14 @@ def test_a_crashing_fmu_costs_only_the_last_quarter_second_of_rows(tmp_path, win
         [("rotor", "rotor_torque", "shaft", "torque")],
         stop_time=5.0,
     )
+
+
+def test_a_crashing_fmu_costs_only_the_last_quarter_second_of_rows(tmp_path, windrive, pyfmus):
+    """A third-party FMU takes the whole process down (SIGSEGV at t = 3 s) after a slow step at
+    t = 2.5 s: the master flushes rows at least every 0.25 s of wall time, so the CSV holds every row
+    up to the slow step (before, a 64 kB buffer still held ~2000 of them and the file ended near
+    2.2 s)."""
+    scene = rotor_and_shaft(tmp_path, pyfmus)
     out = tmp_path / "crash.csv"
     proc = run_master(windrive, scene, out, "--step", "0.001", "--record", "rotor.rotor_torque",
                       "--param", "rotor.pause_time=2.5", "--param", "rotor.crash_time=3.0")
@@ -275,3 +281,24 @@ def test_a_crashing_fmu_costs_only_the_last_quarter_second_of_rows(tmp_path, win
     assert 2.5 <= r["time"][-1] < 3.0, r["time"][-1]
     # whole rows only: every line has both columns
     assert np.isfinite(r["rotor.rotor_torque"]).all()
+
+
+def test_isolated_a_crashing_fmu_ends_the_run_with_its_name_signal_and_time_and_every_row(tmp_path, windrive, pyfmus):
+    """The same crash with --isolate: each FMU in its own process, so the segfault ends the rotor's
+    host only. The master reports the component, the signal, the call and the time, exits 1, and
+    the CSV holds every row up to the step that crashed."""
+    scene = rotor_and_shaft(tmp_path, pyfmus)
+    out = tmp_path / "crash.csv"
+    proc = run_master(windrive, scene, out, "--step", "0.001", "--isolate",
+                      "--param", "rotor.crash_time=3.0")
+    assert proc.returncode == 1, proc.stderr
+    failed = re.search(r"error: rotor failed at t = ([0-9.]+) s: rotor: its process ended during fmi2DoStep: "
+                       r"killed by signal 11 \(Segmentation fault\)", proc.stderr)
+    assert failed, proc.stderr
+    assert "Traceback" not in proc.stderr and "panicked" not in proc.stderr
+    # PyRotor crashes in the first step that starts at or after 3.0 s (by its own summed clock)
+    t_crash = float(failed.group(1))
+    assert 3.0 <= t_crash <= 3.001 + 1e-9
+    r = read_csv(out)
+    assert r["time"][-1] == pytest.approx(t_crash, abs=1e-12) and len(r) == round(t_crash / 0.001) + 1
+    assert np.isfinite(r["rotor.rotor_torque"]).all() and np.isfinite(r["shaft.shaft_torque"]).all()
