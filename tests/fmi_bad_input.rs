@@ -536,3 +536,57 @@ fn non_finite_outputs_are_errors_naming_the_variable() {
     // the rotor, the generator and the gearbox each had outputs out of range here
     assert!(refused >= 3, "only {refused} non-finite outputs refused");
 }
+
+/// Every String parameter of every FMU set to a value the model does not know is refused at
+/// initialisation with the parameter named, in each of the rotor's modes: also a parameter the mode
+/// does not use (a misspelt `series_unit` in aero mode, `turbulence_class` in playback), since a
+/// user who set it meant something by it. `series` is a file the aero mode never reads.
+#[test]
+fn every_string_parameter_is_checked_in_every_mode() {
+    let dir = windrive::fmi2::import::TempDir::new("windrive-test-series").unwrap();
+    let series = dir.path().join("torque.csv");
+    std::fs::write(&series, "time,torque\n0,0.5\n100,0.5\n").unwrap();
+    let series = series.to_string_lossy().into_owned();
+    let cases: [(&str, &[(&str, &str)]); 5] = [
+        ("rotor", &[("mode", "aero")]),
+        ("rotor", &[("mode", "playback"), ("series", &series)]),
+        ("torsional", &[]),
+        ("generator", &[]),
+        ("gearbox6dof", &[]),
+    ];
+    let mut checked = 0;
+    for (name, base) in cases {
+        let fmu = Fmu::open(&fmu_path(name)).unwrap();
+        // the base set-up alone initialises
+        drop(initialised(&fmu, base, &[]));
+        let strings: Vec<&str> = fmu
+            .description
+            .model_variables
+            .variables
+            .iter()
+            .filter(|v| v.type_name() == "String")
+            .map(|v| v.name.as_str())
+            .collect();
+        for &param in &strings {
+            if param == "mode" || (param == "series" && base.contains(&("mode", "aero"))) {
+                continue;
+            }
+            let mut inst = fmu.instantiate("strings", true).unwrap();
+            inst.setup_experiment(0.0, None).unwrap();
+            for (p, v) in base.iter().chain([&(param, "bogus-value")]) {
+                inst.set_string(&[fmu.vr(p).unwrap()], &[v]).unwrap();
+            }
+            let err = inst
+                .enter_initialization_mode()
+                .and_then(|()| inst.exit_initialization_mode())
+                .expect_err(&format!("{name} {base:?}: {param} = bogus-value was accepted"))
+                .to_string();
+            assert!(
+                err.contains(param) && err.to_lowercase().contains("bogus-value"),
+                "{name} {base:?}: {param}: {err}"
+            );
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 30);
+}

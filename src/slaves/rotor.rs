@@ -190,8 +190,53 @@ impl Params {
         Ok(())
     }
 
+    /// Every enumerated String parameter read, in either mode: a misspelt choice is an error even
+    /// where the mode does not use it (a user who set it meant something by it).
+    fn choices(&self) -> Result<Choices, ParameterError> {
+        let class = self.turbulence_class.trim().to_ascii_uppercase();
+        let source_preset = self.source_preset.trim();
+        Ok(Choices {
+            i_ref: match class.as_str() {
+                "A" => 0.16,
+                "B" => 0.14,
+                "C" => 0.12,
+                other => return Err(ParameterError::invalid("turbulence_class", &other, "use A, B or C")),
+            },
+            turbulence: match self.turbulence.trim() {
+                "none" => None,
+                "ntm" => Some(TurbulenceModel::Ntm),
+                "etm" => Some(TurbulenceModel::Etm),
+                other => return Err(ParameterError::invalid("turbulence", &other, "use none, ntm or etm")),
+            },
+            power_control: match self.pitch_control.trim() {
+                "speed" => false,
+                "power" => true,
+                other => return Err(ParameterError::invalid("pitch_control", &other, "use speed or power")),
+            },
+            per_unit: match self.series_unit.trim() {
+                "pu" => true,
+                "N.m" | "Nm" => false,
+                other => return Err(ParameterError::invalid("series_unit", &other, "use pu or N.m")),
+            },
+            cubic: match self.interpolation.trim() {
+                "linear" => false,
+                "cubic" => true,
+                other => return Err(ParameterError::invalid("interpolation", &other, "use linear or cubic")),
+            },
+            source: if source_preset.is_empty() {
+                None
+            } else {
+                let d = Drivetrain::preset(source_preset).ok_or_else(|| {
+                    ParameterError::invalid("source_preset", &source_preset, "use A, B, C or D (or leave it empty)")
+                })?;
+                Some((d, source_preset.to_string()))
+            },
+        })
+    }
+
     fn build(&self, resources: Option<&Path>) -> SlaveResult<Built> {
         self.check_control()?;
+        let choices = self.choices()?;
         let preset = self.preset.as_str();
         let drivetrain = Drivetrain::preset(preset)
             .ok_or_else(|| ParameterError::invalid("preset", &preset, "unknown drivetrain, use A, B, C or D"))?;
@@ -231,19 +276,7 @@ impl Params {
         let mut sigma = 0.0;
         let source = match self.mode.trim() {
             "aero" => {
-                let class = self.turbulence_class.trim().to_ascii_uppercase();
-                let i_ref = match class.as_str() {
-                    "A" => 0.16,
-                    "B" => 0.14,
-                    "C" => 0.12,
-                    other => return Err(ParameterError::invalid("turbulence_class", &other, "use A, B or C").into()),
-                };
-                let model = match self.turbulence.trim() {
-                    "none" => None,
-                    "ntm" => Some(TurbulenceModel::Ntm),
-                    "etm" => Some(TurbulenceModel::Etm),
-                    other => return Err(ParameterError::invalid("turbulence", &other, "use none, ntm or etm").into()),
-                };
+                let (i_ref, model) = (choices.i_ref, choices.turbulence);
                 let ti = self.turbulence_intensity;
                 sigma = match model {
                     None => 0.0,
@@ -262,14 +295,14 @@ impl Params {
                     )
                 });
                 let gear_ratio = drivetrain.gear_ratio();
-                let (target, kp, ki) = match self.pitch_control.trim() {
-                    "speed" => (
+                let (target, kp, ki) = if choices.power_control {
+                    (PitchTarget::Power(drivetrain.rated_power), self.power_kp, self.power_ki)
+                } else {
+                    (
                         PitchTarget::Speed(pick(self.speed_setpoint, rated_speed * gear_ratio)),
                         self.pitch_kp,
                         self.pitch_ki,
-                    ),
-                    "power" => (PitchTarget::Power(drivetrain.rated_power), self.power_kp, self.power_ki),
-                    other => return Err(ParameterError::invalid("pitch_control", &other, "use speed or power").into()),
+                    )
                 };
                 // bumpless start at initial_pitch: the integral alone commands it (GK·K_I·∫e = β₀)
                 if ki > 0.0 {
@@ -307,15 +340,19 @@ impl Params {
                 {
                     path = dir.join(name);
                 }
-                let per_unit = match self.series_unit.trim() {
-                    "pu" => true,
-                    "N.m" | "Nm" => false,
-                    other => return Err(ParameterError::invalid("series_unit", &other, "use pu or N.m").into()),
-                };
+                let per_unit = choices.per_unit;
                 let d_source = self.source_rotor_diameter;
-                let source_preset = self.source_preset.trim();
                 // (torque per unit, rotor diameter) of the turbine the series was recorded on
-                let (unit_scale, d_source) = if source_preset.is_empty() {
+                let (unit_scale, d_source) = if let Some((source, source_preset)) = &choices.source {
+                    if d_source > 0.0 {
+                        return Err(ParameterError::Conflict(
+                            "give source_preset or source_rotor_diameter, not both".into(),
+                        )
+                        .into());
+                    }
+                    let (r_source, _) = preset_rotor(source, source_preset);
+                    (if per_unit { source.rated_rotor_torque() } else { 1.0 }, 2.0 * r_source)
+                } else {
                     if d_source > 0.0 && per_unit {
                         return Err(ParameterError::Conflict(
                             "source_rotor_diameter scales an absolute series (series_unit = N.m); a per-unit series \
@@ -325,30 +362,13 @@ impl Params {
                         .into());
                     }
                     (if per_unit { rated_torque } else { 1.0 }, d_source)
-                } else {
-                    if d_source > 0.0 {
-                        return Err(ParameterError::Conflict(
-                            "give source_preset or source_rotor_diameter, not both".into(),
-                        )
-                        .into());
-                    }
-                    let source = Drivetrain::preset(source_preset).ok_or_else(|| {
-                        ParameterError::invalid("source_preset", &source_preset, "use A, B, C or D (or leave it empty)")
-                    })?;
-                    let (r_source, _) = preset_rotor(&source, source_preset);
-                    (if per_unit { source.rated_rotor_torque() } else { 1.0 }, 2.0 * r_source)
                 };
                 let diameter_scale = if d_source > 0.0 {
                     (2.0 * radius / d_source).powi(3)
                 } else {
                     1.0
                 };
-                let cubic = match self.interpolation.trim() {
-                    "linear" => false,
-                    "cubic" => true,
-                    other => return Err(ParameterError::invalid("interpolation", &other, "use linear or cubic").into()),
-                };
-                Source::Playback(read_series(&path, unit_scale * diameter_scale, cubic)?)
+                Source::Playback(read_series(&path, unit_scale * diameter_scale, choices.cubic)?)
             }
             other => return Err(ParameterError::invalid("mode", &other, "use aero or playback").into()),
         };
@@ -366,6 +386,20 @@ impl Params {
             sigma,
         })
     }
+}
+
+/// The rotor's enumerated String parameters, read.
+struct Choices {
+    /// IEC 61400-1 reference turbulence intensity of the turbulence class.
+    i_ref: f64,
+    turbulence: Option<TurbulenceModel>,
+    /// Pitch to hold rated power (else rated generator speed).
+    power_control: bool,
+    /// A played-back series is in per-unit of a rated rotor torque (else N·m).
+    per_unit: bool,
+    cubic: bool,
+    /// The drivetrain a played-back series was recorded on, and its preset letter.
+    source: Option<(Drivetrain, String)>,
 }
 
 #[derive(Clone, Serialize, Deserialize)]
