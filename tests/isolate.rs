@@ -11,6 +11,7 @@ use common::{fmu_path, scene_copy};
 use std::path::Path;
 use windrive::cosim::{Algorithm, Master, Options, Record, Scene, System};
 use windrive::fmi2::import::{Fmu, ImportError, Instance};
+use windrive::fmi2::isolate::Isolation;
 
 fn host() -> &'static Path {
     Path::new(env!("CARGO_BIN_EXE_windrive"))
@@ -19,7 +20,7 @@ fn host() -> &'static Path {
 /// Every recorded value of a run of `scene` as bits, row by row.
 fn run(scene: &Scene, algorithm: Algorithm, stop: f64, isolated: bool) -> Vec<u64> {
     let mut system = if isolated {
-        System::build_isolated(scene, &[], &Record::Outputs, host()).unwrap()
+        System::build_isolated(scene, &[], &Record::Outputs, &Isolation::new(host())).unwrap()
     } else {
         System::build(scene, &[], &Record::Outputs).unwrap()
     };
@@ -58,7 +59,7 @@ fn isolated_runs_are_bit_identical_to_in_process_runs_under_every_algorithm() {
 
 fn isolated(name: &str) -> (Fmu, Instance) {
     let fmu = Fmu::open_for_host(&fmu_path(name)).unwrap();
-    let inst = fmu.instantiate_isolated(name, false, host()).unwrap();
+    let inst = fmu.instantiate_isolated(name, false, &Isolation::new(host())).unwrap();
     (fmu, inst)
 }
 
@@ -163,7 +164,7 @@ fn a_host_that_dies_is_named_with_its_signal_and_every_later_call_is_refused() {
 fn a_missing_host_or_a_failing_instantiation_is_an_error_naming_the_instance() {
     let fmu = Fmu::open_for_host(&fmu_path("generator")).unwrap();
     let err = fmu
-        .instantiate_isolated("g", false, Path::new("/nonexistent/windrive"))
+        .instantiate_isolated("g", false, &Isolation::new("/nonexistent/windrive"))
         .err()
         .unwrap()
         .to_string();

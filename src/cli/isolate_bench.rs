@@ -5,6 +5,7 @@
 
 use crate::cosim::master::read_recorded;
 use crate::cosim::{Algorithm, Master, Options, Record, Scene, System};
+use crate::fmi2::isolate::Isolation;
 use anyhow::bail;
 use std::path::Path;
 use std::time::Instant;
@@ -13,7 +14,7 @@ use std::time::Instant;
 /// of every recorded value.
 fn timed(scene: &Scene, algorithm: Algorithm, stop: f64, host: Option<&Path>) -> anyhow::Result<(f64, u64)> {
     let mut system = match host {
-        Some(host) => System::build_isolated(scene, &[], &Record::Outputs, host)?,
+        Some(host) => System::build_isolated(scene, &[], &Record::Outputs, &Isolation::new(host))?,
         None => System::build(scene, &[], &Record::Outputs)?,
     };
     system.initialize(Some(stop))?;

@@ -65,6 +65,17 @@ pub struct RunArgs {
     /// before is kept. Costs about a microsecond per FMU step (docs/FMU-BOUNDARY.md)
     #[arg(long)]
     pub isolate: bool,
+    /// With --isolate: an FMU whose single call takes longer than this many seconds (an endless
+    /// loop) is killed and the run ends naming it [default: wait as in-process]
+    #[arg(long, requires = "isolate", value_parser = parse_timeout)]
+    pub call_timeout: Option<f64>,
+}
+
+fn parse_timeout(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 && x < 1e9 => Ok(x),
+        _ => Err(format!("{s:?} is not a positive number of seconds")),
+    }
 }
 
 fn parse_algorithm(s: &str) -> Result<Algorithm, String> {
@@ -141,7 +152,9 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let params = parse_params(&args.params)?;
     let mut system = if args.isolate {
         let host = std::env::current_exe().context("finding windrive's executable to host the FMUs")?;
-        System::build_isolated(&scene, &params, &record, &host)?
+        let mut how = crate::fmi2::isolate::Isolation::new(host);
+        how.call_timeout = args.call_timeout.map(std::time::Duration::from_secs_f64);
+        System::build_isolated(&scene, &params, &record, &how)?
     } else {
         System::build(&scene, &params, &record)?
     };

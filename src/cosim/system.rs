@@ -10,6 +10,7 @@ use super::ssp::{Scene, Value};
 use super::unit::{DiscreteInputs, Inputs, Kind, Link, Unit, VarGroup, kind_of};
 use crate::fmi2::description::ScalarVariable;
 use crate::fmi2::import::{Fmu, ImportError};
+use crate::fmi2::isolate::Isolation;
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -68,23 +69,22 @@ impl System {
         Self::build_with(scene, overrides, record, None)
     }
 
-    /// Like [`System::build`], with every FMU instance in a process of its own run by `host` (the
-    /// `windrive` executable): an FMU that crashes ends the run with an error naming it instead of
-    /// taking the master down.
+    /// Like [`System::build`], with every FMU instance in a process of its own (see [`Isolation`]):
+    /// an FMU that crashes ends the run with an error naming it instead of taking the master down.
     pub fn build_isolated(
         scene: &Scene,
         overrides: &[(String, String, String)],
         record: &Record,
-        host: &std::path::Path,
+        how: &Isolation,
     ) -> Result<Self, SystemError> {
-        Self::build_with(scene, overrides, record, Some(host))
+        Self::build_with(scene, overrides, record, Some(how))
     }
 
     fn build_with(
         scene: &Scene,
         overrides: &[(String, String, String)],
         record: &Record,
-        host: Option<&std::path::Path>,
+        isolation: Option<&Isolation>,
     ) -> Result<Self, SystemError> {
         let check = Checker { scene };
         let mut names: HashMap<&str, usize> = HashMap::new();
@@ -115,7 +115,7 @@ impl System {
                             ),
                         ));
                     }
-                    let fmu = match host {
+                    let fmu = match isolation {
                         Some(_) => Fmu::open_for_host(&c.path),
                         None => Fmu::open(&c.path),
                     };
@@ -310,8 +310,8 @@ impl System {
         let mut remaps = Vec::with_capacity(fmus.len());
         for (u, fmu) in fmus.iter().enumerate() {
             let name = scene.components[u].name.clone();
-            let instance = match host {
-                Some(host) => fmu.instantiate_isolated(&name, false, host),
+            let instance = match isolation {
+                Some(how) => fmu.instantiate_isolated(&name, false, how),
                 None => fmu.instantiate(&name, false),
             };
             let instance = instance.map_err(|error| SystemError::Load {

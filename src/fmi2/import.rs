@@ -336,10 +336,15 @@ impl Fmu {
         .map(|i| Instance(Backend::InProcess(i)))
     }
 
-    /// An instance in a process of its own, run by `host` (the `windrive` executable): a crash of
-    /// the FMU ends that process, and every later call on the instance says so.
-    pub fn instantiate_isolated(&self, name: &str, logging_on: bool, host: &Path) -> Result<Instance, ImportError> {
-        super::isolate::remote::Remote::spawn(self, name, logging_on, host).map(|r| Instance(Backend::Isolated(r)))
+    /// An instance in a process of its own, run by `how.host` (the `windrive` executable): a crash
+    /// of the FMU ends that process, and every later call on the instance says so.
+    pub fn instantiate_isolated(
+        &self,
+        name: &str,
+        logging_on: bool,
+        how: &super::isolate::Isolation,
+    ) -> Result<Instance, ImportError> {
+        super::isolate::remote::Remote::spawn(self, name, logging_on, how).map(|r| Instance(Backend::Isolated(r)))
     }
 
     /// The loaded binary's functions, for tests that call them directly.

@@ -302,3 +302,23 @@ def test_isolated_a_crashing_fmu_ends_the_run_with_its_name_signal_and_time_and_
     r = read_csv(out)
     assert r["time"][-1] == pytest.approx(t_crash, abs=1e-12) and len(r) == round(t_crash / 0.001) + 1
     assert np.isfinite(r["rotor.rotor_torque"]).all() and np.isfinite(r["shaft.shaft_torque"]).all()
+
+
+def test_isolated_an_fmu_that_stops_answering_is_killed_after_the_call_timeout(tmp_path, windrive, pyfmus):
+    """PyRotor's step at t = 2.5 s takes 0.5 s; with --call-timeout 0.2 its host is killed and the run
+    ends there, naming the component, the call and the timeout, with every row before it."""
+    scene = rotor_and_shaft(tmp_path, pyfmus)
+    out = tmp_path / "hang.csv"
+    proc = run_master(windrive, scene, out, "--step", "0.001", "--isolate", "--call-timeout", "0.2",
+                      "--param", "rotor.pause_time=2.5")
+    assert proc.returncode == 1, proc.stderr
+    failed = re.search(r"error: rotor failed at t = ([0-9.]+) s: rotor: its process ended during fmi2DoStep: "
+                       r"no answer within 0.2 s, killed", proc.stderr)
+    assert failed, proc.stderr
+    t_hang = float(failed.group(1))
+    assert 2.5 <= t_hang <= 2.501 + 1e-9
+    r = read_csv(out)
+    assert r["time"][-1] == pytest.approx(t_hang, abs=1e-12) and len(r) == round(t_hang / 0.001) + 1
+    # without --isolate the option is refused
+    bad = run_master(windrive, scene, out, "--call-timeout", "1")
+    assert bad.returncode == 2 and "--isolate" in bad.stderr, bad.stderr

@@ -9,10 +9,32 @@
 //! computed by the host with the step and sent back in its reply. A macro step of one FMU is then one
 //! round trip (docs/FMU-BOUNDARY.md measures what it costs).
 
+use std::path::PathBuf;
+use std::time::Duration;
+
 pub mod channel;
 pub mod host;
 pub mod remote;
 pub mod wire;
+
+/// How isolated instances are run.
+#[derive(Debug, Clone)]
+pub struct Isolation {
+    /// The `windrive` executable, run as `windrive fmu-host`.
+    pub host: PathBuf,
+    /// A host that takes longer than this for one call (an FMU in an endless loop) is killed and the
+    /// call fails saying so; None waits as long as an in-process call would.
+    pub call_timeout: Option<Duration>,
+}
+
+impl Isolation {
+    pub fn new(host: impl Into<PathBuf>) -> Self {
+        Self {
+            host: host.into(),
+            call_timeout: None,
+        }
+    }
+}
 
 /// Request codes of the mailbox protocol. A message is `[count][request]…`; its reply is
 /// `[requests done][status of the last one done]` followed by the last request's results, or on a

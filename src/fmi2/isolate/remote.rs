@@ -2,13 +2,12 @@
 //! the host process through the mailbox.
 
 use super::channel::{CAPACITY, Channel, POLL};
-use super::op;
 use super::wire::{Reader, WireError, Writer};
+use super::{Isolation, op};
 use crate::fmi2::import::{Fmu, ImportError, LogRecord, SavedState};
 use crate::fmi2::types::Fmi2Status;
 use std::os::fd::AsRawFd;
 use std::os::unix::process::{CommandExt, ExitStatusExt};
-use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -48,6 +47,8 @@ pub struct Remote {
     ended: Option<String>,
     /// How long the last call took.
     last_call: Duration,
+    /// Longest a call may take before the host is killed.
+    timeout: Option<Duration>,
 }
 
 /// The message for a host that ended: the signal (with its name) or the exit code.
@@ -66,7 +67,8 @@ fn describe_exit(status: std::process::ExitStatus) -> String {
 impl Remote {
     /// Starts `host` (`windrive`'s executable) as `fmu-host` for instance `name` of `fmu` and waits
     /// until it has instantiated the FMU.
-    pub fn spawn(fmu: &Fmu, name: &str, logging_on: bool, host: &Path) -> Result<Self, ImportError> {
+    pub fn spawn(fmu: &Fmu, name: &str, logging_on: bool, how: &Isolation) -> Result<Self, ImportError> {
+        let host = &how.host;
         let failed = |message: String| ImportError::Isolation {
             instance: name.into(),
             message,
@@ -116,6 +118,7 @@ impl Remote {
             after_step: false,
             ended: None,
             last_call: Duration::ZERO,
+            timeout: how.call_timeout,
         };
         match remote.call(op::HELLO, |_| Ok(())) {
             Err(ImportError::Call { log, .. }) => Err(ImportError::Instantiate {
@@ -189,11 +192,23 @@ impl Remote {
         if self.seq == 0 {
             self.seq = 1; // 0 is the counters' initial value: never a request's number
         }
-        let Self { channel, child, .. } = self;
+        let Self {
+            channel,
+            child,
+            timeout,
+            ..
+        } = self;
         let spin = (2 * self.last_call).clamp(MIN_SPIN, MAX_SPIN);
         let started = Instant::now();
         let waited = channel.call(self.seq, spin, || match child.try_wait() {
-            Ok(None) => Ok(()),
+            Ok(None) => match timeout {
+                Some(limit) if started.elapsed() > *limit => {
+                    let _ = child.kill();
+                    let _ = child.wait();
+                    Err(format!("no answer within {} s, killed", limit.as_secs_f64()))
+                }
+                _ => Ok(()),
+            },
             Ok(Some(status)) => Err(describe_exit(status)),
             Err(e) => Err(format!("cannot watch it: {e}")),
         });
