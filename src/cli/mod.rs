@@ -43,6 +43,7 @@ pub fn error_chain(e: &anyhow::Error) -> String {
         windrive step-response --preset D                   rated-torque step through the FMU, modes beside it\n  \
         windrive bench torsional                            speed and accuracy of the FMU, with baselines\n  \
         windrive run scenes/d-grid-step --algorithm jacobi  a scene through the co-simulation master\n  \
+        windrive run scenes/c-shutdown --isolate            each FMU in its own process (survives a crashing FMU)\n  \
         windrive aero --preset C --tsr 4,6,8 --pitch 0,10   the rotor's BEM: C_P, C_Q, C_T as JSON"
 )]
 pub struct Cli {
