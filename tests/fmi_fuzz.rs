@@ -4,7 +4,9 @@
 //! flipped bits and truncated, NULL pointers. It fails on any fmi2Fatal (a panic reached the
 //! boundary), any call slower than a second (a hang), and any non-finite output returned with fmi2OK.
 //!
-//! CI runs a modest count; `WINDRIVE_FUZZ_SEQUENCES=N` runs N per FMU (docs/FMU-BOUNDARY.md).
+//! CI runs a modest count; `WINDRIVE_FUZZ_SEQUENCES=N` runs N per FMU, `WINDRIVE_FUZZ_FIRST=K`
+//! starts at the K-th sequence of the same seeded stream, so a long run can be split
+//! (docs/FMU-BOUNDARY.md).
 //! A failure names the FMU, the sequence's seed and the call.
 
 mod common;
@@ -267,12 +269,20 @@ fn fuzz(name: &str, default_sequences: usize) {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(default_sequences);
+    // a long run may be split: WINDRIVE_FUZZ_FIRST=N starts at the N-th sequence of the same stream
+    let first: usize = std::env::var("WINDRIVE_FUZZ_FIRST")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0);
     let fmu = Fmu::open(&fmu_path(name)).unwrap();
     null_pointers(&fmu);
     let mut seeds = Rng(0x0f11_2026 ^ name.len() as u64);
-    for done in 0..sequences {
-        if done > 0 && done % 100_000 == 0 {
-            eprintln!("{name}: {done} sequences, no failure");
+    for _ in 0..first {
+        seeds.next();
+    }
+    for done in first..first + sequences {
+        if done > first && done % 100_000 == 0 {
+            eprintln!("{name}: sequences {first} to {done} passed");
         }
         let seed = seeds.next() | 1;
         let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| sequence(&fmu, &mut Rng(seed), 40)));
