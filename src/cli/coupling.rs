@@ -2,19 +2,27 @@
 //! d-grid-step scene against its exact solution ([`crate::reference::grid_step`]), as a
 //! work–precision chart, with the step where each fails.
 
-use crate::cosim::{Algorithm, Options, Scene};
+use crate::cosim::{Acceleration, Algorithm, Options, Scene};
 use crate::reference::grid_step::compare as run_grid_step;
 use std::path::Path;
 
-/// The fixed-step variants the chart compares: (label, algorithm, input order).
-fn variants() -> Vec<(String, Algorithm, usize)> {
+/// The fixed-step variants the chart compares: (label, algorithm, input order, acceleration).
+fn variants() -> Vec<(String, Algorithm, usize, Acceleration)> {
+    let plain = Acceleration::None;
     vec![
-        ("jacobi p0".into(), Algorithm::Jacobi, 0),
-        ("jacobi p1".into(), Algorithm::Jacobi, 1),
-        ("jacobi p2".into(), Algorithm::Jacobi, 2),
-        ("gauss-seidel p0".into(), Algorithm::GaussSeidel, 0),
-        ("gauss-seidel p1".into(), Algorithm::GaussSeidel, 1),
-        ("iterative p1".into(), Algorithm::Iterative, 1),
+        ("jacobi p0".into(), Algorithm::Jacobi, 0, plain),
+        ("jacobi p1".into(), Algorithm::Jacobi, 1, plain),
+        ("jacobi p2".into(), Algorithm::Jacobi, 2, plain),
+        ("gauss-seidel p0".into(), Algorithm::GaussSeidel, 0, plain),
+        ("gauss-seidel p1".into(), Algorithm::GaussSeidel, 1, plain),
+        ("iterative p1".into(), Algorithm::Iterative, 1, plain),
+        ("iterative aitken".into(), Algorithm::Iterative, 1, Acceleration::Aitken),
+        (
+            "iterative iqn-ils".into(),
+            Algorithm::Iterative,
+            1,
+            Acceleration::IqnIls,
+        ),
     ]
 }
 
@@ -34,11 +42,12 @@ pub fn run(stop_time: f64, plot: Option<&Path>) -> anyhow::Result<()> {
     );
     let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     let omega = 37.0;
-    for (label, algorithm, order) in variants() {
+    for (label, algorithm, order, acceleration) in variants() {
         let mut points = Vec::new();
         for &h in &steps {
             let mut opts = Options::new(algorithm, h, stop_time);
             opts.order = order;
+            opts.acceleration = acceleration;
             let o = run_grid_step(&scene_dir, opts)?;
             let error = match (&o.error, &o.failure) {
                 (Some(e), _) if *e < 1.0 => {

@@ -109,7 +109,12 @@ where
             names.get(x.round() as usize).cloned().unwrap_or_default()
         }
         Some(_) => String::new(),
-        None => format!("{x}"),
+        // ticks land on binary fractions (-2.3000000000000003): four decimals, trailing zeros cut
+        None => {
+            let text = format!("{x:.4}");
+            let text = text.trim_end_matches('0').trim_end_matches('.');
+            if text == "-0" { "0".into() } else { text.to_string() }
+        }
     };
     let mut mesh = chart.configure_mesh();
     mesh.x_desc(x_label).y_desc(y_label).x_label_formatter(&name_of);

@@ -1,6 +1,6 @@
 //! `windrive run` and `windrive pack-scene`: SSP scenes through the co-simulation master.
 
-use crate::cosim::{Algorithm, Master, Options, Record, Scene, System};
+use crate::cosim::{Acceleration, Algorithm, Master, Options, Record, Scene, System};
 use anyhow::{Context, anyhow, bail};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -37,6 +37,11 @@ pub struct RunArgs {
     /// Most sweeps per macro step (iterative)
     #[arg(long, default_value_t = 10)]
     pub max_iterations: usize,
+    /// How iterative picks the next iterate: none (plain fixed point), aitken (dynamic
+    /// relaxation) or iqn-ils (interface quasi-Newton, as preCICE); the last two converge where
+    /// plain iteration diverges (a stiff split at a large step)
+    #[arg(long, default_value = "none", value_parser = parse_acceleration)]
+    pub acceleration: Acceleration,
     /// Smallest and largest macro step (adaptive) [default: step/1000 and 100×step]
     #[arg(long)]
     pub min_step: Option<f64>,
@@ -76,6 +81,10 @@ fn parse_timeout(s: &str) -> Result<f64, String> {
         Ok(x) if x.is_finite() && x > 0.0 && x < 1e9 => Ok(x),
         _ => Err(format!("{s:?} is not a positive number of seconds")),
     }
+}
+
+fn parse_acceleration(s: &str) -> Result<Acceleration, String> {
+    Acceleration::parse(s).ok_or_else(|| format!("unknown acceleration {s:?} (one of {})", Acceleration::NAMES))
 }
 
 fn parse_algorithm(s: &str) -> Result<Algorithm, String> {
@@ -185,6 +194,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     opts.rel_tol = args.tolerance;
     opts.abs_tol = args.abs_tolerance;
     opts.max_iterations = args.max_iterations.max(1);
+    opts.acceleration = args.acceleration;
     opts.min_step = args.min_step.unwrap_or(step * 1e-3);
     opts.max_step = args.max_step.unwrap_or(step * 100.0);
     opts.threads = args.threads.max(1);

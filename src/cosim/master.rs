@@ -11,6 +11,7 @@
 //! fmi2SetRealInputDerivatives; the others receive the polynomial's mean over the step, which
 //! keeps the exchanged impulse (∫u dt) of the polynomial.
 
+use super::acceleration::{Acceleration, Accelerator};
 use super::system::System;
 use super::unit::{DiscreteInputs, Unit};
 use crate::fmi2::import::ImportError;
@@ -60,6 +61,8 @@ pub struct Options {
     pub rel_tol: f64,
     pub abs_tol: f64,
     pub max_iterations: usize,
+    /// How the iterative algorithm picks its next iterate (none: plain fixed-point iteration).
+    pub acceleration: Acceleration,
     pub min_step: f64,
     pub max_step: f64,
     /// Worker threads for the Jacobi sweep (1 = on the calling thread).
@@ -77,6 +80,7 @@ impl Options {
             rel_tol: 1e-6,
             abs_tol: 1e-9,
             max_iterations: 10,
+            acceleration: Acceleration::None,
             min_step: step * 1e-3,
             max_step: step * 100.0,
             threads: 1,
@@ -133,6 +137,10 @@ pub struct Master<'s> {
     /// Coupled sources (unit, index), where the iterative and adaptive tolerances apply.
     coupled: Vec<(usize, usize)>,
     previous_iterate: Vec<f64>,
+    /// The iterative algorithm's acceleration and its current iterate and image.
+    accelerator: Accelerator,
+    iterate_x: Vec<f64>,
+    iterate_g: Vec<f64>,
     /// Largest |y| of each coupled variable so far (its scale for the tolerance).
     peak: Vec<f64>,
     known: Vec<bool>,
@@ -258,6 +266,9 @@ impl<'s> Master<'s> {
             hist_t: [0.0; 2],
             hist_len: 0,
             previous_iterate: vec![0.0; coupled.len()],
+            accelerator: Accelerator::default(),
+            iterate_x: Vec::new(),
+            iterate_g: Vec::new(),
             peak,
             coupled,
             known: vec![false; n],
@@ -485,13 +496,51 @@ impl<'s> Master<'s> {
     }
 
     /// Iterative coupling: Gauss–Seidel sweeps from the saved state until the coupled outputs at
-    /// t+h change less than the tolerance between two sweeps, at most `max_iterations` sweeps.
+    /// t+h change less than the tolerance between two sweeps, at most `max_iterations` sweeps. The
+    /// end values each sweep starts from are the previous sweep's outputs, or with an
+    /// [`Acceleration`] the accelerated iterate (`acceleration.rs`).
     fn iterate(&mut self, t: f64, h: f64) -> Result<(), MasterError> {
         self.save_all(t)?;
+        let kind = self.opts.acceleration;
+        let (mut x, mut g) = (std::mem::take(&mut self.iterate_x), std::mem::take(&mut self.iterate_g));
+        if kind != Acceleration::None {
+            // the first sweep's consumers get the sources' extrapolations: its iterate is their end
+            self.known.fill(false);
+            x.clear();
+            for &(u, i) in &self.coupled {
+                let p = self.source_polynomial(u, i, t, h);
+                x.push(p[0] + p[1] * h + p[2] * h * h / 2.0);
+            }
+            let scale: Vec<f64> = (self.coupled.iter().zip(&self.peak))
+                .map(|(&(u, i), peak)| self.opts.abs_tol + self.opts.rel_tol * self.start[u][i].abs().max(*peak))
+                .collect();
+            self.accelerator.start(scale.into_iter());
+        }
         self.sweep(t, h, true, false)?;
+        let result = self.iterate_sweeps(t, h, kind, &mut x, &mut g);
+        (self.iterate_x, self.iterate_g) = (x, g);
+        result
+    }
+
+    fn iterate_sweeps(
+        &mut self,
+        t: f64,
+        h: f64,
+        kind: Acceleration,
+        x: &mut [f64],
+        g: &mut Vec<f64>,
+    ) -> Result<(), MasterError> {
         for _ in 1..self.opts.max_iterations {
-            for (k, &(u, i)) in self.coupled.iter().enumerate() {
-                self.previous_iterate[k] = self.sys.units[u].values[i];
+            g.clear();
+            g.extend(self.coupled.iter().map(|&(u, i)| self.sys.units[u].values[i]));
+            if kind == Acceleration::None {
+                self.previous_iterate.copy_from_slice(g);
+            } else {
+                self.accelerator.next(kind, x, g);
+                self.previous_iterate.copy_from_slice(x);
+                for (&(u, i), &v) in self.coupled.iter().zip(x.iter()) {
+                    self.sys.units[u].values[i] = v;
+                }
             }
             self.restore_all(t)?;
             self.sweep(t, h, true, true)?;

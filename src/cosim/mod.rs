@@ -1,6 +1,7 @@
 //! The co-simulation master: SSP scenes (`ssp`), made runnable and checked (`system`), stepped by
 //! an algorithm (`master`), recorded to CSV (`recorder`).
 
+pub mod acceleration;
 mod checks;
 pub mod master;
 pub mod recorder;
@@ -9,6 +10,7 @@ pub mod system;
 pub mod unit;
 pub mod xml;
 
+pub use acceleration::Acceleration;
 pub use master::{Algorithm, Master, MasterError, Options, Stats};
 pub use ssp::{Scene, SspError, Value};
 pub use system::{Record, System, SystemError};
