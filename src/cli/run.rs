@@ -67,7 +67,7 @@ pub struct RunArgs {
     pub quiet: bool,
     /// Run every FMU instance in a process of its own (shared-memory calls): an FMU that crashes
     /// ends the run with a message naming it, the signal and the time, and every row recorded
-    /// before is kept. Costs about a microsecond per FMU step (docs/FMU-BOUNDARY.md)
+    /// before is kept. Costs 2–5 µs per FMU step (docs/FMU-BOUNDARY.md)
     #[arg(long)]
     pub isolate: bool,
     /// With --isolate: an FMU whose single call takes longer than this many seconds (an endless
