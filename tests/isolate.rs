@@ -176,3 +176,53 @@ fn a_missing_host_or_a_failing_instantiation_is_an_error_naming_the_instance() {
     let err = fmu.instantiate("g", false).err().unwrap().to_string();
     assert!(err.contains("instantiate it isolated"), "{err}");
 }
+
+/// `fmu-host` started by hand, and the run options of isolation and acceleration, with bad input:
+/// a message naming the problem and a failing exit, never a hang.
+#[test]
+fn bad_host_and_option_input_is_refused_with_its_reason() {
+    let run = |args: &[&str]| {
+        let out = std::process::Command::new(host())
+            .args(args)
+            .stdin(std::process::Stdio::null())
+            .output()
+            .unwrap();
+        (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned())
+    };
+    let me = std::process::id().to_string();
+    let (code, err) = run(&[
+        "fmu-host",
+        "--fd",
+        "0",
+        "--dir",
+        "/nonexistent",
+        "--name",
+        "x",
+        "--master",
+        "1",
+    ]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("fmu-host x: the master is gone"), "{err}");
+    let (code, err) = run(&[
+        "fmu-host",
+        "--fd",
+        "0",
+        "--dir",
+        "/nonexistent",
+        "--name",
+        "x",
+        "--master",
+        &me,
+    ]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("fmu-host x: descriptor 0 is not a mailbox"), "{err}");
+    let (code, err) = run(&["run", "scenes/c-shutdown", "--isolate", "--call-timeout", "0"]);
+    assert_eq!(code, Some(2));
+    assert!(err.contains("\"0\" is not a positive number of seconds"), "{err}");
+    let (code, err) = run(&["run", "scenes/c-shutdown", "--acceleration", "newton"]);
+    assert_eq!(code, Some(2));
+    assert!(
+        err.contains("unknown acceleration \"newton\" (one of none, aitken, iqn-ils)"),
+        "{err}"
+    );
+}
