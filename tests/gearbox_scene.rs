@@ -1,19 +1,25 @@
 //! Drivetrain D's shutdown scene with `gearbox6dof` (the GRC description) in place of `torsional`,
-//! through the master (scenes/d-shutdown-6dof against scenes/d-shutdown): the same connectors, the
-//! same loads. The 6-DOF gearbox's bearing compliance lowers the first drivetrain mode by 4 %, so the
-//! two runs drift out of phase once the held rotor rocks; what must agree is the load each shaft
-//! carries: the RMS torque of every shaft in normal operation and while the brake slips, within 3 %.
-//! While the brake holds, the rotor rocks through zero torque, where the roller bearings' clearance
-//! lets the planets and shafts float: the drivetrain is softer there than the torsional model's
-//! linear springs, and the rocking's RMS differs by up to 20 % (with linear bearings it agrees within
-//! 3 %: docs/GEARBOX.md). The planets' upwind bearings carry 6–10 rollers in normal operation and
-//! fall to 2 or fewer when the torque reverses in the shutdown (thesis ch. 7: 6–7, then 1–2).
+//! through the master (scenes/d-shutdown-6dof against scenes/d-shutdown-spring, both with the
+//! blade-element rotor in steady wind so the runs see the same input): the same connectors, the same
+//! loads. The 6-DOF gearbox's bearing compliance lowers the first drivetrain mode by 4 %, so the two
+//! runs drift out of phase once the held rotor rocks; what must agree is the load each shaft carries:
+//! the RMS torque of every shaft in normal operation and while the brake slips within 3 % (measured
+//! 1 %), and while the brake holds within 5 % (measured 3.5 %: the held rotor rocks through zero
+//! torque, where the roller bearings' clearance lets the planets and shafts float, softer than the
+//! torsional model's linear springs; docs/GEARBOX.md). The planets' upwind bearings carry 6–10 rollers
+//! in normal operation and fall to 2 or fewer when the torque reverses in the shutdown (thesis ch. 7:
+//! 6–7, then 1–2). Back-flank contact in normal operation appears in both models or in neither.
 
 mod common;
 
 fn run(scene: &str, component: &str, names: &[&str]) -> Vec<Vec<f64>> {
     let channels: Vec<String> = names.iter().map(|n| format!("{component}.{n}")).collect();
-    common::run_scene(scene, &[], &channels, None)
+    let bem = [
+        ("rotor", "aerodynamics", "bem"),
+        ("rotor", "initial_pitch", "-1"),
+        ("rotor", "turbulence", "none"),
+    ];
+    common::run_scene(scene, &bem, &channels, None)
 }
 
 fn rms(x: &[f64]) -> f64 {
@@ -33,7 +39,7 @@ fn the_6dof_gearbox_carries_the_torsional_models_shaft_loads_and_reverses_after_
     let mut with_rollers = names.to_vec();
     with_rollers.push("planet_1_uw_rollers_in_contact");
     let six = run("d-shutdown-6dof", "gearbox", &with_rollers);
-    let tor = run("d-shutdown", "torsional", &names);
+    let tor = run("d-shutdown-spring", "torsional", &names);
     let t = &six[0];
     let at = |time: f64| t.iter().position(|&x| x >= time).unwrap();
     let lock = six[6].iter().position(|&l| l > 0.5).expect("the brake locks");
@@ -45,14 +51,17 @@ fn the_6dof_gearbox_carries_the_torsional_models_shaft_loads_and_reverses_after_
         ] {
             let (a, b) = (rms(&six[k + 1][from..to]), rms(&tor[k + 1][from..to]));
             println!("{shaft} {phase}: RMS {a:.1} (6-DOF) vs {b:.1} (torsional)");
-            let tolerance = if phase == "brake holding" { 0.25 } else { 0.03 };
+            let tolerance = if phase == "brake holding" { 0.05 } else { 0.03 };
             assert!((a / b - 1.0).abs() < tolerance, "{shaft}, {phase}: {a} vs {b}");
         }
     }
-    let force = &six[5];
+    let (force, force_torsional) = (&six[5], &tor[5]);
+    let lowest = |x: &[f64]| x.iter().fold(f64::MAX, |m, &v| m.min(v));
+    let (low, low_torsional) = (lowest(&force[..at(5.0)]), lowest(&force_torsional[..at(5.0)]));
+    println!("sun-planet force in normal operation: min {low:.0} N (6-DOF) vs {low_torsional:.0} N (torsional)");
     assert!(
-        force[..at(5.0)].iter().all(|&f| f > 0.0),
-        "back-flank contact in normal operation"
+        (low > 0.0) == (low_torsional > 0.0),
+        "normal operation: back-flank contact in one model only ({low} vs {low_torsional} N)"
     );
     assert!(
         force[at(5.5)..].iter().any(|&f| f < 0.0),
@@ -62,6 +71,12 @@ fn the_6dof_gearbox_carries_the_torsional_models_shaft_loads_and_reverses_after_
     let fewest = |x: &[f64]| x.iter().fold(f64::MAX, |m, &v| m.min(v));
     let most = |x: &[f64]| x.iter().fold(0.0f64, |m, &v| m.max(v));
     let normal = &rollers[at(0.5)..at(5.0)];
+    println!(
+        "planet 1 upwind bearing: {}–{} rollers in normal operation, {} at fewest in the shutdown",
+        fewest(normal),
+        most(normal),
+        fewest(&rollers[at(5.0)..])
+    );
     assert!(
         fewest(normal) >= 6.0 && most(normal) <= 10.0,
         "normal operation: {}–{} rollers",
@@ -69,8 +84,8 @@ fn the_6dof_gearbox_carries_the_torsional_models_shaft_loads_and_reverses_after_
         most(normal)
     );
     assert!(
-        fewest(&rollers[lock..]) <= 2.0,
+        fewest(&rollers[at(5.0)..]) <= 2.0,
         "shutdown: never fewer than {} rollers",
-        fewest(&rollers[lock..])
+        fewest(&rollers[at(5.0)..])
     );
 }

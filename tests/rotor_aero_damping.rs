@@ -84,7 +84,7 @@ fn held_mode() -> (f64, f64) {
 
 /// Rotor speed of scene c-shutdown with the overrides, through the master (Gauss–Seidel, 1 ms).
 fn rotor_speed(overrides: &[(&str, &str, &str)], stop: f64) -> (Vec<f64>, Vec<f64>) {
-    let (_guard, dir) = common::scene_copy("c-shutdown");
+    let (_guard, dir) = common::scene_copy("c-shutdown-spring");
     let scene = Scene::open(&dir).unwrap();
     let overrides: Vec<(String, String, String)> = overrides
         .iter()
@@ -230,7 +230,7 @@ fn shutdown_scene_rocking_decays_once_held_and_feathered() {
     let c_hand = hand_damping(&blade_c());
     let zeta = c_hand / (2.0 * j * omega);
     let delta_hand = std::f64::consts::TAU * zeta / (1.0 - zeta * zeta).sqrt();
-    let (_guard, dir) = common::scene_copy("c-shutdown");
+    let (_guard, dir) = common::scene_copy("c-shutdown-spring");
     let scene = Scene::open(&dir).unwrap();
     let overrides: Vec<(String, String, String)> =
         [("aerodynamics", "bem"), ("initial_pitch", "-1"), ("turbulence", "none")]

@@ -33,7 +33,8 @@ pub fn error_chain(e: &anyhow::Error) -> String {
     long_about = "Wind-turbine drivetrain FMUs (FMI 2.0 Co-Simulation), their master and analysis.\n\n\
         The main job: drivetrain C's normal operation and shutdown through the master, with CSVs, plots\n\
         and the torque-ratio summary under results/c-shutdown/:\n  \
-        windrive shutdown --preset C\n\n\
+        windrive shutdown --preset C\n  \
+        windrive shutdown --preset D --spring               the same on the thesis's electrical spring, analytic C_p\n\n\
         Typical session:\n  \
         windrive pack                                       build and pack every FMU into target/fmu/\n  \
         windrive modes --preset D --fidelity 2 --generator connected\n  \
@@ -107,7 +108,15 @@ pub enum Command {
     Run(Box<run::RunArgs>),
     /// The thesis's normal operation and shutdown of drivetrain A, B, C or D through the master: CSVs,
     /// plots (shaft torques, speeds, mesh forces, HSS spectrum with the modes, rainflow cloud) and
-    /// the summary (torque ratios against the 1.35 design factor, ranges, braking frequencies).
+    /// the summary (torque ratios against the 1.35 design factor, ranges, braking frequencies). C and D
+    /// run on the generators the thesis simulated (C a DFIG at 1680 rpm, D its cage machine at 1809 rpm)
+    /// with the blade-element rotor; `--spring` runs the spring scenes instead.
+    ///
+    /// Examples:
+    ///   windrive shutdown --preset C                       results/c-shutdown/: CSVs, plots, summary.txt
+    ///   windrive shutdown --preset D --spring              D on the thesis's electrical spring K_gen
+    ///   windrive shutdown --preset C --aerodynamics analytic --out-dir /tmp/c-analytic
+    #[command(verbatim_doc_comment)]
     Shutdown(shutdown::ShutdownArgs),
     /// The rotor FMU's blade-element momentum model: C_P, C_Q, C_T, torque and thrust as JSON over
     /// tip-speed ratios and pitch angles, optionally per element; with --preset (or --rated-power and

@@ -159,6 +159,13 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
     for (i, (f, d)) in m.frequencies_hz.iter().zip(&m.dominant_dof).enumerate() {
         println!("{:>4}  {:>12.4}  {}", i + 1, f, m.dof_names[*d]);
     }
+    if dt.name == "D" && m.dof_names.len() == 5 && args.generator.starts_with('d') {
+        println!(
+            "thesis ch. 6 (Fig. 6.6) gives 2.957, 292, 372 and 1974 Hz for this model; its Table 4.2 values in its\n\
+             Eq. 4.9 lumping give 2.524, 324.5, 476.7, 1974 Hz (--lumping thesis): the text's frequencies do not\n\
+             follow from its own equations (docs/DRIVETRAINS.md)"
+        );
+    }
     if let Some(path) = &args.plot {
         println!("mode shapes written to {}", path.display());
     }

@@ -20,11 +20,16 @@ pub struct ShutdownArgs {
     /// Output folder [default: results/<preset>-shutdown]
     #[arg(long)]
     pub out_dir: Option<PathBuf>,
-    /// Rotor aerodynamics for both scenes: bem (blade-element momentum, trimmed start pitch: the parked
-    /// rotor is damped by its blades), analytic (Heier's C_p, fine start pitch) or scene (as the scene
-    /// files say: the analytic C_p the thesis-validation tests use)
-    #[arg(long, default_value = "bem")]
+    /// Rotor aerodynamics for both scenes: scene (as the scene files say: the blade-element rotor, or the
+    /// analytic C_p in the spring scenes), bem (blade-element momentum, trimmed start pitch: the parked
+    /// rotor is damped by its blades) or analytic (Heier's C_p, fine start pitch)
+    #[arg(long, default_value = "scene")]
     pub aerodynamics: String,
+    /// Run the spring scenes (scenes/<preset>-{normal,shutdown}-spring, C and D): the thesis's electrical
+    /// spring K_gen in place of the generator it simulated, and the analytic C_p; the scenes the
+    /// modal comparisons and thesis-validation tests use
+    #[arg(long)]
+    pub spring: bool,
 }
 
 /// Runs one scene folder with Gauss–Seidel at its own step, every output recorded.
@@ -58,13 +63,14 @@ pub fn run(args: &ShutdownArgs) -> anyhow::Result<()> {
         Drivetrain::preset(&preset).with_context(|| format!("unknown preset {preset:?}: use A, B, C or D"))?;
     let root = crate::pack::workspace_root()?;
     let lower = preset.to_ascii_lowercase();
+    let suffix = if args.spring { "-spring" } else { "" };
     let (normal_dir, shutdown_dir) = (
-        root.join("scenes").join(format!("{lower}-normal")),
-        root.join("scenes").join(format!("{lower}-shutdown")),
+        root.join("scenes").join(format!("{lower}-normal{suffix}")),
+        root.join("scenes").join(format!("{lower}-shutdown{suffix}")),
     );
     if !shutdown_dir.is_dir() || !normal_dir.is_dir() {
         bail!(
-            "no scenes {} and {} (scenes exist for A, B, C and D)",
+            "no scenes {} and {} (scenes exist for A, B, C and D; spring scenes for C and D)",
             normal_dir.display(),
             shutdown_dir.display()
         );

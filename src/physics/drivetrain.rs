@@ -89,7 +89,8 @@ pub struct Shaft {
 pub struct Drivetrain {
     pub name: String,
     pub rated_power: f64,
-    /// Rated rotor speed, rad/s.
+    /// Rated rotor speed, rad/s: the generator's rated speed (thesis Table 4.6) over the gear ratio,
+    /// the speed the thesis simulated; see [`TABLE_4_1_RATED_RPM`] for the rotor speeds Table 4.1 prints.
     pub rated_rotor_speed: f64,
     pub j_rotor: f64,
     pub j_generator: f64,
@@ -128,6 +129,26 @@ impl Drivetrain {
 }
 
 pub const PRESETS: [&str; 4] = ["A", "B", "C", "D"];
+
+/// Rated generator speeds of A–D, rpm (thesis Table 4.6). The presets' rated rotor speeds are these over
+/// the gear ratio: C's field turbine runs at 1680 rpm (Table 3.1: 18.1 rpm rotor, ratio 92), D's
+/// simulations at 1809 rpm (ch. 6: "around the 1809 RPM", LSS 22.4 rpm; the public GRC operating point is
+/// 1800 rpm, 22.1 rpm rotor), so Table 4.1's 16 and 18.6 rpm would put C's and D's rated torque 13 % and
+/// 19 % above what the thesis's own models carried.
+pub const RATED_GENERATOR_RPM: [(&str, f64); 4] = [("A", 515.0), ("B", 1836.0), ("C", 1680.0), ("D", 1809.0)];
+
+/// Rated rotor speeds as thesis Table 4.1 prints them, rpm (kept for the documentation's comparison).
+pub const TABLE_4_1_RATED_RPM: [(&str, f64); 4] = [("A", 14.8), ("B", 16.1), ("C", 16.0), ("D", 18.6)];
+
+/// Sets the rated rotor speed from the preset's rated generator speed and its gear ratio.
+fn with_generator_rated_speed(mut dt: Drivetrain) -> Drivetrain {
+    let (_, n) = RATED_GENERATOR_RPM
+        .iter()
+        .find(|(name, _)| *name == dt.name)
+        .expect("every preset has a rated generator speed");
+    dt.rated_rotor_speed = rpm(*n) / dt.gear_ratio();
+    dt
+}
 
 /// Rotor speed range (min, max) of a preset in rpm (thesis Table 3.1 / 4.1; PARAMETERS.md §1).
 pub fn operating_speed_range_rpm(name: &str) -> Option<(f64, f64)> {
@@ -201,7 +222,7 @@ pub fn preset_a() -> Drivetrain {
     let mut dt = Drivetrain {
         name: "A".into(),
         rated_power: 3e6,
-        rated_rotor_speed: rpm(14.8),
+        rated_rotor_speed: 0.0,
         j_rotor: 2.67e6,
         j_generator: 680.0,
         stages: vec![
@@ -217,6 +238,7 @@ pub fn preset_a() -> Drivetrain {
         k_generator: 0.0,
         k_generator_estimated: true,
     };
+    dt = with_generator_rated_speed(dt);
     dt.k_generator = estimated_k_generator(&dt);
     dt
 }
@@ -226,7 +248,7 @@ pub fn preset_b() -> Drivetrain {
     let mut dt = Drivetrain {
         name: "B".into(),
         rated_power: 3e6,
-        rated_rotor_speed: rpm(16.1),
+        rated_rotor_speed: 0.0,
         j_rotor: 2.67e6,
         j_generator: 680.0,
         stages: vec![
@@ -238,6 +260,7 @@ pub fn preset_b() -> Drivetrain {
         k_generator: 0.0,
         k_generator_estimated: true,
     };
+    dt = with_generator_rated_speed(dt);
     dt.k_generator = estimated_k_generator(&dt);
     dt
 }
@@ -247,7 +270,7 @@ pub fn preset_c() -> Drivetrain {
     let mut dt = Drivetrain {
         name: "C".into(),
         rated_power: 2e6,
-        rated_rotor_speed: rpm(16.0),
+        rated_rotor_speed: 0.0,
         j_rotor: 6.03e6,
         j_generator: 60.0,
         stages: vec![
@@ -259,6 +282,7 @@ pub fn preset_c() -> Drivetrain {
         k_generator: 0.0,
         k_generator_estimated: true,
     };
+    dt = with_generator_rated_speed(dt);
     dt.k_generator = estimated_k_generator(&dt);
     dt
 }
@@ -302,10 +326,10 @@ pub fn preset_d() -> Drivetrain {
         stiffness,
         damping: Some(damping),
     };
-    Drivetrain {
+    with_generator_rated_speed(Drivetrain {
         name: "D".into(),
         rated_power: 750e3,
-        rated_rotor_speed: rpm(18.6),
+        rated_rotor_speed: 0.0,
         j_rotor: 998_138.0,
         j_generator: 24.0,
         stages: vec![planetary, p1, p2],
@@ -317,5 +341,5 @@ pub fn preset_d() -> Drivetrain {
         ],
         k_generator: 2.81e4,
         k_generator_estimated: false,
-    }
+    })
 }

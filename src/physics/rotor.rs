@@ -311,7 +311,7 @@ fn design_tip_speed_ratio() -> f64 {
 }
 
 /// Preset rotor (radius, hub height), m. C: the thesis's 80 m rotor. A, B, D: the radius at which the
-/// analytic C_p gives rated power at rated speed at C's rated tip-speed ratio (4.77). D's real NM48
+/// analytic C_p gives rated power at rated speed at C's rated tip-speed ratio (6.69). D's real NM48
 /// rotor is 48.2 m but stall-regulated, which this C_p does not describe. Hub heights are estimates.
 pub fn preset_rotor(d: &Drivetrain, name: &str) -> (f64, f64) {
     let hub = match name.trim().to_ascii_uppercase().as_str() {
@@ -359,7 +359,9 @@ pub fn rated_wind_speed(rotor: &Aerodynamics, rated_power: f64, rated_speed: f64
 /// where the controller would first have to wind up through seconds of overpower.
 pub fn trim_pitch(rotor: &Aerodynamics, wind: f64, rated_power: f64, rated_speed: f64, max_pitch: f64) -> f64 {
     let power = |pitch: f64| rotor.torque(rated_speed, wind, pitch) * rated_speed;
-    if power(0.0) <= rated_power {
+    // at the rated wind itself P(0) is rated to rounding; near λ_opt P first rises with pitch, so
+    // without this margin the search would find the second root on the falling side
+    if power(0.0) <= rated_power * (1.0 + 1e-9) {
         return 0.0;
     }
     let (mut lo, mut hi) = (0.0, max_pitch);

@@ -208,6 +208,11 @@ impl Params {
                 "etm" => Some(TurbulenceModel::Etm),
                 other => return Err(ParameterError::invalid("turbulence", &other, "use none, ntm or etm")),
             },
+            rotor_average: match self.wind_averaging.trim() {
+                "rotor" => true,
+                "hub" => false,
+                other => return Err(ParameterError::invalid("wind_averaging", &other, "use rotor or hub")),
+            },
             power_control: match self.pitch_control.trim() {
                 "speed" => false,
                 "power" => true,
@@ -285,14 +290,12 @@ impl Params {
                 };
                 let turbulence = (sigma > 0.0).then(|| {
                     // 0.05 s spacing (content to 10 Hz), 2^16 samples: periodic over 3277 s
-                    TurbulenceSeries::kaimal(
-                        sigma,
-                        kaimal_length(hub_height),
-                        mean_wind,
-                        0.05,
-                        1 << 16,
-                        self.seed as u32 as u64,
-                    )
+                    let (length, seed) = (kaimal_length(hub_height), self.seed as u32 as u64);
+                    if choices.rotor_average {
+                        TurbulenceSeries::kaimal_rotor_average(sigma, length, mean_wind, radius, 0.05, 1 << 16, seed)
+                    } else {
+                        TurbulenceSeries::kaimal(sigma, length, mean_wind, 0.05, 1 << 16, seed)
+                    }
                 });
                 let gear_ratio = drivetrain.gear_ratio();
                 let (target, kp, ki) = if choices.power_control {
@@ -393,6 +396,8 @@ struct Choices {
     /// IEC 61400-1 reference turbulence intensity of the turbulence class.
     i_ref: f64,
     turbulence: Option<TurbulenceModel>,
+    /// Turbulence averaged over the swept disc (the rotor-effective wind), not at the hub point.
+    rotor_average: bool,
     /// Pitch to hold rated power (else rated generator speed).
     power_control: bool,
     /// A played-back series is in per-unit of a rated rotor torque (else N·m).

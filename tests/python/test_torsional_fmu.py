@@ -13,10 +13,10 @@ from fmpy import read_model_description, simulate_fmu
 from fmpy.fmi2 import FMU2Slave
 from fmpy import extract
 
-# Drivetrain D rated torques, from PARAMETERS.md Table 4.1 and the GRC tooth counts
+# Drivetrain D rated torques: 750 kW at 1809 rpm at the generator (thesis Table 4.6) and the GRC tooth counts
 RATIO = (1 + 99 / 21) * (82 / 23) * (88 / 22)
-T_ROTOR = 750e3 / (18.6 * math.pi / 30)
-T_GEN = T_ROTOR / RATIO
+T_GEN = 750e3 / (1809 * math.pi / 30)
+T_ROTOR = T_GEN * RATIO
 CHANNELS = ["rotor_speed", "generator_speed", "lss_torque", "is1_torque", "hss_torque",
             "mesh_force_sun_planet_1", "mesh_force_gear_pinion_2", "stored_energy"]
 

@@ -202,7 +202,13 @@ pub fn build(name: &str, kind: Kind, o: &Overrides) -> Result<Generator, String>
             spring_sync,
             None,
         ),
-        Kind::Fixed => (Machine::Induction(induction(None)), spring_sync, None),
+        // The cage machine runs at the grid's synchronous speed plus its slip: D's 1809 rpm is a
+        // 4-pole, 60 Hz machine's 1800 rpm plus its rated slip.
+        Kind::Fixed => (
+            Machine::Induction(induction(None)),
+            pick(o.synchronous_speed, grid_sync),
+            None,
+        ),
         Kind::Dfig => (Machine::Induction(induction(Some(alpha))), grid_sync, Some(control)),
         Kind::Pmg => (
             Machine::Pmg(Pmg {
@@ -246,6 +252,26 @@ mod tests {
                 assert!((t / rated - 1.0).abs() < 1e-6, "{name} {kind:?}: {t} vs {rated}");
             }
         }
+    }
+
+    /// D's cage machine on its 60 Hz grid (1800 rpm synchronous) delivers rated torque near the 1809 rpm
+    /// the thesis simulated: its rated slip with the typical R_r = 0.005 pu.
+    #[test]
+    fn fixed_speed_d_is_rated_near_1809_rpm() {
+        let dt = Drivetrain::preset("D").unwrap();
+        let g = build("D", Kind::Fixed, &Overrides::default()).unwrap();
+        let rated = dt.rated_generator_torque();
+        let torque = |rpm: f64| {
+            let w = rpm * PI / 30.0;
+            g.outputs(&g.initial_state(w, 0.0), w).torque
+        };
+        let (mut lo, mut hi) = (1800.0, 1900.0);
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if torque(mid) < rated { lo = mid } else { hi = mid }
+        }
+        eprintln!("D fixed: rated torque {rated:.1} N·m at {lo:.2} rpm");
+        assert!((lo - 1809.0).abs() < 3.0, "rated torque at {lo} rpm");
     }
 
     #[test]
