@@ -1,4 +1,4 @@
-"""The 30 s shutdown scene of drivetrain C at full fidelity (scenes/c-shutdown: rotor, torsional,
+"""The 30 s shutdown scene of drivetrain C at full fidelity (scenes/c-shutdown-spring: rotor, torsional,
 generator; 1 ms macro steps) in our master, libcosim and fmpy's SSP support, in one run.
 
     .venv/bin/python benches/scene_bench.py [--repeat 3]
@@ -23,7 +23,7 @@ import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 WINDRIVE = ROOT / "target" / "release" / "windrive"
-SCENE = ROOT / "scenes" / "c-shutdown"
+SCENE = ROOT / "scenes" / "c-shutdown-spring"
 STEP = 1e-3
 STOP = 30.0
 
@@ -54,7 +54,7 @@ def main():
     ap.add_argument("--repeat", type=int, default=3)
     args = ap.parse_args()
     n = args.repeat
-    ssp = ROOT / "target" / "ssp" / "c-shutdown.ssp"
+    ssp = ROOT / "target" / "ssp" / "c-shutdown-spring.ssp"
     subprocess.run([str(WINDRIVE), "pack-scene", str(SCENE), "--out", str(ssp)], check=True, cwd=ROOT,
                    capture_output=True)
     tmp = ROOT / "target" / "bench-scene.csv"
@@ -89,7 +89,7 @@ def main():
     t_fm = best(1, lambda: simulate_ssp(str(ssp), stop_time=STOP, step_size=STEP))
     rows.append(("fmpy simulate_ssp (defaults, see above)", t_fm))
 
-    print(f"scene c-shutdown: 3 FMUs (rotor, torsional full fidelity, generator), {STOP:g} s in steps of {STEP * 1e3:g} ms")
+    print(f"scene c-shutdown-spring: 3 FMUs (rotor, torsional full fidelity, generator), {STOP:g} s in steps of {STEP * 1e3:g} ms")
     print(f"{'master':<48} {'wall s':>8} {'× real time':>12} {'÷ ours':>8}")
     for name, t in rows:
         print(f"{name:<48} {t:>8.3f} {STOP / t:>12.0f} {t / t_ours:>8.1f}")

@@ -16,7 +16,7 @@ pub struct BenchArgs {
     /// scene with lamina bearings and 35, 11 and 5 slices, and linear bearings, against torsional and RK4), rainflow (counting and DELs), solvers (explicit
     /// inverse, dense LU and sparse LU on gearbox-shaped iteration matrices), coupling (every
     /// co-simulation algorithm on scenes/d-grid-step against its exact solution), states (each FMU's
-    /// state size and cost, iterative against gauss-seidel on scenes/c-shutdown), master (our
+    /// state size and cost, iterative against gauss-seidel on scenes/c-shutdown-spring), master (our
     /// master's overhead per FMU-step against the bare FMI calls), isolate (`run --isolate`, each FMU
     /// in its own process, against in-process on the same scenes)
     pub target: String,

@@ -40,8 +40,8 @@ pub fn run(stop: f64) -> anyhow::Result<()> {
         "scene", "algorithm", "FMUs", "in-process µs/FMU-step", "isolated µs/FMU-step", "added µs", "ratio"
     );
     for (name, algorithm) in [
-        ("c-shutdown", Algorithm::GaussSeidel),
-        ("c-shutdown", Algorithm::Jacobi),
+        ("c-shutdown-spring", Algorithm::GaussSeidel),
+        ("c-shutdown-spring", Algorithm::Jacobi),
         ("d-shutdown-6dof", Algorithm::GaussSeidel),
     ] {
         let dir = root.join("scenes").join(name);

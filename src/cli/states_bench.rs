@@ -89,7 +89,7 @@ fn timed(scene: &Scene, algorithm: Algorithm, order: usize, stop: f64) -> anyhow
 
 pub fn run(stop: f64) -> anyhow::Result<()> {
     let root = crate::pack::workspace_root()?;
-    let dir = root.join("scenes").join("c-shutdown");
+    let dir = root.join("scenes").join("c-shutdown-spring");
     super::run::provide_own_fmus(&Scene::open(&dir)?, true)?;
     state_costs(&root)?;
     // The four runs alternate, best of seven each, so that a busy machine slows all of them alike.
@@ -109,7 +109,7 @@ pub fn run(stop: f64) -> anyhow::Result<()> {
     }
     let sweeps = it.2 as f64 / it.1 as f64;
     println!(
-        "\nscenes/c-shutdown, {stop} s at 1 ms, best of 7 each:\n  gauss-seidel (order 0, the default; the baseline) {:.4} s\n  \
+        "\nscenes/c-shutdown-spring, {stop} s at 1 ms, best of 7 each:\n  gauss-seidel (order 0, the default; the baseline) {:.4} s\n  \
          gauss-seidel with order-1 inputs                  {:.4} s\n  iterative (order 1, the default)                  {:.4} s, \
          {sweeps:.2} sweeps per step\niterative / gauss-seidel: {:.2}× ({:.2}× per sweep); against gauss-seidel with the same \
          order-1 inputs: {:.2}×\niterative with order-0 inputs: {:.4} s, {:.2} sweeps per step, {:.2}× gauss-seidel at the same order",
