@@ -75,13 +75,6 @@ pub fn run(args: &ShutdownArgs) -> anyhow::Result<()> {
             shutdown_dir.display()
         );
     }
-    let out = args
-        .out_dir
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("results").join(format!("{lower}-shutdown")));
-    std::fs::create_dir_all(&out).with_context(|| out.display().to_string())?;
-    println!("drivetrain {preset}: normal operation and shutdown through the co-simulation master");
-    let (normal_csv, shutdown_csv) = (out.join("normal.csv"), out.join("shutdown.csv"));
     let rotor = |var: &str, value: &str| ("rotor".to_string(), var.to_string(), value.to_string());
     let overrides = match args.aerodynamics.trim() {
         "bem" => vec![rotor("aerodynamics", "bem"), rotor("initial_pitch", "-1")],
@@ -89,6 +82,13 @@ pub fn run(args: &ShutdownArgs) -> anyhow::Result<()> {
         "scene" => vec![],
         other => bail!("--aerodynamics {other:?}: use bem, analytic or scene"),
     };
+    let out = args
+        .out_dir
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("results").join(format!("{lower}-shutdown")));
+    std::fs::create_dir_all(&out).with_context(|| out.display().to_string())?;
+    println!("drivetrain {preset}: normal operation and shutdown through the co-simulation master");
+    let (normal_csv, shutdown_csv) = (out.join("normal.csv"), out.join("shutdown.csv"));
     println!("rotor aerodynamics: {}", args.aerodynamics.trim());
     run_scene(&normal_dir, &normal_csv, &overrides)?;
     run_scene(&shutdown_dir, &shutdown_csv, &overrides)?;

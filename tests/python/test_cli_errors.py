@@ -69,6 +69,8 @@ GRID_STEP = str(ROOT / "scenes" / "d-grid-step")
     (["run", GRID_STEP, "--record", "generator.nosuch"], ["generator.nosuch", "no variable nosuch"]),
     (["pack-scene", GRID_STEP + "/SystemStructure.ssd"], ["SystemStructure.ssd", "scene folder"]),
     (["shutdown", "--preset", "Z"], ["Z", "C or D"]),
+    (["shutdown", "--preset", "A", "--spring"], ["a-normal-spring", "spring scenes for C and D"]),
+    (["shutdown", "--aerodynamics", "vortex"], ["vortex", "bem, analytic or scene"]),
 ])
 def test_bad_master_arguments_are_named(windrive, tmp_path, args, words):
     out_csv = ["--out", str(tmp_path / "x.csv")] if args[0] == "run" else []
