@@ -60,6 +60,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Run(args) => windrive::cli::run::run(&args),
         Command::PackScene(args) => windrive::cli::run::pack_scene(&args),
         Command::Shutdown(args) => windrive::cli::shutdown::run(&args),
+        Command::Calibrate(args) => windrive::cli::calibrate::run(&args),
         Command::Aero(args) => windrive::cli::aero::run(&args),
         Command::FmuHost(args) => windrive::cli::fmu_host(&args),
     }

@@ -4,6 +4,7 @@
 //! spectra and Campbell diagrams. Everything reads plain series; nothing here needs an FMU.
 
 pub mod bode;
+pub mod calibration;
 pub mod campbell;
 pub mod damage;
 pub mod gear;
@@ -15,6 +16,7 @@ pub mod lifetime;
 pub mod limits;
 pub mod matrix;
 pub mod metrics;
+pub mod nelder_mead;
 pub mod rainflow;
 pub mod series;
 pub mod shutdown;

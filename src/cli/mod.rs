@@ -3,6 +3,7 @@
 pub mod aero;
 pub mod bench;
 pub mod bode;
+pub mod calibrate;
 pub mod campbell;
 pub mod coupling;
 pub mod fatigue;
@@ -118,6 +119,18 @@ pub enum Command {
     ///   windrive shutdown --preset C --aerodynamics analytic --out-dir /tmp/c-analytic
     #[command(verbatim_doc_comment)]
     Shutdown(shutdown::ShutdownArgs),
+    /// Fits the inputs of drivetrain C's scenes that no source gives (turbulence intensity, brake torque
+    /// and ramp, pitch rate towards feather, trip delay) to the statistics the thesis measured on the
+    /// field turbine (shaft-torque and sun–planet force ranges in normal operation and shutdown, the DEL
+    /// ratio, the peak torque ratio, the mean torque after braking) by Nelder–Mead, each evaluation
+    /// both scenes through the master; prints and writes target, achieved and misfit per statistic.
+    ///
+    /// Examples:
+    ///   windrive calibrate --no-fit                      the scenes' current values against the thesis
+    ///   windrive calibrate --evaluations 150 --apply     fit, then write the values into the scenes
+    ///   windrive calibrate --out docs/CALIBRATION-table.md
+    #[command(verbatim_doc_comment)]
+    Calibrate(calibrate::CalibrateArgs),
     /// The rotor FMU's blade-element momentum model: C_P, C_Q, C_T, torque and thrust as JSON over
     /// tip-speed ratios and pitch angles, optionally per element; with --preset (or --rated-power and
     /// --rated-rpm) also the rated wind speed the scaled blade is fitted to.

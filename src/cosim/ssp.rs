@@ -268,6 +268,19 @@ impl Scene {
     pub fn component(&self, name: &str) -> Option<&Component> {
         self.components.iter().find(|c| c.name == name)
     }
+
+    /// The Real value the scene binds to `component.variable`, if any.
+    pub fn real_parameter(&self, component: &str, variable: &str) -> Option<f64> {
+        self.component(component)?
+            .parameters
+            .iter()
+            .rev()
+            .find(|p| p.name == variable)
+            .and_then(|p| match p.value {
+                Value::Real(x) => Some(x),
+                _ => None,
+            })
+    }
 }
 
 fn find_descendant<'a>(e: &'a Element, name: &str) -> Option<&'a Element> {
