@@ -126,9 +126,9 @@ pub enum Command {
     /// both scenes through the master; prints and writes target, achieved and misfit per statistic.
     ///
     /// Examples:
-    ///   windrive calibrate --no-fit                      the scenes' current values against the thesis
-    ///   windrive calibrate --evaluations 150 --apply     fit, then write the values into the scenes
-    ///   windrive calibrate --out docs/CALIBRATION-table.md
+    ///   windrive calibrate --no-fit                      the scenes as they are against the thesis (2 s)
+    ///   windrive calibrate                               the fit (about 3 min), table in results/calibration-c.md
+    ///   windrive calibrate --apply --out docs/calibration-c.md   fit, write the values into the scenes and the docs table
     #[command(verbatim_doc_comment)]
     Calibrate(calibrate::CalibrateArgs),
     /// The rotor FMU's blade-element momentum model: C_P, C_Q, C_T, torque and thrust as JSON over
