@@ -191,7 +191,13 @@ fn evaluate(normal: &Scene, shutdown: &Scene, dt: &Drivetrain, values: &[f64]) -
     let brake_delay = number("brake_delay", 0.5);
     let context = Context {
         rated_lss: dt.rated_rotor_torque(),
-        brake_applied_s: shutdown_s + brake_delay + values[2],
+        brake_applied_s: shutdown_s
+            + brake_delay
+            + FREE
+                .iter()
+                .zip(values)
+                .find(|(f, _)| f.variable == "brake_ramp_time")
+                .map_or(0.6, |(_, v)| *v),
         shutdown_s,
     };
     let runs = Runs {
