@@ -61,6 +61,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::PackScene(args) => windrive::cli::run::pack_scene(&args),
         Command::Shutdown(args) => windrive::cli::shutdown::run(&args),
         Command::Calibrate(args) => windrive::cli::calibrate::run(&args),
+        Command::Reproduce(args) => windrive::cli::reproduce::run(&args),
         Command::Aero(args) => windrive::cli::aero::run(&args),
         Command::FmuHost(args) => windrive::cli::fmu_host(&args),
     }

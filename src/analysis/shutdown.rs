@@ -17,7 +17,7 @@ pub const DESIGN_FACTOR: f64 = 1.35;
 pub const SHUTDOWN_TIME: f64 = 5.0;
 
 /// Spectra ignore content below this frequency (the slow speed decay), Hz.
-const F_MIN_HZ: f64 = 0.3;
+pub const F_MIN_HZ: f64 = 0.3;
 
 /// One shaft's line of the summary.
 #[derive(Debug, Clone, PartialEq)]

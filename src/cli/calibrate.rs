@@ -155,13 +155,17 @@ const CHANNELS: [&str; 3] = [
     "torsional.mesh_force_sun_planet_1",
 ];
 
-/// Runs one scene with Gauss–Seidel at 1 ms and returns time and the three channels.
-fn run_scene(scene: &Scene, overrides: &[(String, String, String)]) -> anyhow::Result<[Vec<f64>; 4]> {
-    let channels: Vec<String> = CHANNELS.iter().map(|c| c.to_string()).collect();
-    let mut system = System::build(scene, overrides, &Record::Only(channels))?;
+/// Runs a scene with Gauss–Seidel at 1 ms and returns time and the channels, in memory.
+pub(crate) fn run_channels(
+    scene: &Scene,
+    overrides: &[(String, String, String)],
+    channels: &[&str],
+) -> anyhow::Result<Vec<Vec<f64>>> {
+    let names: Vec<String> = channels.iter().map(|c| c.to_string()).collect();
+    let mut system = System::build(scene, overrides, &Record::Only(names))?;
     let stop = scene.experiment.stop_time.context("the scene has no stop time")?;
     system.initialize(Some(stop))?;
-    let mut out: [Vec<f64>; 4] = Default::default();
+    let mut out: Vec<Vec<f64>> = vec![Vec::new(); channels.len() + 1];
     let mut master = Master::new(&mut system, Options::new(Algorithm::GaussSeidel, 1e-3, stop))?;
     master.run(|time, sys| {
         crate::cosim::master::read_recorded(sys, time)?;
@@ -173,6 +177,13 @@ fn run_scene(scene: &Scene, overrides: &[(String, String, String)]) -> anyhow::R
     })?;
     system.terminate();
     Ok(out)
+}
+
+fn run_scene(scene: &Scene, overrides: &[(String, String, String)]) -> anyhow::Result<[Vec<f64>; 4]> {
+    let c = run_channels(scene, overrides, &CHANNELS)?;
+    let mut it = c.into_iter();
+    let mut next = || it.next().unwrap_or_default();
+    Ok([next(), next(), next(), next()])
 }
 
 struct Evaluation {

@@ -14,6 +14,7 @@ pub mod life;
 pub mod modes;
 pub mod overhead;
 pub mod plot;
+pub mod reproduce;
 pub mod run;
 pub mod shutdown;
 pub mod states_bench;
@@ -46,7 +47,9 @@ pub fn error_chain(e: &anyhow::Error) -> String {
         windrive bench torsional                            speed and accuracy of the FMU, with baselines\n  \
         windrive run scenes/d-grid-step --algorithm jacobi  a scene through the co-simulation master\n  \
         windrive run scenes/c-shutdown --isolate            each FMU in its own process (survives a crashing FMU)\n  \
-        windrive aero --preset C --tsr 4,6,8 --pitch 0,10   the rotor's BEM: C_P, C_Q, C_T as JSON"
+        windrive aero --preset C --tsr 4,6,8 --pitch 0,10   the rotor's BEM: C_P, C_Q, C_T as JSON\n  \
+        windrive reproduce                                  the thesis's numbers beside ours, row by row\n  \
+        windrive calibrate --no-fit                         C's scenes against the thesis's measured statistics"
 )]
 pub struct Cli {
     #[command(subcommand)]
@@ -131,6 +134,15 @@ pub enum Command {
     ///   windrive calibrate --apply --out docs/calibration-c.md   fit, write the values into the scenes and the docs table
     #[command(verbatim_doc_comment)]
     Calibrate(calibrate::CalibrateArgs),
+    /// Every number of the thesis this project computes beside ours, as a Markdown table: modes, gear
+    /// ratios, mesh orders, operating hours, rated speeds, and the shutdown scenes' frequencies, peaks
+    /// and speeds; where we claim to reproduce a number, within what; where not, why.
+    ///
+    /// Examples:
+    ///   windrive reproduce                                 table in results/reproduction.md (about 5 s)
+    ///   windrive reproduce --out docs/REPRODUCTION.md      the documentation's copy
+    #[command(verbatim_doc_comment)]
+    Reproduce(reproduce::ReproduceArgs),
     /// The rotor FMU's blade-element momentum model: C_P, C_Q, C_T, torque and thrust as JSON over
     /// tip-speed ratios and pitch angles, optionally per element; with --preset (or --rated-power and
     /// --rated-rpm) also the rated wind speed the scaled blade is fitted to.
