@@ -294,6 +294,18 @@ fn write_parameter(path: &Path, variable: &str, value: f64) -> anyhow::Result<()
     std::fs::write(path, out).with_context(|| path.display().to_string())
 }
 
+/// The statistics of [`calibration::statistics`] (achieved, misfit) of C's scenes as they are.
+pub(crate) fn current_statistics() -> anyhow::Result<Vec<(f64, f64)>> {
+    let root = crate::pack::workspace_root()?;
+    let normal = Scene::open(&root.join("scenes/c-normal"))?;
+    let shutdown = Scene::open(&root.join("scenes/c-shutdown"))?;
+    super::run::provide_own_fmus(&normal, false)?;
+    super::run::provide_own_fmus(&shutdown, false)?;
+    let dt = Drivetrain::preset("C").expect("preset C");
+    let values = current_values(&normal, &shutdown, dt.rated_generator_torque());
+    Ok(evaluate(&normal, &shutdown, &dt, &values)?.statistics)
+}
+
 pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
     if !args.no_fit && args.evaluations < FREE.len() + 2 {
         bail!(

@@ -272,6 +272,24 @@ pub fn scene_rows() -> anyhow::Result<Vec<Row>> {
         None,
         "D keeps the estimated brake and pitch inputs (only C has measured statistics to fit)",
     ));
+    // ranges and DEL in the order of analysis::calibration::statistics
+    let c = super::calibrate::current_statistics()?;
+    let fitted = "C's inputs are fitted to the measured ranges, ratio and peak together (docs/calibration-c.md)";
+    for (quantity, thesis, ours) in [
+        (
+            "HSS torque range, C's shutdown / normal operation",
+            5.0,
+            c[3].0 / c[0].0,
+        ),
+        (
+            "LSS torque range, C's shutdown / normal operation",
+            8.0,
+            c[4].0 / c[1].0,
+        ),
+        ("LSS DEL (m = 6, 1 Hz), C's shutdown / normal operation", 3.65, c[6].0),
+    ] {
+        rows.push(row(quantity.into(), "ch. 3", thesis, ours, None, fitted));
+    }
     let normal = Scene::open(&root.join("d-normal"))?;
     super::run::provide_own_fmus(&normal, false)?;
     let speed = run_channels(&normal, &[], &["torsional.generator_speed"])?;
