@@ -190,30 +190,23 @@ fn bad_host_and_option_input_is_refused_with_its_reason() {
         (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned())
     };
     let me = std::process::id().to_string();
-    let (code, err) = run(&[
-        "fmu-host",
-        "--fd",
-        "0",
-        "--dir",
-        "/nonexistent",
-        "--name",
-        "x",
-        "--master",
-        "1",
-    ]);
+    let host_for = |master: &str| {
+        run(&[
+            "fmu-host",
+            "--fd",
+            "0",
+            "--dir",
+            "/nonexistent",
+            "--name",
+            "x",
+            "--master",
+            master,
+        ])
+    };
+    let (code, err) = host_for("1");
     assert_eq!(code, Some(1));
     assert!(err.contains("fmu-host x: the master is gone"), "{err}");
-    let (code, err) = run(&[
-        "fmu-host",
-        "--fd",
-        "0",
-        "--dir",
-        "/nonexistent",
-        "--name",
-        "x",
-        "--master",
-        &me,
-    ]);
+    let (code, err) = host_for(&me);
     assert_eq!(code, Some(1));
     assert!(err.contains("fmu-host x: descriptor 0 is not a mailbox"), "{err}");
     let (code, err) = run(&["run", "scenes/c-shutdown", "--isolate", "--call-timeout", "0"]);

@@ -6,7 +6,7 @@
 
 use crate::analysis::calibration::{self, Context, Runs};
 use crate::analysis::nelder_mead;
-use crate::cosim::{Algorithm, Master, Options, Record, Scene, System};
+use crate::cosim::Scene;
 use crate::physics::drivetrain::Drivetrain;
 use anyhow::{Context as _, bail};
 use std::fmt::Write as _;
@@ -161,22 +161,7 @@ pub(crate) fn run_channels(
     overrides: &[(String, String, String)],
     channels: &[&str],
 ) -> anyhow::Result<Vec<Vec<f64>>> {
-    let names: Vec<String> = channels.iter().map(|c| c.to_string()).collect();
-    let mut system = System::build(scene, overrides, &Record::Only(names))?;
-    let stop = scene.experiment.stop_time.context("the scene has no stop time")?;
-    system.initialize(Some(stop))?;
-    let mut out: Vec<Vec<f64>> = vec![Vec::new(); channels.len() + 1];
-    let mut master = Master::new(&mut system, Options::new(Algorithm::GaussSeidel, 1e-3, stop))?;
-    master.run(|time, sys| {
-        crate::cosim::master::read_recorded(sys, time)?;
-        out[0].push(time);
-        for (k, (_, u, i)) in sys.recorded.iter().enumerate() {
-            out[k + 1].push(sys.units[*u].values[*i]);
-        }
-        Ok(())
-    })?;
-    system.terminate();
-    Ok(out)
+    crate::cosim::master::run_columns(scene, overrides, channels, None).map_err(|e| anyhow::anyhow!(e))
 }
 
 fn run_scene(scene: &Scene, overrides: &[(String, String, String)]) -> anyhow::Result<[Vec<f64>; 4]> {

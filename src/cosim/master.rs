@@ -588,3 +588,31 @@ impl<'s> Master<'s> {
         }
     }
 }
+
+/// Runs a built scene with Gauss–Seidel at 1 ms from initialisation to `stop` and returns time and the
+/// channels, in memory: for analyses that read a few series of a short run.
+pub fn run_columns(
+    scene: &super::Scene,
+    overrides: &[(String, String, String)],
+    channels: &[&str],
+    stop: Option<f64>,
+) -> Result<Vec<Vec<f64>>, Box<dyn std::error::Error + Send + Sync>> {
+    let names: Vec<String> = channels.iter().map(|c| c.to_string()).collect();
+    let mut system = super::System::build(scene, overrides, &super::Record::Only(names))?;
+    let stop = stop
+        .or(scene.experiment.stop_time)
+        .ok_or_else(|| format!("scene {}: no stop time", scene.name))?;
+    system.initialize(Some(stop))?;
+    let mut out: Vec<Vec<f64>> = vec![Vec::new(); channels.len() + 1];
+    let mut master = Master::new(&mut system, Options::new(Algorithm::GaussSeidel, 1e-3, stop))?;
+    master.run(|time, sys| {
+        read_recorded(sys, time)?;
+        out[0].push(time);
+        for (k, (_, u, i)) in sys.recorded.iter().enumerate() {
+            out[k + 1].push(sys.units[*u].values[*i]);
+        }
+        Ok(())
+    })?;
+    system.terminate();
+    Ok(out)
+}

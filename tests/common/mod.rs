@@ -79,27 +79,12 @@ pub fn run_scene(
     channels: &[String],
     stop: Option<f64>,
 ) -> Vec<Vec<f64>> {
-    use windrive::cosim::{Algorithm, Master, Options, Record, Scene, System};
     let (_guard, dir) = scene_copy(scene);
-    let scene = Scene::open(&dir).unwrap();
+    let scene = windrive::cosim::Scene::open(&dir).unwrap();
     let overrides: Vec<(String, String, String)> = overrides
         .iter()
         .map(|(c, v, x)| (c.to_string(), v.to_string(), x.to_string()))
         .collect();
-    let mut system = System::build(&scene, &overrides, &Record::Only(channels.to_vec())).unwrap();
-    let stop = stop.unwrap_or(scene.experiment.stop_time.unwrap());
-    system.initialize(Some(stop)).unwrap();
-    let mut cols: Vec<Vec<f64>> = vec![Vec::new(); channels.len() + 1];
-    let mut master = Master::new(&mut system, Options::new(Algorithm::GaussSeidel, 1e-3, stop)).unwrap();
-    master
-        .run(|time, sys| {
-            windrive::cosim::master::read_recorded(sys, time)?;
-            cols[0].push(time);
-            for (k, (_, u, i)) in sys.recorded.iter().enumerate() {
-                cols[k + 1].push(sys.units[*u].values[*i]);
-            }
-            Ok(())
-        })
-        .unwrap();
-    cols
+    let channels: Vec<&str> = channels.iter().map(String::as_str).collect();
+    windrive::cosim::master::run_columns(&scene, &overrides, &channels, stop).unwrap()
 }
