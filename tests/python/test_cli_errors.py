@@ -71,6 +71,8 @@ GRID_STEP = str(ROOT / "scenes" / "d-grid-step")
     (["shutdown", "--preset", "Z"], ["Z", "C or D"]),
     (["shutdown", "--preset", "A", "--spring"], ["a-normal-spring", "spring scenes for C and D"]),
     (["shutdown", "--aerodynamics", "vortex"], ["vortex", "bem, analytic or scene"]),
+    (["reproduce", "--out", "/proc/nonexistent/x.md"], ["/proc/nonexistent"]),
+    (["calibrate", "--no-fit", "--out", "/proc/nonexistent/x.md"], ["/proc/nonexistent"]),
 ])
 def test_bad_master_arguments_are_named(windrive, tmp_path, args, words):
     out_csv = ["--out", str(tmp_path / "x.csv")] if args[0] == "run" else []
