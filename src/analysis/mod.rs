@@ -17,6 +17,7 @@ pub mod limits;
 pub mod matrix;
 pub mod metrics;
 pub mod nelder_mead;
+pub mod quantities;
 pub mod rainflow;
 pub mod series;
 pub mod shutdown;

@@ -19,6 +19,8 @@ pub mod run;
 pub mod shutdown;
 pub mod states_bench;
 pub mod step;
+pub mod study;
+pub mod work_precision;
 
 use clap::{Parser, Subcommand};
 
@@ -143,6 +145,10 @@ pub enum Command {
     ///   windrive reproduce --out docs/REPRODUCTION.md      the documentation's copy
     #[command(verbatim_doc_comment)]
     Reproduce(reproduce::ReproduceArgs),
+    /// Charts that answer "which method, step and model for my scene?": work-precision (error of the
+    /// scene's quantities of interest against its reference, against CPU time).
+    #[command(subcommand)]
+    Chart(ChartCommand),
     /// The rotor FMU's blade-element momentum model: C_P, C_Q, C_T, torque and thrust as JSON over
     /// tip-speed ratios and pitch angles, optionally per element; with --preset (or --rated-power and
     /// --rated-rpm) also the rated wind speed the scaled blade is fitted to.
@@ -161,6 +167,16 @@ pub enum Command {
     /// Hosts one FMU instance for a master run with --isolate (started by the master, not by hand).
     #[command(hide = true)]
     FmuHost(FmuHostArgs),
+}
+
+#[derive(Subcommand)]
+pub enum ChartCommand {
+    /// Error against CPU time over a grid of runs of a scene (algorithms, macro steps, extrapolation
+    /// orders, integrators, internal steps, fidelities or slices), one line per method, the Pareto
+    /// front marked; PNG, SVG and the table as CSV. The error of a run is the largest relative error of
+    /// the scene's quantities of interest (quantities.toml beside it) against the scene's reference:
+    /// its coupled equations converged at every 0.25 ms step.
+    WorkPrecision(Box<work_precision::WorkPrecisionArgs>),
 }
 
 #[derive(clap::Args)]

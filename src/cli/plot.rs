@@ -448,3 +448,107 @@ where
     root.present().map_err(err)?;
     Ok(())
 }
+
+/// A work–precision chart on log–log axes: one line with markers per method (points in grid order),
+/// the Pareto front as a black dashed staircase, and the scene's tightest tolerance as a horizontal
+/// dashed line. Points are (CPU time s, relative error), both > 0.
+pub fn work_precision(
+    path: &Path,
+    title: &str,
+    series: &[Series],
+    front: &[(f64, f64)],
+    tolerance: Option<f64>,
+) -> anyhow::Result<()> {
+    on_backend!(path, draw_work_precision(title, series, front, tolerance))
+}
+
+fn draw_work_precision<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    series: &[Series],
+    front: &[(f64, f64)],
+    tolerance: Option<f64>,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("plot: {e:?}");
+    root.fill(&WHITE).map_err(err)?;
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y) in series.iter().flat_map(|s| s.points.iter()).chain(tolerance.map(|t| (f64::NAN, t)).iter()) {
+        if x.is_finite() {
+            (x0, x1) = (x0.min(x), x1.max(x));
+        }
+        (y0, y1) = (y0.min(y), y1.max(y));
+    }
+    if !(x0 < x1) {
+        (x0, x1) = (x0.min(1.0) / 2.0, x0.max(1e-3) * 2.0);
+    }
+    if !(y0 < y1) {
+        (y0, y1) = (y0.min(1.0) / 10.0, y0.max(1e-12) * 10.0);
+    }
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(80)
+        .build_cartesian_2d((x0 / 1.3..x1 * 1.3).log_scale(), (y0 / 3.0..y1 * 3.0).log_scale())
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("CPU time per run [s]")
+        .y_desc("largest relative error of the quantities of interest")
+        .y_label_formatter(&|y| format!("{y:.0e}"))
+        .x_label_formatter(&|x| {
+            let text = format!("{x:.4}");
+            text.trim_end_matches('0').trim_end_matches('.').to_string()
+        })
+        .draw()
+        .map_err(err)?;
+    if let Some(t) = tolerance {
+        let dashes = DashedLineSeries::new(vec![(x0 / 1.3, t), (x1 * 1.3, t)], 8, 6, BLACK.mix(0.5).stroke_width(1));
+        chart
+            .draw_series(dashes)
+            .map_err(err)?
+            .label(format!("tightest tolerance {:.0} %", t * 100.0))
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK.mix(0.5)));
+    }
+    for (i, s) in series.iter().enumerate() {
+        let color = Palette99::pick(i).to_rgba();
+        chart
+            .draw_series(LineSeries::new(s.points.iter().cloned(), color.stroke_width(2)))
+            .map_err(err)?
+            .label(s.label.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
+        chart
+            .draw_series(s.points.iter().map(|&p| Circle::new(p, 4, color.filled())))
+            .map_err(err)?;
+    }
+    if !front.is_empty() {
+        // the staircase: from each front point right to the next one's CPU time, then down
+        let mut stair = Vec::new();
+        for (k, &(x, y)) in front.iter().enumerate() {
+            stair.push((x, y));
+            if let Some(&(xn, _)) = front.get(k + 1) {
+                stair.push((xn, y));
+            }
+        }
+        chart
+            .draw_series(DashedLineSeries::new(stair, 6, 4, BLACK.stroke_width(2)))
+            .map_err(err)?
+            .label("Pareto front")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], BLACK.stroke_width(2)));
+        chart
+            .draw_series(front.iter().map(|&p| Circle::new(p, 8, BLACK.stroke_width(2))))
+            .map_err(err)?;
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()
+        .map_err(err)?;
+    root.present().map_err(err)?;
+    Ok(())
+}

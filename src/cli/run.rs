@@ -42,6 +42,11 @@ pub struct RunArgs {
     /// plain iteration diverges (a stiff split at a large step)
     #[arg(long, default_value = "none", value_parser = parse_acceleration)]
     pub acceleration: Acceleration,
+    /// Stop the run as a diverging coupling when a coupled variable's amplitude grows geometrically by
+    /// this factor (window peaks over 20 macro steps, each at least 1.5× the last); the message names
+    /// the coupling and the remedy, every row so far is kept; inf turns the check off
+    #[arg(long, default_value_t = crate::cosim::divergence::DEFAULT_GROWTH, value_parser = parse_growth)]
+    pub divergence_growth: f64,
     /// Smallest and largest macro step (adaptive) [default: step/1000 and 100×step]
     #[arg(long)]
     pub min_step: Option<f64>,
@@ -133,6 +138,13 @@ pub fn provide_own_fmus(scene: &Scene, refresh: bool) -> anyhow::Result<()> {
     Ok(())
 }
 
+fn parse_growth(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(g) if g > 1.0 => Ok(g),
+        _ => Err(format!("{s}: a growth factor above 1 (e.g. 1000), or inf to turn the check off")),
+    }
+}
+
 fn parse_params(params: &[String]) -> anyhow::Result<Vec<(String, String, String)>> {
     params
         .iter()
@@ -198,6 +210,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     opts.min_step = args.min_step.unwrap_or(step * 1e-3);
     opts.max_step = args.max_step.unwrap_or(step * 100.0);
     opts.threads = args.threads.max(1);
+    opts.divergence_growth = args.divergence_growth;
 
     let out = args
         .out

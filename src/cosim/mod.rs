@@ -2,6 +2,7 @@
 //! an algorithm (`master`), recorded to CSV (`recorder`).
 
 pub mod acceleration;
+pub mod divergence;
 mod checks;
 pub mod master;
 pub mod recorder;

@@ -10,6 +10,8 @@
 
 pub mod grid_step;
 pub mod modes;
+#[cfg(feature = "cli")]
+pub mod scene;
 pub mod step;
 
 /// Errors of the reference runs, naming the preset, variable or time at fault.
