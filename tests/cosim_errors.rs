@@ -230,9 +230,17 @@ fn a_run_that_blows_up_keeps_its_rows_and_exits_nonzero() {
     let cases: [(&[&str], &[&str]); 2] = [
         (
             &[],
-            &["the coupling torsional.generator_speed -> generator diverges", "--step", "iqn-ils", "results up to t = "],
+            &[
+                "the coupling torsional.generator_speed -> generator diverges",
+                "--step",
+                "iqn-ils",
+                "results up to t = ",
+            ],
         ),
-        (&["--divergence-growth", "inf"], &["not finite", " at t = ", "results up to t = "]),
+        (
+            &["--divergence-growth", "inf"],
+            &["not finite", " at t = ", "results up to t = "],
+        ),
     ];
     let mut stopped_at = Vec::new();
     for (extra, expected) in cases {

@@ -203,7 +203,10 @@ tolerance = 0.01
     fn measures_of_a_sine() {
         let q = parse(EXAMPLE).unwrap();
         let t: Vec<f64> = (0..10_000).map(|k| k as f64 * 1e-3).collect();
-        let x: Vec<f64> = t.iter().map(|t| 2.0 * (std::f64::consts::TAU * 3.0 * t).sin()).collect();
+        let x: Vec<f64> = t
+            .iter()
+            .map(|t| 2.0 * (std::f64::consts::TAU * 3.0 * t).sin())
+            .collect();
         let v = evaluate_all(&q, &["a.x".into()], &[t, x]).unwrap();
         assert!((v[0] - 2.0).abs() < 1e-4, "{}", v[0]);
         let del = 4.0 * (30.0f64 / 9.999).powf(0.25);
@@ -215,11 +218,18 @@ tolerance = 0.01
     fn mistakes_are_named() {
         let bad = EXAMPLE.replace("m = 4\n", "");
         assert!(parse(&bad).unwrap_err().contains("needs the S-N slope"));
-        let bad = EXAMPLE.replace("tolerance = 0.01\n\n[[quantity]]\nname = \"del\"", "tolerance = -1\n\n[[quantity]]\nname = \"del\"");
+        let bad = EXAMPLE.replace(
+            "tolerance = 0.01\n\n[[quantity]]\nname = \"del\"",
+            "tolerance = -1\n\n[[quantity]]\nname = \"del\"",
+        );
         assert!(parse(&bad).unwrap_err().contains("tolerance"));
         let bad = EXAMPLE.replace("measure = \"peak\"", "measure = \"mean\"");
         let e = parse(&bad).unwrap_err();
         assert!(e.contains("line") && e.contains("mean"), "{e}");
-        assert!(parse(&EXAMPLE.replace("a.x", "ax")).unwrap_err().contains("component.variable"));
+        assert!(
+            parse(&EXAMPLE.replace("a.x", "ax"))
+                .unwrap_err()
+                .contains("component.variable")
+        );
     }
 }

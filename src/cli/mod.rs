@@ -7,6 +7,7 @@ pub mod calibrate;
 pub mod campbell;
 pub mod coupling;
 pub mod fatigue;
+pub mod fidelity;
 pub mod gearbox;
 pub mod gearbox_bench;
 pub mod isolate_bench;
@@ -149,6 +150,11 @@ pub enum Command {
     /// scene's quantities of interest against its reference, against CPU time).
     #[command(subcommand)]
     Chart(ChartCommand),
+    /// The fidelity a scene needs: runs its drivetrain model's ladder (torsional 2-mass, 5-mass, full;
+    /// gearbox6dof with 5 and 35 slices, linear and lamina bearings), prints each level's CPU time and
+    /// error on the scene's quantities of interest against the top level, recommends the cheapest
+    /// within every tolerance, and shows which modes the scene's inputs excite.
+    Fidelity(fidelity::FidelityArgs),
     /// The rotor FMU's blade-element momentum model: C_P, C_Q, C_T, torque and thrust as JSON over
     /// tip-speed ratios and pitch angles, optionally per element; with --preset (or --rated-power and
     /// --rated-rpm) also the rated wind speed the scaled blade is fitted to.

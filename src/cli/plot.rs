@@ -475,16 +475,20 @@ where
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("plot: {e:?}");
     root.fill(&WHITE).map_err(err)?;
     let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for &(x, y) in series.iter().flat_map(|s| s.points.iter()).chain(tolerance.map(|t| (f64::NAN, t)).iter()) {
+    for &(x, y) in series
+        .iter()
+        .flat_map(|s| s.points.iter())
+        .chain(tolerance.map(|t| (f64::NAN, t)).iter())
+    {
         if x.is_finite() {
             (x0, x1) = (x0.min(x), x1.max(x));
         }
         (y0, y1) = (y0.min(y), y1.max(y));
     }
-    if !(x0 < x1) {
+    if x0.partial_cmp(&x1) != Some(std::cmp::Ordering::Less) {
         (x0, x1) = (x0.min(1.0) / 2.0, x0.max(1e-3) * 2.0);
     }
-    if !(y0 < y1) {
+    if y0.partial_cmp(&y1) != Some(std::cmp::Ordering::Less) {
         (y0, y1) = (y0.min(1.0) / 10.0, y0.max(1e-12) * 10.0);
     }
     let mut chart = ChartBuilder::on(&root)

@@ -44,7 +44,8 @@ pub struct RunArgs {
     pub acceleration: Acceleration,
     /// Stop the run as a diverging coupling when a coupled variable's amplitude grows geometrically by
     /// this factor (window peaks over 20 macro steps, each at least 1.5× the last); the message names
-    /// the coupling and the remedy, every row so far is kept; inf turns the check off
+    /// the coupling and the remedy, every row so far is kept; inf turns the check off (fixed-step
+    /// algorithms; adaptive bounds its coupling error itself)
     #[arg(long, default_value_t = crate::cosim::divergence::DEFAULT_GROWTH, value_parser = parse_growth)]
     pub divergence_growth: f64,
     /// Smallest and largest macro step (adaptive) [default: step/1000 and 100×step]
@@ -141,7 +142,9 @@ pub fn provide_own_fmus(scene: &Scene, refresh: bool) -> anyhow::Result<()> {
 fn parse_growth(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(g) if g > 1.0 => Ok(g),
-        _ => Err(format!("{s}: a growth factor above 1 (e.g. 1000), or inf to turn the check off")),
+        _ => Err(format!(
+            "{s}: a growth factor above 1 (e.g. 1000), or inf to turn the check off"
+        )),
     }
 }
 

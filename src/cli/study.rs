@@ -3,7 +3,7 @@
 //! every quantity against the reference).
 
 use crate::analysis::quantities::{self, Quantity};
-use crate::cosim::{Options, Scene};
+use crate::cosim::{Options, Override, Scene};
 use crate::reference::scene::{SceneReference, compute, run_quantities};
 use anyhow::{Context, anyhow, bail};
 use std::path::{Path, PathBuf};
@@ -18,18 +18,43 @@ pub struct Study {
     pub reference: SceneReference,
     /// The scene's macro step (osp:FixedStepAlgorithm), s.
     pub scene_step: f64,
+    /// Parameters the reference sets beyond the scene's (the top of a fidelity ladder).
+    pub reference_overrides: Vec<Override>,
 }
 
 /// The quantities file of a scene: `--quantities`, else quantities.toml in the scene's folder.
 fn quantities_path(scene: &Scene, given: Option<&Path>) -> PathBuf {
-    given.map(Path::to_path_buf).unwrap_or_else(|| scene.root.join(quantities::FILE_NAME))
+    given
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| scene.root.join(quantities::FILE_NAME))
 }
 
 impl Study {
     /// Opens the scene, reads its quantities and computes its reference (printing what it does: the
     /// reference is the longest run of a study).
-    pub fn open(scene_path: &Path, quantities_file: Option<&Path>, stop_time: Option<f64>, reference_step: f64) -> anyhow::Result<Self> {
-        let scene = Scene::open(scene_path)?;
+    pub fn open(
+        scene_path: &Path,
+        quantities_file: Option<&Path>,
+        stop_time: Option<f64>,
+        reference_step: f64,
+    ) -> anyhow::Result<Self> {
+        Self::open_with(
+            Scene::open(scene_path)?,
+            quantities_file,
+            stop_time,
+            reference_step,
+            |_| Ok(Vec::new()),
+        )
+    }
+
+    /// As [`Study::open`], the reference run with the parameters `reference` picks for the scene.
+    pub fn open_with(
+        scene: Scene,
+        quantities_file: Option<&Path>,
+        stop_time: Option<f64>,
+        reference_step: f64,
+        reference: impl FnOnce(&Scene) -> anyhow::Result<Vec<Override>>,
+    ) -> anyhow::Result<Self> {
         super::run::provide_own_fmus(&scene, false)?;
         let qpath = quantities_path(&scene, quantities_file);
         if !qpath.is_file() {
@@ -54,8 +79,11 @@ impl Study {
             reference_step * 1e3,
             crate::reference::scene::TOLERANCE
         );
-        let reference = compute(&scene, &[], &quantities, reference_step, stop_time).map_err(|e| anyhow!(e))?;
+        let reference_overrides = reference(&scene)?;
+        let reference =
+            compute(&scene, &reference_overrides, &quantities, reference_step, stop_time).map_err(|e| anyhow!(e))?;
         Ok(Self {
+            reference_overrides,
             scene,
             quantities,
             stop_time,
@@ -91,17 +119,12 @@ impl Study {
 
     /// The component whose FMU is `fmu` (e.g. "torsional"), for the parameters a study varies.
     pub fn component_of(&self, fmu: &str) -> anyhow::Result<String> {
-        let file = format!("{fmu}.fmu");
-        self.scene
-            .components
-            .iter()
-            .find(|c| c.path.file_name().and_then(|n| n.to_str()) == Some(file.as_str()))
-            .map(|c| c.name.clone())
-            .with_context(|| format!("scene {} has no {fmu} component ({file})", self.scene.name))
+        component_of(&self.scene, fmu)
+            .with_context(|| format!("scene {} has no {fmu} component ({fmu}.fmu)", self.scene.name))
     }
 
     /// Runs the scene `repeat` times with `overrides` and `opts`; best CPU time, errors per quantity.
-    pub fn measure(&self, overrides: &[(String, String, String)], opts: &Options, repeat: usize) -> Measured {
+    pub fn measure(&self, overrides: &[Override], opts: &Options, repeat: usize) -> Measured {
         let mut best = f64::INFINITY;
         let mut values = Vec::new();
         for _ in 0..repeat.max(1) {
@@ -132,6 +155,16 @@ impl Study {
     }
 }
 
+/// The component of `scene` whose FMU is `fmu` (e.g. "torsional"), if any.
+pub fn component_of(scene: &Scene, fmu: &str) -> Option<String> {
+    let file = format!("{fmu}.fmu");
+    scene
+        .components
+        .iter()
+        .find(|c| c.path.file_name().and_then(|n| n.to_str()) == Some(file.as_str()))
+        .map(|c| c.name.clone())
+}
+
 /// One measured run.
 #[derive(Debug, Clone)]
 pub struct Measured {
@@ -154,6 +187,10 @@ impl Measured {
 
     /// The largest error in units of each quantity's tolerance (≤ 1: within).
     pub fn worst_in_tolerances(&self, qs: &[Quantity]) -> f64 {
-        self.errors.iter().zip(qs).map(|(e, q)| e / q.tolerance).fold(0.0, f64::max)
+        self.errors
+            .iter()
+            .zip(qs)
+            .map(|(e, q)| e / q.tolerance)
+            .fold(0.0, f64::max)
     }
 }

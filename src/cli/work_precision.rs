@@ -4,7 +4,7 @@
 //! its reference ([`crate::reference::scene`]).
 
 use super::study::{ERROR_FLOOR, Measured, Study};
-use crate::cosim::{Acceleration, Algorithm, Options};
+use crate::cosim::{Acceleration, Algorithm, Options, Override};
 use anyhow::{Context, anyhow, bail};
 use std::fmt::Write as _;
 use std::io::IsTerminal;
@@ -54,7 +54,7 @@ pub struct WorkPrecisionArgs {
 struct Variant {
     line: String,
     setting: String,
-    overrides: Vec<(String, String, String)>,
+    overrides: Vec<Override>,
     opts: Options,
 }
 
@@ -62,7 +62,7 @@ const MACRO_STEPS_MS: [f64; 6] = [0.25, 0.5, 1.0, 2.0, 4.0, 8.0];
 const INTERNAL_STEPS_MS: [f64; 5] = [1.0, 0.5, 0.25, 0.125, 0.0625];
 pub const VARY: &str = "algorithm, macro-step, order, integrator, step, fidelity, slices";
 
-fn param(component: &str, variable: &str, value: impl ToString) -> (String, String, String) {
+fn param(component: &str, variable: &str, value: impl ToString) -> Override {
     (component.to_string(), variable.to_string(), value.to_string())
 }
 
@@ -79,17 +79,18 @@ fn variants(study: &Study, args: &WorkPrecisionArgs) -> anyhow::Result<Vec<Varia
     };
     let at = |algorithm, h| Options::new(algorithm, h, stop);
     let mut out = Vec::new();
-    let mut over_macro = |line: String, overrides: Vec<(String, String, String)>, make: &dyn Fn(f64) -> Options| -> anyhow::Result<()> {
-        for h in steps(&MACRO_STEPS_MS)? {
-            out.push(Variant {
-                line: line.clone(),
-                setting: format!("H = {} ms", h * 1e3),
-                overrides: overrides.clone(),
-                opts: make(h),
-            });
-        }
-        Ok(())
-    };
+    let mut over_macro =
+        |line: String, overrides: Vec<Override>, make: &dyn Fn(f64) -> Options| -> anyhow::Result<()> {
+            for h in steps(&MACRO_STEPS_MS)? {
+                out.push(Variant {
+                    line: line.clone(),
+                    setting: format!("H = {} ms", h * 1e3),
+                    overrides: overrides.clone(),
+                    opts: make(h),
+                });
+            }
+            Ok(())
+        };
     match args.vary.as_str() {
         "macro-step" => over_macro(args.algorithm.clone(), vec![], &|h| at(algorithm, h))?,
         "algorithm" => {
@@ -114,20 +115,30 @@ fn variants(study: &Study, args: &WorkPrecisionArgs) -> anyhow::Result<Vec<Varia
         "fidelity" => {
             let c = study.component_of("torsional")?;
             for f in ["2", "5", "full"] {
-                over_macro(format!("{f}-mass").replace("full-mass", "full"), vec![param(&c, "fidelity", f)], &|h| at(algorithm, h))?;
+                over_macro(
+                    format!("{f}-mass").replace("full-mass", "full"),
+                    vec![param(&c, "fidelity", f)],
+                    &|h| at(algorithm, h),
+                )?;
             }
         }
         "integrator" | "step" => {
             let c = study.component_of("torsional")?;
-            let integrators: Vec<(&str, Vec<(String, String, String)>)> = if args.vary == "step" {
+            let integrators: Vec<(&str, Vec<Override>)> = if args.vary == "step" {
                 vec![("scene's integrator", vec![])]
             } else {
                 vec![
                     ("implicit (Newmark)", vec![param(&c, "integrator", "implicit")]),
-                    ("hht rho=0.6", vec![param(&c, "integrator", "hht"), param(&c, "spectral_radius", 0.6)]),
+                    (
+                        "hht rho=0.6",
+                        vec![param(&c, "integrator", "hht"), param(&c, "spectral_radius", 0.6)],
+                    ),
                     (
                         "generalized-alpha rho=0.3",
-                        vec![param(&c, "integrator", "generalized-alpha"), param(&c, "spectral_radius", 0.3)],
+                        vec![
+                            param(&c, "integrator", "generalized-alpha"),
+                            param(&c, "spectral_radius", 0.3),
+                        ],
                     ),
                     ("rk4", vec![param(&c, "integrator", "rk4")]),
                 ]
@@ -166,7 +177,12 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
     let mut order: Vec<usize> = (0..points.len())
         .filter(|&i| points[i].0.is_finite() && points[i].1.is_finite())
         .collect();
-    order.sort_by(|&a, &b| points[a].0.total_cmp(&points[b].0).then(points[a].1.total_cmp(&points[b].1)));
+    order.sort_by(|&a, &b| {
+        points[a]
+            .0
+            .total_cmp(&points[b].0)
+            .then(points[a].1.total_cmp(&points[b].1))
+    });
     let mut front: Vec<usize> = Vec::new();
     for i in order {
         if front.last().is_none_or(|&last| points[i].1 < points[last].1) {
@@ -177,7 +193,11 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
 }
 
 fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) { format!("\"{}\"", s.replace('"', "\"\"")) } else { s.to_string() }
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
 }
 
 pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
@@ -195,7 +215,12 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
     if !VARY.split(", ").any(|v| v == args.vary) {
         bail!("--vary {}: use one of {VARY}", args.vary);
     }
-    let study = Study::open(&args.scene, args.quantities.as_deref(), args.stop_time, args.reference_step)?;
+    let study = Study::open(
+        &args.scene,
+        args.quantities.as_deref(),
+        args.stop_time,
+        args.reference_step,
+    )?;
     let variants = variants(&study, args)?;
     print!("{}", study.describe_reference());
     println!(
@@ -207,7 +232,9 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
         write!(csv, ",{}", csv_field(&format!("error {}", q.name)))?;
     }
     csv += ",failure\n";
-    let reference_error = (0..study.quantities.len()).map(|i| study.reference.own_error(i)).fold(0.0, f64::max);
+    let reference_error = (0..study.quantities.len())
+        .map(|i| study.reference.own_error(i))
+        .fold(0.0, f64::max);
     let mut lines: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     let mut all = Vec::new();
     let n = variants.len();
@@ -249,7 +276,12 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
                     " (unstable: not drawn)"
                 }
             ),
-            Some(f) => println!("{:<28} {:>14}  failed: {}", v.line, v.setting, f.lines().next().unwrap_or("")),
+            Some(f) => println!(
+                "{:<28} {:>14}  failed: {}",
+                v.line,
+                v.setting,
+                f.lines().next().unwrap_or("")
+            ),
         }
         write!(
             csv,
@@ -284,10 +316,7 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
         let (p, k) = all[i];
         println!(
             "  {:<28} {:>14}  CPU {:>8.3} s  max rel err {:.3e}",
-            variants[k].line,
-            variants[k].setting,
-            p.0,
-            p.1
+            variants[k].line, variants[k].setting, p.0, p.1
         );
     }
     let csv_path = stem.with_extension("csv");
@@ -300,11 +329,20 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
             points,
         })
         .collect();
-    let tightest = study.quantities.iter().map(|q| q.tolerance).fold(f64::INFINITY, f64::min);
+    let tightest = study
+        .quantities
+        .iter()
+        .map(|q| q.tolerance)
+        .fold(f64::INFINITY, f64::min);
     let title = format!("{}: work-precision, varying {}", study.scene.name, args.vary);
     for ext in ["png", "svg"] {
         super::plot::work_precision(&stem.with_extension(ext), &title, &series, &front, Some(tightest))?;
     }
-    println!("\nchart: {}  {}  table: {}", stem.with_extension("png").display(), stem.with_extension("svg").display(), csv_path.display());
+    println!(
+        "\nchart: {}  {}  table: {}",
+        stem.with_extension("png").display(),
+        stem.with_extension("svg").display(),
+        csv_path.display()
+    );
     Ok(())
 }

@@ -66,7 +66,7 @@ impl Watch {
             *c = c.max(v.abs());
         }
         self.steps += 1;
-        if self.steps % WINDOW != 0 {
+        if !self.steps.is_multiple_of(WINDOW) {
             return None;
         }
         let mut found = None;
@@ -116,7 +116,12 @@ mod tests {
     #[test]
     fn geometric_growth_is_caught() {
         let mut w = Watch::new(1, DEFAULT_GROWTH, 1e-6);
-        let (k, d) = run(&mut w, |k| 1.05f64.powi(k as i32) * if k % 2 == 0 { 1.0 } else { -1.0 }, 100_000).unwrap();
+        let (k, d) = run(
+            &mut w,
+            |k| 1.05f64.powi(k as i32) * if k % 2 == 0 { 1.0 } else { -1.0 },
+            100_000,
+        )
+        .unwrap();
         assert!(d.to / d.from >= 1e3 && k < 200, "{k} {d:?}");
         let mut w = Watch::new(1, DEFAULT_GROWTH, 1e-6);
         let (k, _) = run(&mut w, |k| 1.025f64.powi(k as i32), 100_000).unwrap();

@@ -2,8 +2,8 @@
 //! an algorithm (`master`), recorded to CSV (`recorder`).
 
 pub mod acceleration;
-pub mod divergence;
 mod checks;
+pub mod divergence;
 pub mod master;
 pub mod recorder;
 pub mod ssp;
@@ -14,5 +14,8 @@ pub mod xml;
 pub use acceleration::Acceleration;
 pub use master::{Algorithm, Master, MasterError, Options, Stats};
 pub use ssp::{Scene, SspError, Value};
+
+/// A parameter set on top of a scene's bindings: (component, variable, value as text), as `--param`.
+pub type Override = (String, String, String);
 pub use system::{Record, System, SystemError};
 pub use unit::{Kind, Link, Unit};

@@ -271,15 +271,28 @@ impl Scene {
 
     /// The Real value the scene binds to `component.variable`, if any.
     pub fn real_parameter(&self, component: &str, variable: &str) -> Option<f64> {
+        match self.parameter(component, variable)? {
+            Value::Real(x) => Some(*x),
+            _ => None,
+        }
+    }
+
+    /// The String value the scene binds to `component.variable`, if any.
+    pub fn string_parameter(&self, component: &str, variable: &str) -> Option<&str> {
+        match self.parameter(component, variable)? {
+            Value::String(s) => Some(s),
+            _ => None,
+        }
+    }
+
+    /// The value bound last to `component.variable`.
+    fn parameter(&self, component: &str, variable: &str) -> Option<&Value> {
         self.component(component)?
             .parameters
             .iter()
             .rev()
             .find(|p| p.name == variable)
-            .and_then(|p| match p.value {
-                Value::Real(x) => Some(x),
-                _ => None,
-            })
+            .map(|p| &p.value)
     }
 }
 

@@ -11,7 +11,7 @@
 
 use crate::analysis::quantities::{self, Quantity};
 use crate::cosim::master::{ColumnRun, run_columns_with};
-use crate::cosim::{Acceleration, Algorithm, Options, Scene};
+use crate::cosim::{Acceleration, Algorithm, Options, Override, Scene};
 
 /// Default macro step of a reference, s: a quarter of the scenes' 1 ms.
 pub const DEFAULT_STEP: f64 = 2.5e-4;
@@ -52,21 +52,22 @@ impl SceneReference {
 /// Runs `scene` (with `overrides`) to `stop_time` and evaluates `quantities`; errors name the scene.
 pub fn run_quantities(
     scene: &Scene,
-    overrides: &[(String, String, String)],
+    overrides: &[Override],
     qs: &[Quantity],
     opts: Options,
 ) -> Result<(Vec<f64>, ColumnRun), String> {
     let channels = quantities::channels(qs);
     let names: Vec<&str> = channels.iter().map(|s| s.as_str()).collect();
     let run = run_columns_with(scene, overrides, &names, opts).map_err(|e| format!("scene {}: {e}", scene.name))?;
-    let values = quantities::evaluate_all(qs, &channels, &run.columns).map_err(|e| format!("scene {}: {e}", scene.name))?;
+    let values =
+        quantities::evaluate_all(qs, &channels, &run.columns).map_err(|e| format!("scene {}: {e}", scene.name))?;
     Ok((values, run))
 }
 
 /// The reference of `scene` at macro step `step`.
 pub fn compute(
     scene: &Scene,
-    overrides: &[(String, String, String)],
+    overrides: &[Override],
     qs: &[Quantity],
     step: f64,
     stop_time: f64,

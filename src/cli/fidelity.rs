@@ -1,0 +1,329 @@
+//! `windrive fidelity SCENE`: the fidelity ladder of a scene's drivetrain model (torsional 2-mass,
+//! 5-mass, full; gearbox6dof with few and many slices, linear and lamina bearings), each level's CPU
+//! time and error on the scene's quantities of interest against the top of the ladder, and the
+//! cheapest level within every tolerance; beside it the modal reasoning: which of the full model's
+//! modes lie inside the band the scene's inputs excite, and how well each reduced model keeps them.
+
+use super::study::{Measured, Study, component_of};
+use crate::analysis::spectrum::amplitude_spectrum;
+use crate::cosim::{Algorithm, Options, Override, Scene};
+use crate::physics::drivetrain::Drivetrain;
+use crate::physics::modes::{Boundary, modes};
+use crate::physics::torsional::{Fidelity, ModelOptions, TorsionalModel};
+use anyhow::{Context, anyhow, bail};
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+#[command(after_help = "Examples:\n  \
+    windrive fidelity scenes/c-normal                  normal operation: is a 2-mass model enough? (about 1 min)\n  \
+    windrive fidelity scenes/c-shutdown --json         the same for the shutdown, as JSON for scripts\n  \
+    windrive fidelity scenes/c-shutdown-spring --repeat 1 --stop-time 10\n\n\
+    The levels run at the scene's own macro step and algorithm; the reference is the top level with its coupled\n\
+    equations converged every --reference-step. Quantities and tolerances: quantities.toml beside the scene.")]
+pub struct FidelityArgs {
+    /// Scene: a folder with SystemStructure.ssd, a .ssd file or a .ssp archive
+    pub scene: PathBuf,
+    /// Print {"recommended": NAME, "levels": [{"name", "cpu_s", "error", "within_tolerance"}, ...], ...}
+    #[arg(long)]
+    pub json: bool,
+    /// Runs per level; the CPU time is the best of them
+    #[arg(long, default_value_t = 3)]
+    pub repeat: usize,
+    /// Stop time, s [default: the scene's]
+    #[arg(long)]
+    pub stop_time: Option<f64>,
+    /// Macro step of the reference, s
+    #[arg(long, default_value_t = crate::reference::scene::DEFAULT_STEP)]
+    pub reference_step: f64,
+    /// Quantities of interest [default: quantities.toml beside the scene]
+    #[arg(long)]
+    pub quantities: Option<PathBuf>,
+}
+
+/// A rung of the ladder: its name and the parameters that make it.
+struct Level {
+    name: String,
+    overrides: Vec<Override>,
+}
+
+fn p(c: &str, v: &str, x: &str) -> Override {
+    (c.into(), v.into(), x.into())
+}
+
+/// The ladder of a scene, cheapest first, and the top level's parameters (the reference's).
+fn ladder(scene: &Scene) -> anyhow::Result<(Vec<Level>, Vec<Override>)> {
+    if let Some(c) = component_of(scene, "torsional") {
+        let levels = [("2-mass", "2"), ("5-mass", "5"), ("full torsional", "full")]
+            .iter()
+            .map(|(name, f)| Level {
+                name: name.to_string(),
+                overrides: vec![p(&c, "fidelity", f)],
+            })
+            .collect();
+        return Ok((levels, vec![p(&c, "fidelity", "full")]));
+    }
+    if let Some(c) = component_of(scene, "gearbox6dof") {
+        let mut levels = Vec::new();
+        for slices in ["5", "35"] {
+            for bearings in ["linear", "lamina"] {
+                levels.push(Level {
+                    name: format!("gearbox6dof {slices} slices, {bearings} bearings"),
+                    overrides: vec![p(&c, "slices", slices), p(&c, "bearing_model", bearings)],
+                });
+            }
+        }
+        return Ok((levels, vec![p(&c, "slices", "35"), p(&c, "bearing_model", "lamina")]));
+    }
+    bail!(
+        "scene {}: no torsional or gearbox6dof component, so no fidelity ladder",
+        scene.name
+    )
+}
+
+/// The band the scene's drivetrain inputs excite: the frequency below which 99 % of the spectral
+/// energy of each input (detrended) lies, the largest over the inputs, Hz.
+fn excitation_band(study: &Study, torsional: &str) -> anyhow::Result<(f64, Vec<String>)> {
+    let inputs: Vec<String> = study
+        .scene
+        .connections
+        .iter()
+        .filter(|c| c.end_element == torsional && c.end_connector.ends_with("_torque"))
+        .map(|c| format!("{}.{}", c.start_element, c.start_connector))
+        .collect();
+    if inputs.is_empty() {
+        bail!(
+            "scene {}: no torque input of {torsional} is connected",
+            study.scene.name
+        );
+    }
+    let names: Vec<&str> = inputs.iter().map(|s| s.as_str()).collect();
+    let opts = Options::new(Algorithm::GaussSeidel, study.scene_step, study.stop_time);
+    let run = crate::cosim::master::run_columns_with(&study.scene, &study.reference_overrides, &names, opts)
+        .map_err(|e| anyhow!("scene {}: {e}", study.scene.name))?;
+    let dt = run.columns[0][1] - run.columns[0][0];
+    let mut band: f64 = 0.0;
+    for x in &run.columns[1..] {
+        let (f, a) = amplitude_spectrum(x, dt);
+        let energy: Vec<f64> = a.iter().skip(1).map(|v| v * v).collect();
+        let total: f64 = energy.iter().sum();
+        if total <= 0.0 {
+            continue;
+        }
+        let mut cumulative = 0.0;
+        for (k, e) in energy.iter().enumerate() {
+            cumulative += e;
+            if cumulative >= 0.99 * total {
+                band = band.max(f[k + 1]);
+                break;
+            }
+        }
+    }
+    Ok((band, inputs))
+}
+
+/// Free–free modes (Hz, the rigid mode left out) of a preset at each fidelity.
+fn modes_by_fidelity(preset: &str) -> anyhow::Result<Vec<(&'static str, Vec<f64>)>> {
+    let dt = Drivetrain::preset(preset).ok_or_else(|| anyhow!("unknown preset {preset:?}"))?;
+    let mut out = Vec::new();
+    for (name, f) in [
+        ("2-mass", Fidelity::Two),
+        ("5-mass", Fidelity::Five),
+        ("full torsional", Fidelity::Full),
+    ] {
+        let model = TorsionalModel::new(&dt, f, &ModelOptions::default()).map_err(|e| anyhow!(e))?;
+        let m = modes(&model, Boundary::Disconnected, dt.k_generator);
+        out.push((name, m.frequencies_hz.into_iter().filter(|f| *f > 1e-6).collect()));
+    }
+    Ok(out)
+}
+
+/// CPU times closer than this fraction are the same cost: timing noise on a shared machine.
+pub const SAME_COST: f64 = 0.05;
+
+/// The level to recommend from (CPU s, within tolerance, error in tolerances) per level: the cheapest
+/// within tolerance; among levels as cheap as it within [`SAME_COST`], the most accurate (when the
+/// drivetrain's share of the cost is small, a finer model costs nothing).
+pub fn recommend(levels: &[(f64, bool, f64)]) -> Option<usize> {
+    let ok: Vec<usize> = (0..levels.len()).filter(|&i| levels[i].1).collect();
+    let cheapest = ok.iter().map(|&i| levels[i].0).fold(f64::INFINITY, f64::min);
+    ok.into_iter()
+        .filter(|&i| levels[i].0 <= cheapest * (1.0 + SAME_COST))
+        .min_by(|&a, &b| levels[a].2.total_cmp(&levels[b].2))
+}
+
+pub fn run(args: &FidelityArgs) -> anyhow::Result<()> {
+    if args.repeat == 0 {
+        bail!("--repeat 0: at least one run per level");
+    }
+    let scene = Scene::open(&args.scene)?;
+    let (levels, top) = ladder(&scene)?;
+    let study = Study::open_with(
+        scene,
+        args.quantities.as_deref(),
+        args.stop_time,
+        args.reference_step,
+        |_| Ok(top),
+    )?;
+    let opts = Options::new(Algorithm::GaussSeidel, study.scene_step, study.stop_time);
+    let mut measured: Vec<Measured> = Vec::new();
+    for (k, level) in levels.iter().enumerate() {
+        eprintln!("level {}/{}: {} ...", k + 1, levels.len(), level.name);
+        let m = study.measure(&level.overrides, &opts, args.repeat);
+        if let Some(f) = &m.failure {
+            bail!("{}: {f}", level.name);
+        }
+        measured.push(m);
+    }
+    let qs = &study.quantities;
+    let recommended = recommend(
+        &measured
+            .iter()
+            .map(|m| (m.cpu_s, m.within(qs), m.worst_in_tolerances(qs)))
+            .collect::<Vec<_>>(),
+    )
+    .map(|i| levels[i].name.clone());
+    // modal reasoning, for the torsional ladder
+    let modal = match component_of(&study.scene, "torsional") {
+        Some(c) => {
+            let preset = study.scene.string_parameter(&c, "preset").unwrap_or("D").to_string();
+            let (band, inputs) = excitation_band(&study, &c)?;
+            Some((preset.clone(), band, inputs, modes_by_fidelity(&preset)?))
+        }
+        None => None,
+    };
+    if args.json {
+        let levels_json: Vec<serde_json::Value> = levels
+            .iter()
+            .zip(&measured)
+            .map(|(l, m)| {
+                serde_json::json!({
+                    "name": l.name,
+                    "cpu_s": m.cpu_s,
+                    "error": m.worst(),
+                    "error_in_tolerances": m.worst_in_tolerances(qs),
+                    "within_tolerance": m.within(qs),
+                    "errors": qs.iter().zip(&m.errors).map(|(q, e)| serde_json::json!({"quantity": q.name, "error": e, "tolerance": q.tolerance})).collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+        let mut out = serde_json::json!({ "recommended": recommended, "levels": levels_json, "reference_step_s": study.reference.step });
+        if let Some((preset, band, inputs, modes)) = &modal {
+            out["excitation_band_hz"] = serde_json::json!(band);
+            out["excitation_inputs"] = serde_json::json!(inputs);
+            out["preset"] = serde_json::json!(preset);
+            out["modes_hz"] = serde_json::json!(
+                modes
+                    .iter()
+                    .map(|(n, f)| (n.to_string(), f.clone()))
+                    .collect::<std::collections::BTreeMap<_, _>>()
+            );
+        }
+        println!("{}", serde_json::to_string_pretty(&out)?);
+        return Ok(());
+    }
+    print!("{}", study.describe_reference());
+    println!(
+        "\n{:<36} {:>9} {:>14} {:>12}  worst quantity",
+        "level", "CPU [s]", "max rel err", "within tol"
+    );
+    for (l, m) in levels.iter().zip(&measured) {
+        let worst = m
+            .errors
+            .iter()
+            .zip(qs)
+            .max_by(|a, b| (a.0 / a.1.tolerance).total_cmp(&(b.0 / b.1.tolerance)))
+            .map(|(e, q)| format!("{} ({:.2} % of {:.1} %)", q.name, e * 100.0, q.tolerance * 100.0))
+            .unwrap_or_default();
+        println!(
+            "{:<36} {:>9.3} {:>14.3e} {:>12}  {worst}",
+            l.name,
+            m.cpu_s,
+            m.worst(),
+            if m.within(qs) { "yes" } else { "no" }
+        );
+    }
+    match &recommended {
+        Some(r) => println!(
+            "\nrecommended: {r} (the cheapest level with every quantity within its tolerance; levels within {:.0} % of its CPU time count as as cheap, the most accurate of them wins)",
+            SAME_COST * 100.0
+        ),
+        None => println!(
+            "\nno level is within every tolerance at the scene's macro step: refine the step or widen the tolerances"
+        ),
+    }
+    if let Some((preset, band, inputs, modes)) = &modal {
+        println!(
+            "\nexcitation: 99 % of the spectral energy of {} lies below {band:.2} Hz",
+            inputs.join(" and ")
+        );
+        println!("free-free modes of drivetrain {preset} [Hz] (rigid mode left out):");
+        let full = &modes.last().context("no fidelity")?.1;
+        for (name, f) in modes {
+            let shown: Vec<String> = f.iter().take(6).map(|x| format!("{x:.2}")).collect();
+            let inside = f.iter().filter(|x| **x <= *band).count();
+            println!(
+                "  {name:<16} {}{}   ({inside} inside the band)",
+                shown.join(", "),
+                if f.len() > 6 { ", ..." } else { "" }
+            );
+        }
+        let inside_full = full.iter().filter(|x| **x <= *band).count();
+        if inside_full == 0 {
+            println!(
+                "  no elastic mode lies inside the band: the drivetrain follows these inputs quasi-statically, and every level \
+                 keeps the first mode ({:.2} Hz in the full model) within {:.1} %",
+                full[0],
+                modes
+                    .iter()
+                    .map(|(_, f)| (f[0] - full[0]).abs() / full[0])
+                    .fold(0.0, f64::max)
+                    * 100.0
+            );
+        }
+        for (name, f) in &modes[..modes.len() - 1] {
+            let kept = f.len().min(inside_full);
+            let worst = (0..kept).map(|i| (f[i] - full[i]).abs() / full[i]).fold(0.0, f64::max);
+            if inside_full > 0 && kept == inside_full {
+                println!(
+                    "  {name}: keeps every full-model mode inside the band ({inside_full}) within {:.1} %; condenses the {} above it",
+                    worst * 100.0,
+                    full.len() - inside_full
+                );
+            } else if inside_full > 0 {
+                println!(
+                    "  {name}: has {} elastic modes, the band holds {inside_full} of the full model's: it cannot follow the rest",
+                    f.len()
+                );
+            }
+        }
+        println!(
+            "  what modes cannot tell: the transients (brake engagement, lock, mesh reversal) ring modes far above the band, \
+             and a lumped model's HSS torque is its one shaft's torque over the gear ratio, carrying the gear stages' inertia \
+             that the real HSS does not: the errors above say whether that matters for the scene's quantities"
+        );
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::recommend;
+
+    #[test]
+    fn the_cheapest_within_tolerance_and_the_most_accurate_among_equally_cheap() {
+        // (CPU s, within, error in tolerances)
+        assert_eq!(
+            recommend(&[(0.1, false, 2.0), (0.5, true, 0.5), (1.0, true, 0.1)]),
+            Some(1)
+        );
+        assert_eq!(
+            recommend(&[(0.376, false, 2.1), (0.372, true, 0.04), (0.368, true, 0.007)]),
+            Some(2)
+        );
+        assert_eq!(
+            recommend(&[(0.370, true, 0.5), (0.372, true, 0.04), (0.9, true, 0.0)]),
+            Some(1)
+        );
+        assert_eq!(recommend(&[(0.1, false, 2.0)]), None);
+    }
+}
