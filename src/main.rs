@@ -64,6 +64,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Reproduce(args) => windrive::cli::reproduce::run(&args),
         Command::Chart(windrive::cli::ChartCommand::WorkPrecision(args)) => windrive::cli::work_precision::run(&args),
         Command::Fidelity(args) => windrive::cli::fidelity::run(&args),
+        Command::Chart(windrive::cli::ChartCommand::Stability(args)) => windrive::cli::stability::run(&args),
         Command::Aero(args) => windrive::cli::aero::run(&args),
         Command::FmuHost(args) => windrive::cli::fmu_host(&args),
     }

@@ -18,6 +18,7 @@ pub mod plot;
 pub mod reproduce;
 pub mod run;
 pub mod shutdown;
+pub mod stability;
 pub mod states_bench;
 pub mod step;
 pub mod study;
@@ -183,6 +184,10 @@ pub enum ChartCommand {
     /// the scene's quantities of interest (quantities.toml beside it) against the scene's reference:
     /// its coupled equations converged at every 0.25 ms step.
     WorkPrecision(Box<work_precision::WorkPrecisionArgs>),
+    /// Where each co-simulation algorithm holds on a stiff split (drivetrain D's 2-mass model | its
+    /// generator's electrical spring): macro step × coupling stiffness, every algorithm and
+    /// extrapolation order, runs against the theory's boundary (spectral radius of the macro-step map).
+    Stability(stability::StabilityArgs),
 }
 
 #[derive(clap::Args)]

@@ -556,3 +556,105 @@ where
     root.present().map_err(err)?;
     Ok(())
 }
+
+/// One panel of a stability map: runs that held (green) and grew (red) on (x, y), and a boundary line.
+pub struct StabilityPanel {
+    pub title: String,
+    pub stable: Vec<(f64, f64)>,
+    pub unstable: Vec<(f64, f64)>,
+    pub boundary: Vec<(f64, f64)>,
+}
+
+/// Stability maps side by side (two rows), log–log axes shared by every panel.
+pub fn stability_panels(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    panels: &[StabilityPanel],
+) -> anyhow::Result<()> {
+    register_font()?;
+    let size = (1400, 760);
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase()
+        .as_str()
+    {
+        "png" => draw_stability(
+            BitMapBackend::new(path, size).into_drawing_area(),
+            title,
+            x_label,
+            y_label,
+            panels,
+        ),
+        "svg" => draw_stability(
+            SVGBackend::new(path, size).into_drawing_area(),
+            title,
+            x_label,
+            y_label,
+            panels,
+        ),
+        _ => Err(anyhow!("{}: plot format must be .png or .svg", path.display())),
+    }
+}
+
+fn draw_stability<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    panels: &[StabilityPanel],
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("plot: {e:?}");
+    root.fill(&WHITE).map_err(err)?;
+    let root = root.titled(title, ("sans-serif", 20)).map_err(err)?;
+    let points = || panels.iter().flat_map(|p| p.stable.iter().chain(&p.unstable));
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y) in points() {
+        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+    }
+    if x0 >= x1 || y0 >= y1 {
+        return Err(anyhow!("plot: no runs to draw"));
+    }
+    let columns = panels.len().div_ceil(2).max(1);
+    let areas = root.split_evenly((2, columns));
+    for (panel, area) in panels.iter().zip(areas.iter()) {
+        let mut chart = ChartBuilder::on(area)
+            .caption(&panel.title, ("sans-serif", 16))
+            .margin(6)
+            .x_label_area_size(34)
+            .y_label_area_size(44)
+            .build_cartesian_2d((x0 / 1.5..x1 * 1.5).log_scale(), (y0 / 1.5..y1 * 1.5).log_scale())
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc(x_label)
+            .y_desc(y_label)
+            .x_labels(4)
+            .y_labels(4)
+            .x_label_formatter(&|x| format!("{x:.0e}"))
+            .y_label_formatter(&|y| format!("{y}"))
+            .light_line_style(WHITE)
+            .draw()
+            .map_err(err)?;
+        let green = RGBColor(30, 150, 60);
+        chart
+            .draw_series(panel.stable.iter().map(|&p| Circle::new(p, 5, green.filled())))
+            .map_err(err)?;
+        chart
+            .draw_series(panel.unstable.iter().map(|&p| Cross::new(p, 5, RED.stroke_width(2))))
+            .map_err(err)?;
+        if !panel.boundary.is_empty() {
+            chart
+                .draw_series(LineSeries::new(panel.boundary.iter().cloned(), BLACK.stroke_width(2)))
+                .map_err(err)?;
+        }
+    }
+    root.present().map_err(err)?;
+    Ok(())
+}

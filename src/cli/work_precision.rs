@@ -12,7 +12,7 @@ use std::path::PathBuf;
 
 #[derive(clap::Args)]
 #[command(after_help = "Examples:\n  \
-    windrive chart work-precision scenes/c-shutdown --vary algorithm       every algorithm over macro steps 0.25-8 ms (about 2 min)\n  \
+    windrive chart work-precision scenes/c-shutdown --vary algorithm       every algorithm over macro steps 0.25-32 ms (about 2 min)\n  \
     windrive chart work-precision scenes/c-normal --vary fidelity          2-mass, 5-mass and full torsional model\n  \
     windrive chart work-precision scenes/c-shutdown --vary integrator --algorithm iterative\n  \
     windrive chart work-precision scenes/c-shutdown-spring --vary order --steps 0.5,1,2 --repeat 1\n\n\
@@ -58,7 +58,7 @@ struct Variant {
     opts: Options,
 }
 
-const MACRO_STEPS_MS: [f64; 6] = [0.25, 0.5, 1.0, 2.0, 4.0, 8.0];
+const MACRO_STEPS_MS: [f64; 8] = [0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0];
 const INTERNAL_STEPS_MS: [f64; 5] = [1.0, 0.5, 0.25, 0.125, 0.0625];
 pub const VARY: &str = "algorithm, macro-step, order, integrator, step, fidelity, slices";
 

@@ -12,6 +12,7 @@ pub mod grid_step;
 pub mod modes;
 #[cfg(feature = "cli")]
 pub mod scene;
+pub mod split;
 pub mod step;
 
 /// Errors of the reference runs, naming the preset, variable or time at fault.
