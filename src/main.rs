@@ -65,6 +65,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Chart(windrive::cli::ChartCommand::WorkPrecision(args)) => windrive::cli::work_precision::run(&args),
         Command::Fidelity(args) => windrive::cli::fidelity::run(&args),
         Command::Chart(windrive::cli::ChartCommand::Stability(args)) => windrive::cli::stability::run(&args),
+        Command::Chart(windrive::cli::ChartCommand::Integrators(args)) => windrive::cli::integrators::run(&args),
+        Command::Chart(windrive::cli::ChartCommand::NonSmooth(args)) => windrive::cli::nonsmooth::run(&args),
         Command::Aero(args) => windrive::cli::aero::run(&args),
         Command::FmuHost(args) => windrive::cli::fmu_host(&args),
     }

@@ -242,3 +242,33 @@ fn stability_map_runs_agree_with_the_theory() {
     }
     assert!(std::fs::metadata(stem.with_extension("png")).unwrap().len() > 10_000);
 }
+
+/// `windrive chart integrators` (drivetrain C, undamped, mesh stiffness 0.25-4x): every RK4 run below
+/// 2.785/omega_max of its model holds and every run above 1.25x of it grows (the grid brackets the
+/// limit as it moves with the mesh stiffness); Newmark and HHT-alpha hold at every step.
+#[test]
+fn integrator_stability_runs_follow_rk4s_limit() {
+    let tmp = windrive::fmi2::import::TempDir::new("windrive-test-integrators").unwrap();
+    let stem = tmp.path().join("map");
+    let out = windrive(&["chart", "integrators", "--out", stem.to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let csv = std::fs::read_to_string(stem.with_extension("csv")).unwrap();
+    let mut rk4 = 0;
+    for row in csv.lines().skip(1) {
+        let f: Vec<&str> = row.split(',').collect();
+        let (h_omega, stable) = (f[3].parse::<f64>().unwrap(), f[4] == "true");
+        if f[0] == "rk4" {
+            rk4 += 1;
+            if h_omega < 2.785 {
+                assert!(stable, "{row}");
+            } else if h_omega > 1.25 * 2.785 {
+                assert!(!stable, "{row}");
+            }
+        } else {
+            assert!(stable, "{row}");
+        }
+    }
+    assert_eq!(rk4, 45);
+    assert!(stdout.contains("7748") && stdout.contains("57.2 µs"), "{stdout}");
+}

@@ -10,9 +10,11 @@ pub mod fatigue;
 pub mod fidelity;
 pub mod gearbox;
 pub mod gearbox_bench;
+pub mod integrators;
 pub mod isolate_bench;
 pub mod life;
 pub mod modes;
+pub mod nonsmooth;
 pub mod overhead;
 pub mod plot;
 pub mod reproduce;
@@ -188,6 +190,14 @@ pub enum ChartCommand {
     /// generator's electrical spring): macro step × coupling stiffness, every algorithm and
     /// extrapolation order, runs against the theory's boundary (spectral radius of the macro-step map).
     Stability(stability::StabilityArgs),
+    /// Where the torsional model's integrators are stable as the internal step crosses RK4's limit and
+    /// the mesh stiffness moves it, runs against the limit 2.785/ω_max, and how much HHT-α damps the top
+    /// modes there.
+    Integrators(integrators::IntegratorsArgs),
+    /// Chatter or its absence at the non-smooth places of a shutdown: the HSS brake holding at standstill
+    /// and the meshes' backlash under torque reversal, counted at the communication points for each
+    /// algorithm and macro step against the scene's reference.
+    NonSmooth(nonsmooth::NonSmoothArgs),
 }
 
 #[derive(clap::Args)]

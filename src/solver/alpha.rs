@@ -97,6 +97,29 @@ impl Alpha {
     }
 }
 
+impl Alpha {
+    /// The spectral radius of the method's amplification matrix on an undamped oscillator at Ω = h·ω:
+    /// the amplitude a mode keeps per step (1 for Newmark at every Ω; → ρ∞ as Ω → ∞ for HHT-α and
+    /// generalised-α). From the defining equations, state (x, h·v, h²·a):
+    /// x₁ − β·a₁ = x + v + (½ − β)·a, v₁ − γ·a₁ = v + (1 − γ)·a,
+    /// (1 − α_m)·a₁ + α_m·a + Ω²·((1 − α_f)·x₁ + α_f·x) = 0.
+    pub fn amplification_radius(&self, omega_h: f64) -> f64 {
+        use nalgebra::Matrix3;
+        let (am, af, b, g) = (self.alpha_m, self.alpha_f, self.beta, self.gamma);
+        let w2 = omega_h * omega_h;
+        let l = Matrix3::new(1.0, 0.0, -b, 0.0, 1.0, -g, (1.0 - af) * w2, 0.0, 1.0 - am);
+        let r = Matrix3::new(1.0, 1.0, 0.5 - b, 0.0, 1.0, 1.0 - g, -af * w2, 0.0, -am);
+        match l.try_inverse() {
+            Some(li) => (li * r)
+                .complex_eigenvalues()
+                .iter()
+                .map(|z| z.norm())
+                .fold(0.0, f64::max),
+            None => f64::NAN,
+        }
+    }
+}
+
 /// The coefficients of one step size: the update a₁, v₁ = k_·Δ + k_·v + k_·a and the iteration
 /// matrix J = c_m·M + c_c·C_t + c_k·K_t.
 #[derive(Debug, Clone, Copy)]
@@ -628,4 +651,36 @@ fn step_map<S: SecondOrderSystem>(sys: &S, c: &Coefficients, solver: &Solver) ->
         }
     }
     map
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Alpha;
+
+    /// Newmark keeps every mode (radius 1 at any h·ω); HHT-α and generalised-α tend to their ρ∞ as
+    /// h·ω grows and leave low modes (h·ω = 0.01) within 1e-6 of 1.
+    #[test]
+    fn amplification_radius_limits() {
+        for omega_h in [0.01, 1.0, 10.0, 1e4] {
+            assert!((Alpha::NEWMARK.amplification_radius(omega_h) - 1.0).abs() < 1e-12);
+        }
+        for rho in [0.5, 0.6, 0.9] {
+            let p = Alpha::hht(rho).unwrap();
+            assert!(
+                (p.amplification_radius(1e6) - rho).abs() < 1e-4,
+                "hht {rho}: {}",
+                p.amplification_radius(1e6)
+            );
+            assert!((p.amplification_radius(0.01) - 1.0).abs() < 1e-6);
+        }
+        for rho in [0.0, 0.3, 0.8] {
+            let p = Alpha::generalised(rho).unwrap();
+            assert!(
+                (p.amplification_radius(1e6) - rho).abs() < 1e-3,
+                "generalised {rho}: {}",
+                p.amplification_radius(1e6)
+            );
+            assert!((p.amplification_radius(0.01) - 1.0).abs() < 1e-6);
+        }
+    }
 }
