@@ -15,7 +15,7 @@ use std::path::PathBuf;
 
 #[derive(clap::Args)]
 #[command(after_help = "Examples:\n  \
-    windrive fidelity scenes/c-normal                  normal operation: is a 2-mass model enough? (about 1 min)\n  \
+    windrive fidelity scenes/c-normal                  normal operation: is a 2-mass model enough? (about 20 s)\n  \
     windrive fidelity scenes/c-shutdown --json         the same for the shutdown, as JSON for scripts\n  \
     windrive fidelity scenes/c-shutdown-spring --repeat 1 --stop-time 10\n\n\
     The levels run at the scene's own macro step and algorithm; the reference is the top level with its coupled\n\
@@ -26,18 +26,8 @@ pub struct FidelityArgs {
     /// Print {"recommended": NAME, "levels": [{"name", "cpu_s", "error", "within_tolerance"}, ...], ...}
     #[arg(long)]
     pub json: bool,
-    /// Runs per level; the CPU time is the best of them
-    #[arg(long, default_value_t = 3)]
-    pub repeat: usize,
-    /// Stop time, s [default: the scene's]
-    #[arg(long)]
-    pub stop_time: Option<f64>,
-    /// Macro step of the reference, s
-    #[arg(long, default_value_t = crate::reference::scene::DEFAULT_STEP)]
-    pub reference_step: f64,
-    /// Quantities of interest [default: quantities.toml beside the scene]
-    #[arg(long)]
-    pub quantities: Option<PathBuf>,
+    #[command(flatten)]
+    pub study: super::study::StudyArgs,
 }
 
 /// A rung of the ladder: its name and the parameters that make it.
@@ -152,23 +142,23 @@ pub fn recommend(levels: &[(f64, bool, f64)]) -> Option<usize> {
 }
 
 pub fn run(args: &FidelityArgs) -> anyhow::Result<()> {
-    if args.repeat == 0 {
+    if args.study.repeat == 0 {
         bail!("--repeat 0: at least one run per level");
     }
     let scene = Scene::open(&args.scene)?;
     let (levels, top) = ladder(&scene)?;
     let study = Study::open_with(
         scene,
-        args.quantities.as_deref(),
-        args.stop_time,
-        args.reference_step,
+        args.study.quantities.as_deref(),
+        args.study.stop_time,
+        args.study.reference_step,
         |_| Ok(top),
     )?;
     let opts = Options::new(Algorithm::GaussSeidel, study.scene_step, study.stop_time);
     let mut measured: Vec<Measured> = Vec::new();
     for (k, level) in levels.iter().enumerate() {
         eprintln!("level {}/{}: {} ...", k + 1, levels.len(), level.name);
-        let m = study.measure(&level.overrides, &opts, args.repeat);
+        let m = study.measure(&level.overrides, &opts, args.study.repeat);
         if let Some(f) = &m.failure {
             bail!("{}: {f}", level.name);
         }

@@ -190,26 +190,15 @@ pub fn run(args: &IntegratorsArgs) -> anyhow::Result<()> {
     if panels.iter().all(|p| p.stable.is_empty() && p.unstable.is_empty()) {
         bail!("no runs");
     }
-    let csv_path = args.out.with_extension("csv");
-    std::fs::write(&csv_path, csv).with_context(|| format!("{}: cannot write", csv_path.display()))?;
     let title = format!(
         "Integrator stability, drivetrain {} (full, undamped): dots = runs, line = RK4's limit 2.785/ω_max",
         args.preset
     );
-    for ext in ["png", "svg"] {
-        super::plot::stability_panels(
-            &args.out.with_extension(ext),
-            &title,
-            "internal step h [s]",
-            "mesh stiffness ×",
-            &panels,
-        )?;
-    }
-    println!(
-        "\nchart: {}  {}  table: {}",
-        args.out.with_extension("png").display(),
-        args.out.with_extension("svg").display(),
-        csv_path.display()
-    );
-    Ok(())
+    super::stability::write_map(
+        &args.out,
+        &csv,
+        &title,
+        ("internal step h [s]", "mesh stiffness ×"),
+        &panels,
+    )
 }

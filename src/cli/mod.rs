@@ -55,7 +55,9 @@ pub fn error_chain(e: &anyhow::Error) -> String {
         windrive run scenes/c-shutdown --isolate            each FMU in its own process (survives a crashing FMU)\n  \
         windrive aero --preset C --tsr 4,6,8 --pitch 0,10   the rotor's BEM: C_P, C_Q, C_T as JSON\n  \
         windrive reproduce                                  the thesis's numbers beside ours, row by row\n  \
-        windrive calibrate --no-fit                         C's scenes against the thesis's measured statistics"
+        windrive calibrate --no-fit                         C's scenes against the thesis's measured statistics\n  \
+        windrive chart work-precision scenes/c-shutdown --vary algorithm   error against CPU time, every algorithm\n  \
+        windrive fidelity scenes/c-normal                   the cheapest drivetrain model within the scene's tolerances"
 )]
 pub struct Cli {
     #[command(subcommand)]
@@ -150,7 +152,8 @@ pub enum Command {
     #[command(verbatim_doc_comment)]
     Reproduce(reproduce::ReproduceArgs),
     /// Charts that answer "which method, step and model for my scene?": work-precision (error of the
-    /// scene's quantities of interest against its reference, against CPU time).
+    /// scene's quantities of interest against its reference, against CPU time), stability maps of the
+    /// coupling and of the integrators, chatter at the brake and the backlash.
     #[command(subcommand)]
     Chart(ChartCommand),
     /// The fidelity a scene needs: runs its drivetrain model's ladder (torsional 2-mass, 5-mass, full;

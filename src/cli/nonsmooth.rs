@@ -27,7 +27,7 @@ pub struct NonSmoothArgs {
     /// modules 9-16 mm is 0.1-0.3 mm)
     #[arg(long, default_value_t = 1e-4)]
     pub backlash: f64,
-    /// Output stem: STEM-backlash.png (and .svg), STEM.csv
+    /// Output stem: STEM.png, STEM.svg (the backlash chart), STEM.csv
     #[arg(long, default_value = "results/non-smooth")]
     pub out: PathBuf,
 }
@@ -220,8 +220,14 @@ pub fn run(args: &NonSmoothArgs) -> anyhow::Result<()> {
         }
         contact_lines.push((label.to_string(), c));
     }
-    let csv_path = args.out.with_extension("csv");
-    std::fs::write(&csv_path, csv).with_context(|| format!("{}: cannot write", csv_path.display()))?;
+    println!(
+        "\nbrake at standstill: {}",
+        if brake_chatter == 0 {
+            "no chatter in any run (the implicit integrator holds the stick exactly, speed 0 while locked)".to_string()
+        } else {
+            format!("{brake_chatter} lock/release changes over all runs (see the table)")
+        }
+    );
     let reference_points = vec![
         (STEPS_MS[0].log10(), reference.contact_rate().max(0.01).log10()),
         (
@@ -240,39 +246,19 @@ pub fn run(args: &NonSmoothArgs) -> anyhow::Result<()> {
         label: "reference".into(),
         points: &reference_points,
     });
-    let stem = args.out.to_string_lossy().to_string();
-    for ext in ["png", "svg"] {
+    let title = format!(
+        "{}, {} µm backlash: sun-planet contact changes",
+        scene.name,
+        args.backlash * 1e6
+    );
+    super::plot::write_chart_and_table(&args.out, &csv, |path| {
         super::plot::lines(
-            &PathBuf::from(format!("{stem}-backlash.{ext}")),
-            &format!(
-                "{}, {} µm backlash: sun-planet contact changes",
-                scene.name,
-                args.backlash * 1e6
-            ),
+            path,
+            &title,
             "log10 macro step / ms",
             "log10 contact changes per 1000 communication points",
             &series,
             &[],
-        )?;
-    }
-    println!(
-        "\nbrake at standstill: {}",
-        if brake_chatter == 0 {
-            "no chatter in any run (the implicit integrator holds the stick exactly, speed 0 while locked)".to_string()
-        } else {
-            format!("{brake_chatter} lock/release changes over all runs (see the table)")
-        }
-    );
-    println!("chart: {stem}-backlash.png (and .svg)  table: {}", csv_path.display());
-    Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn changes_and_contact_states() {
-        assert_eq!(super::changes([1, 1, 0, 0, 1, -1, -1].into_iter()), 3);
-        assert_eq!(super::changes(std::iter::empty::<i8>()), 0);
-        assert_eq!([2.0, 0.0, -1e-9].map(super::contact), [1, 0, -1]);
-    }
+        )
+    })
 }

@@ -41,6 +41,26 @@ macro_rules! on_backend {
     }};
 }
 
+/// Writes `table` to STEM.csv and a chart to STEM.png and STEM.svg by `draw(path)`, and says where.
+pub fn write_chart_and_table(
+    stem: &Path,
+    table: &str,
+    draw: impl Fn(&Path) -> anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    let csv = stem.with_extension("csv");
+    std::fs::write(&csv, table).with_context(|| format!("{}: cannot write the table", csv.display()))?;
+    for ext in ["png", "svg"] {
+        draw(&stem.with_extension(ext))?;
+    }
+    println!(
+        "\nchart: {}  {}  table: {}",
+        stem.with_extension("png").display(),
+        stem.with_extension("svg").display(),
+        csv.display()
+    );
+    Ok(())
+}
+
 /// A line chart of several series, to PNG or SVG by extension.
 pub struct Series<'a> {
     pub label: String,

@@ -9,8 +9,8 @@
 
 use crate::cosim::master::run_columns_with;
 use crate::cosim::{Acceleration, Algorithm, Options, Scene};
+use crate::reference::grid_step::torsional_params;
 use crate::reference::split::{Scheme, Split};
-use crate::slaves::torsional::Params;
 use anyhow::{Context, anyhow, bail};
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -116,15 +116,7 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
     let root = crate::pack::workspace_root()?;
     let scene = Scene::open(&root.join("scenes").join("d-grid-step"))?;
     super::run::provide_own_fmus(&scene, false)?;
-    let params = Params {
-        preset: "D".into(),
-        fidelity: "2".into(),
-        integrator: "implicit".into(),
-        damping_scale: 0.0,
-        contact_ratio: 1.6,
-        ..Params::default()
-    };
-    let built = params.build().map_err(|e| anyhow!("drivetrain D: {e}"))?;
+    let built = torsional_params().build().map_err(|e| anyhow!("drivetrain D: {e}"))?;
     let k_d = built.drivetrain.k_generator;
     let split_at = |kappa: f64| Split::new(&built.model, kappa * k_d);
     let fine_steps: Vec<f64> = (0..=160).map(|i| 1e-4 * 10f64.powf(i as f64 / 40.0)).collect();
@@ -209,26 +201,22 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
         split_at(1.0).top_mode(),
         STEPS
     );
-    let csv_path = args.out.with_extension("csv");
-    std::fs::write(&csv_path, csv).with_context(|| format!("{}: cannot write", csv_path.display()))?;
     let title = format!(
         "Co-simulation stability on a stiff split (drivetrain D | generator spring): dots = runs ({} s), line = theory",
         args.stop_time
     );
-    for ext in ["png", "svg"] {
-        super::plot::stability_panels(
-            &args.out.with_extension(ext),
-            &title,
-            "macro step H [s]",
-            "K / K_gen",
-            &drawn,
-        )?;
-    }
-    println!(
-        "\nchart: {}  {}  table: {}",
-        args.out.with_extension("png").display(),
-        args.out.with_extension("svg").display(),
-        csv_path.display()
-    );
-    Ok(())
+    write_map(&args.out, &csv, &title, ("macro step H [s]", "K / K_gen"), &drawn)
+}
+
+/// Writes a stability map's table (STEM.csv) and chart (STEM.png, STEM.svg) and says where.
+pub fn write_map(
+    stem: &std::path::Path,
+    csv: &str,
+    title: &str,
+    (x_label, y_label): (&str, &str),
+    panels: &[super::plot::StabilityPanel],
+) -> anyhow::Result<()> {
+    super::plot::write_chart_and_table(stem, csv, |path| {
+        super::plot::stability_panels(path, title, x_label, y_label, panels)
+    })
 }

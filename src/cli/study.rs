@@ -8,6 +8,24 @@ use crate::reference::scene::{SceneReference, compute, run_quantities};
 use anyhow::{Context, anyhow, bail};
 use std::path::{Path, PathBuf};
 
+/// What every study of a scene is told: how long, how many runs per point, against which reference
+/// and quantities.
+#[derive(clap::Args)]
+pub struct StudyArgs {
+    /// Runs per point; the CPU time is the best of them
+    #[arg(long, default_value_t = 3)]
+    pub repeat: usize,
+    /// Stop time, s [default: the scene's]
+    #[arg(long)]
+    pub stop_time: Option<f64>,
+    /// Macro step of the reference, s (its own error is estimated at twice this step)
+    #[arg(long, default_value_t = crate::reference::scene::DEFAULT_STEP)]
+    pub reference_step: f64,
+    /// Quantities of interest [default: quantities.toml beside the scene]
+    #[arg(long)]
+    pub quantities: Option<PathBuf>,
+}
+
 /// Where a run's relative error is drawn when it is exactly zero (a log axis has no zero).
 pub const ERROR_FLOOR: f64 = 1e-12;
 

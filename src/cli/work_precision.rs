@@ -33,18 +33,8 @@ pub struct WorkPrecisionArgs {
     /// Algorithm of the runs that do not vary it
     #[arg(long, default_value = "gauss-seidel")]
     pub algorithm: String,
-    /// Runs per grid point; the CPU time is the best of them
-    #[arg(long, default_value_t = 3)]
-    pub repeat: usize,
-    /// Stop time, s [default: the scene's]
-    #[arg(long)]
-    pub stop_time: Option<f64>,
-    /// Macro step of the reference, s (its own error is estimated at twice this step)
-    #[arg(long, default_value_t = crate::reference::scene::DEFAULT_STEP)]
-    pub reference_step: f64,
-    /// Quantities of interest [default: quantities.toml beside the scene]
-    #[arg(long)]
-    pub quantities: Option<PathBuf>,
+    #[command(flatten)]
+    pub study: super::study::StudyArgs,
     /// Output stem: writes STEM.png, STEM.svg and STEM.csv [default: results/work-precision/SCENE-WHAT]
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -202,7 +192,7 @@ fn csv_field(s: &str) -> String {
 }
 
 pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
-    if args.repeat == 0 {
+    if args.study.repeat == 0 {
         bail!("--repeat 0: at least one run per grid point");
     }
     let scene_name = crate::cosim::Scene::open(&args.scene)?.name;
@@ -218,9 +208,9 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
     }
     let study = Study::open(
         &args.scene,
-        args.quantities.as_deref(),
-        args.stop_time,
-        args.reference_step,
+        args.study.quantities.as_deref(),
+        args.study.stop_time,
+        args.study.reference_step,
     )?;
     let variants = variants(&study, args)?;
     print!("{}", study.describe_reference());
@@ -244,7 +234,7 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
         if progress {
             eprint!("\r[{}/{n}] {} {}          ", k + 1, v.line, v.setting);
         }
-        let m: Measured = study.measure(&v.overrides, &v.opts, args.repeat);
+        let m: Measured = study.measure(&v.overrides, &v.opts, args.study.repeat);
         let worst = m.worst();
         // a run that failed or blew up (error ≥ 100 %) is listed, not drawn; nor one the reference
         // cannot resolve (error below the reference's own)
@@ -320,8 +310,6 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
             variants[k].line, variants[k].setting, p.0, p.1
         );
     }
-    let csv_path = stem.with_extension("csv");
-    std::fs::write(&csv_path, csv).with_context(|| format!("{}: cannot write the table", csv_path.display()))?;
     let series: Vec<super::plot::Series> = lines
         .iter()
         .filter(|(_, p)| !p.is_empty())
@@ -336,14 +324,7 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
         .map(|q| q.tolerance)
         .fold(f64::INFINITY, f64::min);
     let title = format!("{}: work-precision, varying {}", study.scene.name, args.vary);
-    for ext in ["png", "svg"] {
-        super::plot::work_precision(&stem.with_extension(ext), &title, &series, &front, Some(tightest))?;
-    }
-    println!(
-        "\nchart: {}  {}  table: {}",
-        stem.with_extension("png").display(),
-        stem.with_extension("svg").display(),
-        csv_path.display()
-    );
-    Ok(())
+    super::plot::write_chart_and_table(&stem, &csv, |path| {
+        super::plot::work_precision(path, &title, &series, &front, Some(tightest))
+    })
 }

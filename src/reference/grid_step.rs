@@ -8,17 +8,22 @@ use crate::slaves::torsional::Params;
 /// Rotor torque the scene applies at t = 0, N·m (scenes/d-grid-step/torsional.ssv).
 pub const ROTOR_TORQUE: f64 = 385_000.0;
 
-/// Generator torque of the scene from the exact modal solution: K_gen · q_generator(t).
-pub fn exact_generator_torque(times: &[f64]) -> Vec<f64> {
-    let params = Params {
+/// The scene's torsional FMU parameters (scenes/d-grid-step/torsional.ssv): drivetrain D, 2-mass,
+/// undamped.
+pub fn torsional_params() -> Params {
+    Params {
         preset: "D".into(),
         fidelity: "2".into(),
         integrator: "implicit".into(),
         damping_scale: 0.0,
         contact_ratio: 1.6,
         ..Params::default()
-    };
-    let built = params.build().expect("preset D builds");
+    }
+}
+
+/// Generator torque of the scene from the exact modal solution: K_gen · q_generator(t).
+pub fn exact_generator_torque(times: &[f64]) -> Vec<f64> {
+    let built = torsional_params().build().expect("preset D builds");
     let (m, k_gen) = (&built.model, built.drivetrain.k_generator);
     undamped_step_response(m, Boundary::Connected, k_gen, m.rotor, ROTOR_TORQUE, times)
         .iter()

@@ -214,18 +214,9 @@ fn extrapolate(u: [f64; 3], h: f64, order: usize) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::slaves::torsional::Params;
 
     fn split(kappa: f64) -> Split {
-        let params = Params {
-            preset: "D".into(),
-            fidelity: "2".into(),
-            integrator: "implicit".into(),
-            damping_scale: 0.0,
-            contact_ratio: 1.6,
-            ..Params::default()
-        };
-        let built = params.build().unwrap();
+        let built = crate::reference::grid_step::torsional_params().build().unwrap();
         Split::new(&built.model, kappa * built.drivetrain.k_generator)
     }
 
