@@ -213,7 +213,7 @@ pub fn run(args: &FidelityArgs) -> anyhow::Result<()> {
     }
     print!("{}", study.describe_reference());
     println!(
-        "\n{:<36} {:>9} {:>14} {:>12}  worst quantity",
+        "\n{:<40} {:>9} {:>14} {:>12}  worst quantity",
         "level", "CPU [s]", "max rel err", "within tol"
     );
     for (l, m) in levels.iter().zip(&measured) {
@@ -225,7 +225,7 @@ pub fn run(args: &FidelityArgs) -> anyhow::Result<()> {
             .map(|(e, q)| format!("{} ({:.2} % of {:.1} %)", q.name, e * 100.0, q.tolerance * 100.0))
             .unwrap_or_default();
         println!(
-            "{:<36} {:>9.3} {:>14.3e} {:>12}  {worst}",
+            "{:<40} {:>9.3} {:>14.3e} {:>12}  {worst}",
             l.name,
             m.cpu_s,
             m.worst(),

@@ -296,7 +296,7 @@ impl Slave for TorsionalSlave {
         xml::set_string(&mut self.params, &mut self.inputs, r, value, log).map(|what| self.changed(what))
     }
 
-    fn initialize(&mut self, _start_time: f64, _log: &mut dyn Log) -> SlaveResult<()> {
+    fn initialize(&mut self, _start_time: f64, log: &mut dyn Log) -> SlaveResult<()> {
         let p = &self.params;
         if p.max_internal_step <= 0.0 {
             return Err(err(format!(
@@ -305,6 +305,7 @@ impl Slave for TorsionalSlave {
             )));
         }
         self.ensure()?;
+        self.warn_rattle(log);
         Ok(())
     }
 
@@ -322,7 +323,32 @@ impl Slave for TorsionalSlave {
     }
 }
 
+/// h·ω_max above which an undamped integrator leaves the top mesh modes ringing into a backlash's dead
+/// zone, as measured with 100 µm: drivetrain C's shutdown rattles at 1 ms (h·ω = 49), not at 0.5 ms
+/// (24); D's does not at 1 ms (30) (docs/SPEED-ACCURACY.md, tests/non_smooth.rs).
+const RATTLE_H_OMEGA: f64 = 30.0;
+
 impl TorsionalSlave {
+    /// Backlash with Newmark (no numerical damping) at an internal step far above the mesh modes'
+    /// periods: the contact rattles numerically; say so once, with the remedies.
+    fn warn_rattle(&self, log: &mut dyn Log) {
+        let (p, Some(built)) = (&self.params, &self.built) else {
+            return;
+        };
+        let undamped = matches!(built.method, Method::Implicit(a) if a.alpha_f == 0.0 && a.alpha_m == 0.0);
+        let h_omega = p.max_internal_step * built.model.max_angular_frequency();
+        if p.mesh_backlash > 0.0 && undamped && h_omega > RATTLE_H_OMEGA {
+            log.warning(&format!(
+                "mesh_backlash = {} m with integrator = implicit at max_internal_step = {} s: the top mesh mode \
+                 (h*omega = {h_omega:.0}) is undamped and the contacts rattle in the dead zone; use max_internal_step <= {:.1e} s \
+                 or integrator = hht with spectral_radius < 1",
+                p.mesh_backlash,
+                p.max_internal_step,
+                RATTLE_H_OMEGA / built.model.max_angular_frequency()
+            ));
+        }
+    }
+
     fn step_with(&mut self, built: &Built, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
         let inputs = &self.inputs;
         let st = self.state.as_mut().unwrap();
