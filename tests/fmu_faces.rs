@@ -2,22 +2,14 @@
 //! XML's min/max on Real and Integer parameters, refusals that name the variable, input clamping
 //! and input polynomials.
 
-use windrive::fmi2::slave::{Log, NoLog, Slave};
+mod common;
+
+use common::Recorder;
+use windrive::fmi2::slave::{NoLog, Slave};
 use windrive::fmi2::variables::{Causality, Start, VarType};
 use windrive::slaves::{
     gearbox6dof::Gearbox6dofSlave, generator::GeneratorSlave, rotor::RotorSlave, torsional::TorsionalSlave,
 };
-
-/// Keeps what a model says, to check warnings.
-#[derive(Default)]
-struct Recorder(Vec<String>);
-
-impl Log for Recorder {
-    fn warning(&mut self, msg: &str) {
-        self.0.push(msg.to_string());
-    }
-    fn event(&mut self, _: &str) {}
-}
 
 /// Every parameter and input of a fresh instance reads back as its XML start value.
 fn starts_match_the_xml<S: Slave>() {

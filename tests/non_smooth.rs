@@ -52,20 +52,12 @@ fn brake_holds_and_backlash_rattles_only_at_a_coarse_undamped_internal_step() {
 /// for D at 1 ms.
 #[test]
 fn backlash_with_a_coarse_undamped_step_is_warned_about() {
-    use windrive::fmi2::slave::{Log, Slave};
+    use windrive::fmi2::slave::Slave;
     use windrive::models::torsional::vr;
     use windrive::slaves::torsional::TorsionalSlave;
-    #[derive(Default)]
-    struct Warnings(Vec<String>);
-    impl Log for Warnings {
-        fn warning(&mut self, msg: &str) {
-            self.0.push(msg.to_string());
-        }
-        fn event(&mut self, _: &str) {}
-    }
     // hht at its default spectral_radius 1 is Newmark: the HHT-alpha case sets 0.6
     let warnings = |preset: &str, integrator: &str, step: f64| {
-        let mut log = Warnings::default();
+        let mut log = common::Recorder::default();
         let mut s = TorsionalSlave::instantiate(None);
         s.set_string(vr::PRESET, preset, &mut log).unwrap();
         s.set_string(vr::INTEGRATOR, integrator, &mut log).unwrap();

@@ -128,7 +128,7 @@ fn study_commands_name_their_mistakes() {
     let d = dir.to_str().unwrap();
     let stem = guard.path().join("x").join("wp");
     let s = stem.to_str().unwrap();
-    let cases: [(&[&str], &str); 4] = [
+    let cases: [(&[&str], &str); 8] = [
         (
             &["chart", "work-precision", d, "--vary", "colour", "--out", s],
             "--vary colour: use one of algorithm",
@@ -166,6 +166,16 @@ fn study_commands_name_their_mistakes() {
         (
             &["fidelity", d, "--quantities", "/nonexistent/q.toml"],
             "/nonexistent/q.toml",
+        ),
+        (&["chart", "stability", "--growth", "0.5", "--out", s], "--growth 0.5"),
+        (
+            &["chart", "integrators", "--preset", "Q", "--out", s],
+            "unknown preset \"Q\"",
+        ),
+        (&["chart", "non-smooth", "--backlash=-1", "--out", s], "--backlash -1"),
+        (
+            &["chart", "non-smooth", "--scene", "/nonexistent/scene", "--out", s],
+            "/nonexistent/scene",
         ),
     ];
     for (args, expected) in cases {

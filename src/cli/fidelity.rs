@@ -6,7 +6,7 @@
 
 use super::study::{Measured, Study, component_of};
 use crate::analysis::spectrum::amplitude_spectrum;
-use crate::cosim::{Algorithm, Options, Override, Scene};
+use crate::cosim::{Algorithm, Options, Override, Scene, param as p};
 use crate::physics::drivetrain::Drivetrain;
 use crate::physics::modes::{Boundary, modes};
 use crate::physics::torsional::{Fidelity, ModelOptions, TorsionalModel};
@@ -34,10 +34,6 @@ pub struct FidelityArgs {
 struct Level {
     name: String,
     overrides: Vec<Override>,
-}
-
-fn p(c: &str, v: &str, x: &str) -> Override {
-    (c.into(), v.into(), x.into())
 }
 
 /// The ladder of a scene, cheapest first, and the top level's parameters (the reference's).
@@ -147,13 +143,7 @@ pub fn run(args: &FidelityArgs) -> anyhow::Result<()> {
     }
     let scene = Scene::open(&args.scene)?;
     let (levels, top) = ladder(&scene)?;
-    let study = Study::open_with(
-        scene,
-        args.study.quantities.as_deref(),
-        args.study.stop_time,
-        args.study.reference_step,
-        |_| Ok(top),
-    )?;
+    let study = Study::open(scene, &args.study, |_| Ok(top))?;
     let opts = Options::new(Algorithm::GaussSeidel, study.scene_step, study.stop_time);
     let mut measured: Vec<Measured> = Vec::new();
     for (k, level) in levels.iter().enumerate() {

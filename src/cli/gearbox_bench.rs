@@ -6,7 +6,7 @@
 //! at its stability limit) against the implicit step on the bare physics, with the work per step
 //! that sets the speed.
 
-use crate::cosim::{Algorithm, Master, Options, Record, Scene, System};
+use crate::cosim::{Algorithm, Master, Options, Record, Scene, System, param};
 use crate::physics::gearbox::statics::equilibrium;
 use crate::physics::gearbox::{Description, Gearbox};
 use crate::physics::modes::eigenpairs_of;
@@ -92,8 +92,8 @@ pub fn run(stop: f64) -> anyhow::Result<()> {
     ];
     for (label, slices, bearings) in variants {
         let o = vec![
-            ("gearbox".to_string(), "slices".to_string(), slices.to_string()),
-            ("gearbox".to_string(), "bearing_model".to_string(), bearings.to_string()),
+            param("gearbox", "slices", slices),
+            param("gearbox", "bearing_model", bearings),
         ];
         let (wall, cols) = run_scene(six, &o, &channels("gearbox"), stop)?;
         let r = reference.get_or_insert_with(|| cols.clone());

@@ -9,7 +9,7 @@
 //!   changes, against the scene's reference (its coupled equations converged every 0.25 ms).
 
 use crate::cosim::master::run_columns_with;
-use crate::cosim::{Acceleration, Algorithm, Options, Override, Scene};
+use crate::cosim::{Acceleration, Algorithm, Options, Override, Scene, param};
 use crate::reference::scene::{DEFAULT_STEP, options as reference_options};
 use anyhow::{Context, anyhow};
 use std::fmt::Write as _;
@@ -162,11 +162,7 @@ pub fn run(args: &NonSmoothArgs) -> anyhow::Result<()> {
         .experiment
         .stop_time
         .ok_or_else(|| anyhow!("scene {}: no stop time", scene.name))?;
-    let backlash = vec![(
-        "torsional".to_string(),
-        "mesh_backlash".to_string(),
-        args.backlash.to_string(),
-    )];
+    let backlash = vec![param("torsional", "mesh_backlash", args.backlash)];
     let reference = measure(&scene, &[], &backlash, &reference_options(DEFAULT_STEP, stop))?;
     println!(
         "{}: brake held after its first lock, and every mesh with {} µm backlash; reference (converged every {} ms):\n  \
@@ -189,10 +185,7 @@ pub fn run(args: &NonSmoothArgs) -> anyhow::Result<()> {
     let mut contact_lines: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     let mut brake_chatter = 0;
     for (label, algorithm, order, acceleration, settings) in variants() {
-        let integrator: Vec<Override> = settings
-            .iter()
-            .map(|(k, v)| ("torsional".to_string(), k.to_string(), v.to_string()))
-            .collect();
+        let integrator: Vec<Override> = settings.iter().map(|(k, v)| param("torsional", k, v)).collect();
         let mut c = Vec::new();
         for h_ms in STEPS_MS {
             let mut opts = Options::new(algorithm, h_ms * 1e-3, stop);

@@ -8,7 +8,7 @@
 //! by the same factor over the same time.
 
 use crate::cosim::master::run_columns_with;
-use crate::cosim::{Acceleration, Algorithm, Options, Scene};
+use crate::cosim::{Acceleration, Algorithm, Options, Scene, param};
 use crate::reference::grid_step::torsional_params;
 use crate::reference::split::{Scheme, Split};
 use anyhow::{Context, anyhow, bail};
@@ -81,7 +81,7 @@ fn panels() -> Vec<(&'static str, Algorithm, usize, Acceleration, Option<Scheme>
 /// Whether a run kept its amplitude: its master finished and the last quarter's peak is within
 /// `growth` of the first quarter's.
 fn measured_stable(scene: &Scene, stiffness: f64, opts: Options, growth: f64) -> anyhow::Result<bool> {
-    let overrides = vec![("generator".to_string(), "stiffness".to_string(), stiffness.to_string())];
+    let overrides = vec![param("generator", "stiffness", stiffness)];
     let stop = opts.stop_time;
     let run = match run_columns_with(scene, &overrides, &["generator.generator_torque"], opts) {
         Ok(r) => r,
@@ -108,7 +108,11 @@ fn measured_stable(scene: &Scene, stiffness: f64, opts: Options, growth: f64) ->
 
 pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
     if !(args.stop_time > 0.0 && args.stop_time.is_finite() && args.growth > 1.0) {
-        bail!("--stop-time must be positive and --growth above 1");
+        bail!(
+            "--stop-time {} --growth {}: the stop time must be a positive number of seconds, the growth a factor above 1",
+            args.stop_time,
+            args.growth
+        );
     }
     if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create the output folder", dir.display()))?;
@@ -120,7 +124,24 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
     let k_d = built.drivetrain.k_generator;
     let split_at = |kappa: f64| Split::new(&built.model, kappa * k_d);
     let fine_steps: Vec<f64> = (0..=160).map(|i| 1e-4 * 10f64.powf(i as f64 / 40.0)).collect();
-    let fine_kappa: Vec<f64> = (0..=40).map(|i| 0.05 * 10f64.powf(i as f64 / 16.0)).collect();
+    // the splits the theory reads, built once: the runs' stiffnesses (with their top mode) and a fine
+    // sweep for the boundary line
+    let grid: Vec<(f64, Split, f64)> = STIFFNESS
+        .iter()
+        .map(|&kappa| {
+            let s = split_at(kappa);
+            let omega = s.top_mode();
+            (kappa, s, omega)
+        })
+        .collect();
+    let fine: Vec<(f64, Split)> = (0..=40)
+        .map(|i| 0.05 * 10f64.powf(i as f64 / 16.0))
+        .map(|kappa| (kappa, split_at(kappa)))
+        .collect();
+    let (_, rated, omega_1) = grid
+        .iter()
+        .find(|(kappa, _, _)| *kappa == 1.0)
+        .context("K_gen is on the grid")?;
     let duration = 0.75 * args.stop_time;
     println!(
         "d-grid-step split: drivetrain D 2-mass undamped | generator spring K = κ·{k_d:.3e} N·m/rad; {} s per run;\n\
@@ -134,26 +155,23 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
     let mut csv = String::from("algorithm,step_s,stiffness_factor,h_omega,stable_measured,stable_theory\n");
     let mut drawn = Vec::new();
     for (label, algorithm, order, acceleration, scheme) in panels() {
-        let theory_stable = |kappa: f64, h: f64| {
-            let s = split_at(kappa);
-            match scheme {
-                Some(sc) => !s.grows(sc, h, duration, args.growth),
-                None => s.iteration_factor(h) < 1.0,
-            }
+        let theory_stable = |s: &Split, h: f64| match scheme {
+            Some(sc) => !s.grows(sc, h, duration, args.growth),
+            None => s.iteration_factor(h) < 1.0,
         };
         let mut stable_pts = Vec::new();
         let mut unstable_pts = Vec::new();
         let (mut agree, mut total) = (0, 0);
         let mut at_rated: Vec<(f64, bool)> = Vec::new();
-        for &kappa in &STIFFNESS {
-            let omega = split_at(kappa).top_mode();
+        for (kappa, split, omega) in &grid {
+            let (kappa, omega) = (*kappa, *omega);
             for &h in &STEPS {
                 let mut opts = Options::new(algorithm, h, args.stop_time);
                 opts.order = order;
                 opts.acceleration = acceleration;
                 opts.max_iterations = 20;
                 let ok = measured_stable(&scene, kappa * k_d, opts, args.growth)?;
-                let theory = theory_stable(kappa, h);
+                let theory = theory_stable(split, h);
                 total += 1;
                 agree += usize::from(ok == theory);
                 if ok {
@@ -168,16 +186,15 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
             }
         }
         // the theory's boundary: per stiffness, the largest step stable at every smaller step
-        let boundary: Vec<(f64, f64)> = fine_kappa
+        let boundary: Vec<(f64, f64)> = fine
             .iter()
-            .filter_map(|&kappa| Split::limit(&fine_steps, |h| theory_stable(kappa, h)).map(|h| (h, kappa)))
+            .filter_map(|(kappa, s)| Split::limit(&fine_steps, |h| theory_stable(s, h)).map(|h| (h, *kappa)))
             // stable at every step charted: no boundary inside the chart
             .filter(|(h, _)| *h < fine_steps[fine_steps.len() - 1])
             .collect();
         let steps: Vec<f64> = at_rated.iter().map(|(h, _)| *h).collect();
         let limit_runs = Split::limit(&steps, |h| at_rated.iter().any(|(x, ok)| *x == h && *ok));
-        let omega_1 = split_at(1.0).top_mode();
-        let limit_theory = Split::limit(&fine_steps, |h| theory_stable(1.0, h));
+        let limit_theory = Split::limit(&fine_steps, |h| theory_stable(rated, h));
         let show = |h: Option<f64>, last: f64| match h {
             Some(h) if h >= last => format!("all (to {last} s)"),
             Some(h) => format!("{:.4} s (H·ω {:.2})", h, h * omega_1),
@@ -198,8 +215,7 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
     }
     println!(
         "(at κ = 1, ω of the top coupled mode = {:.1} rad/s; runs on the grid {:?} s)",
-        split_at(1.0).top_mode(),
-        STEPS
+        omega_1, STEPS
     );
     let title = format!(
         "Co-simulation stability on a stiff split (drivetrain D | generator spring): dots = runs ({} s), line = theory",

@@ -48,31 +48,15 @@ fn quantities_path(scene: &Scene, given: Option<&Path>) -> PathBuf {
 }
 
 impl Study {
-    /// Opens the scene, reads its quantities and computes its reference (printing what it does: the
-    /// reference is the longest run of a study).
+    /// Reads the scene's quantities and computes its reference with the parameters `reference` picks
+    /// for it (printing what it does: the reference is the longest run of a study).
     pub fn open(
-        scene_path: &Path,
-        quantities_file: Option<&Path>,
-        stop_time: Option<f64>,
-        reference_step: f64,
-    ) -> anyhow::Result<Self> {
-        Self::open_with(
-            Scene::open(scene_path)?,
-            quantities_file,
-            stop_time,
-            reference_step,
-            |_| Ok(Vec::new()),
-        )
-    }
-
-    /// As [`Study::open`], the reference run with the parameters `reference` picks for the scene.
-    pub fn open_with(
         scene: Scene,
-        quantities_file: Option<&Path>,
-        stop_time: Option<f64>,
-        reference_step: f64,
+        args: &StudyArgs,
         reference: impl FnOnce(&Scene) -> anyhow::Result<Vec<Override>>,
     ) -> anyhow::Result<Self> {
+        let (quantities_file, stop_time, reference_step) =
+            (args.quantities.as_deref(), args.stop_time, args.reference_step);
         super::run::provide_own_fmus(&scene, false)?;
         let qpath = quantities_path(&scene, quantities_file);
         if !qpath.is_file() {

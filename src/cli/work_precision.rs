@@ -4,7 +4,7 @@
 //! its reference ([`crate::reference::scene`]).
 
 use super::study::{ERROR_FLOOR, Measured, Study};
-use crate::cosim::{Acceleration, Algorithm, Options, Override};
+use crate::cosim::{Acceleration, Algorithm, Options, Override, Scene, param};
 use anyhow::{Context, anyhow, bail};
 use std::fmt::Write as _;
 use std::io::IsTerminal;
@@ -52,10 +52,6 @@ const MACRO_STEPS_MS: [f64; 8] = [0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0];
 // down to below RK4's limit on the full models (57 µs for C, 2.785/ω_max of its stiffest mesh mode)
 const INTERNAL_STEPS_MS: [f64; 6] = [1.0, 0.5, 0.25, 0.1, 0.05, 0.025];
 pub const VARY: &str = "algorithm, macro-step, order, integrator, step, fidelity, slices";
-
-fn param(component: &str, variable: &str, value: impl ToString) -> Override {
-    (component.to_string(), variable.to_string(), value.to_string())
-}
 
 fn variants(study: &Study, args: &WorkPrecisionArgs) -> anyhow::Result<Vec<Variant>> {
     let algorithm = Algorithm::parse(&args.algorithm)
@@ -195,23 +191,18 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
     if args.study.repeat == 0 {
         bail!("--repeat 0: at least one run per grid point");
     }
-    let scene_name = crate::cosim::Scene::open(&args.scene)?.name;
+    let scene = Scene::open(&args.scene)?;
     let stem = args
         .out
         .clone()
-        .unwrap_or_else(|| PathBuf::from("results/work-precision").join(format!("{scene_name}-{}", args.vary)));
+        .unwrap_or_else(|| PathBuf::from("results/work-precision").join(format!("{}-{}", scene.name, args.vary)));
     if let Some(dir) = stem.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create the output folder", dir.display()))?;
     }
     if !VARY.split(", ").any(|v| v == args.vary) {
         bail!("--vary {}: use one of {VARY}", args.vary);
     }
-    let study = Study::open(
-        &args.scene,
-        args.study.quantities.as_deref(),
-        args.study.stop_time,
-        args.study.reference_step,
-    )?;
+    let study = Study::open(scene, &args.study, |_| Ok(Vec::new()))?;
     let variants = variants(&study, args)?;
     print!("{}", study.describe_reference());
     println!(
@@ -301,9 +292,10 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
         }
     }
     let points: Vec<(f64, f64)> = all.iter().map(|(p, _)| *p).collect();
-    let front: Vec<(f64, f64)> = pareto_front(&points).into_iter().map(|i| points[i]).collect();
+    let on_front = pareto_front(&points);
+    let front: Vec<(f64, f64)> = on_front.iter().map(|&i| points[i]).collect();
     println!("\nPareto front (no other run is both cheaper and more accurate):");
-    for i in pareto_front(&points) {
+    for &i in &on_front {
         let (p, k) = all[i];
         println!(
             "  {:<28} {:>14}  CPU {:>8.3} s  max rel err {:.3e}",

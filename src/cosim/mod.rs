@@ -17,5 +17,10 @@ pub use ssp::{Scene, SspError, Value};
 
 /// A parameter set on top of a scene's bindings: (component, variable, value as text), as `--param`.
 pub type Override = (String, String, String);
+
+/// The override `component.variable = value`.
+pub fn param(component: &str, variable: &str, value: impl ToString) -> Override {
+    (component.to_string(), variable.to_string(), value.to_string())
+}
 pub use system::{Record, System, SystemError};
 pub use unit::{Kind, Link, Unit};

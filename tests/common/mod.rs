@@ -1,4 +1,4 @@
-//! Shared helpers for tests that load the packed FMU through the FMI boundary.
+//! Shared helpers for tests that load the packed FMU through the FMI boundary or run its Rust face.
 #![allow(dead_code)]
 
 use std::path::PathBuf;
@@ -87,4 +87,15 @@ pub fn run_scene(
         .collect();
     let channels: Vec<&str> = channels.iter().map(String::as_str).collect();
     windrive::cosim::master::run_columns(&scene, &overrides, &channels, stop).unwrap()
+}
+
+/// Keeps what a model's Rust face says, to check its warnings.
+#[derive(Default)]
+pub struct Recorder(pub Vec<String>);
+
+impl windrive::fmi2::slave::Log for Recorder {
+    fn warning(&mut self, msg: &str) {
+        self.0.push(msg.to_string());
+    }
+    fn event(&mut self, _: &str) {}
 }
