@@ -588,5 +588,5 @@ fn every_string_parameter_is_checked_in_every_mode() {
             checked += 1;
         }
     }
-    assert_eq!(checked, 32);
+    assert_eq!(checked, 33);
 }

@@ -79,7 +79,7 @@ fn stays_bounded(dt: &Drivetrain, m: &TorsionalModel, method: Method, h: f64) ->
         u[1] = 1.1 * torque / dt.gear_ratio();
         u[2] = 0.0;
     };
-    let rigid_energy = m.stored_energy(&vec![0.0; st.q.len()], &st.v);
+    let rigid_energy = m.stored_energy(&vec![0.0; st.q.len()], &st.v, (0.0, 0.0));
     let mut energy = Vec::with_capacity(STEPS);
     for k in 0..STEPS {
         if driver
@@ -89,7 +89,7 @@ fn stays_bounded(dt: &Drivetrain, m: &TorsionalModel, method: Method, h: f64) ->
             return false;
         }
         // elastic energy only: the rigid rotation's kinetic energy is constant and would hide growth
-        energy.push(m.stored_energy(&st.q, &st.v) - rigid_energy);
+        energy.push(m.stored_energy(&st.q, &st.v, (0.0, 0.0)) - rigid_energy);
     }
     let peak = |r: std::ops::Range<usize>| energy[r].iter().cloned().fold(0.0, f64::max);
     peak(3 * STEPS / 4..STEPS) <= 2.0 * peak(0..STEPS / 4)

@@ -1,15 +1,17 @@
 //! `windrive chart stability`: where each co-simulation algorithm holds on a stiff split, measured
-//! and in theory. The scene is d-grid-step (drivetrain D's undamped 2-mass model in `torsional`, its
-//! generator's electrical spring in `generator`); the sweep is macro step × spring stiffness, every
-//! run 20 s of the rotor-torque step. A run is unstable when the master stops it (divergence or
-//! non-finite values) or the generator torque's peak over its last quarter is more than twice the
-//! peak over its first (the undamped exact solution keeps its amplitude). The theory
-//! ([`crate::reference::split`]) draws the boundary where the macro-step map grows the amplitude
-//! by the same factor over the same time.
+//! and in theory. Two splits: d-grid-step (drivetrain D's undamped 2-mass model in `torsional`, its
+//! generator's electrical spring in `generator`) and d-shaft-cut (the same drivetrain cut in its main
+//! shaft across two `torsional` FMUs: the rotor's inertia | the rest, free-free). The sweep is macro
+//! step × coupling stiffness, every run 20 s of the rotor-torque step. A run is unstable when the
+//! master stops it (divergence or non-finite values) or the coupling torque's peak over its last
+//! quarter is more than twice the peak over its first (the undamped exact solution keeps its
+//! amplitude). The theory ([`crate::reference::split`]) draws the boundary where the macro-step map
+//! grows the amplitude by the same factor over the same time.
 
 use crate::cosim::master::run_columns_with;
 use crate::cosim::{Acceleration, Algorithm, Options, Scene, param};
 use crate::reference::grid_step::torsional_params;
+use crate::reference::shaft_cut;
 use crate::reference::split::{Scheme, Split};
 use anyhow::{Context, anyhow, bail};
 use std::fmt::Write as _;
@@ -18,11 +20,16 @@ use std::path::PathBuf;
 #[derive(clap::Args)]
 #[command(after_help = "Examples:\n  \
     windrive chart stability                               the map (about 1 min), results/stability-map.{png,svg,csv}\n  \
-    windrive chart stability --out docs/stability-map\n\n\
+    windrive chart stability --out docs/stability-map\n  \
+    windrive chart stability --split shaft                 the main shaft cut across two FMUs instead\n\n\
     Reading it: a green dot is a run that kept its amplitude, a red cross one that grew or diverged; the black line\n\
     is the theory's boundary (stable to its left). Pick the largest macro step left of the line for your coupling\n\
     stiffness; where no step is stable, use --algorithm iterative --acceleration iqn-ils.")]
 pub struct StabilityArgs {
+    /// The split: generator (drivetrain | the generator's electrical spring, scene d-grid-step) or
+    /// shaft (the rotor | the rest of the drivetrain, cut in the main shaft, scene d-shaft-cut)
+    #[arg(long, default_value = "generator", value_parser = ["generator", "shaft"])]
+    pub split: String,
     /// Simulated time per run, s
     #[arg(long, default_value_t = 20.0)]
     pub stop_time: f64,
@@ -34,9 +41,60 @@ pub struct StabilityArgs {
     pub out: PathBuf,
 }
 
-/// Macro steps (s) and spring stiffnesses (× drivetrain D's K_gen) of the measured grid.
+/// Macro steps (s) and coupling stiffnesses (× drivetrain D's own) of the measured grid.
 const STEPS: [f64; 9] = [5e-4, 1e-3, 2e-3, 5e-3, 1e-2, 2e-2, 5e-2, 0.1, 0.2];
 const STIFFNESS: [f64; 5] = [0.1, 0.3, 1.0, 3.0, 10.0];
+
+/// One split charted: its scene, how a stiffness factor κ reaches the scene and the theory, and the
+/// coupling torque watched.
+struct Case {
+    scene: &'static str,
+    channel: &'static str,
+    /// What the split is, with its stiffness at κ = 1.
+    describe: String,
+    y_label: &'static str,
+    title: &'static str,
+    override_at: Box<dyn Fn(f64) -> crate::cosim::Override>,
+    split_at: Box<dyn Fn(f64) -> Split>,
+}
+
+impl Case {
+    fn new(split: &str) -> anyhow::Result<Self> {
+        Ok(if split == "shaft" {
+            let (rotor, drivetrain) = shaft_cut::models(1.0);
+            let stiffness = Split::shaft_cut(&rotor, &drivetrain).stiffness;
+            Case {
+                scene: "d-shaft-cut",
+                channel: "drivetrain.lss_torque",
+                describe: format!(
+                    "d-shaft-cut split: drivetrain D's rotor | the rest (2-mass, undamped, free-free), cut in the main shaft, \
+                     K = κ·{stiffness:.3e} N·m/rad (LSS-referred)"
+                ),
+                y_label: "K / K_shaft",
+                title: "drivetrain D cut in its main shaft: rotor | rest",
+                override_at: Box::new(|kappa| param("drivetrain", "shaft_stiffness_scale", kappa)),
+                split_at: Box::new(|kappa| {
+                    let (rotor, drivetrain) = shaft_cut::models(kappa);
+                    Split::shaft_cut(&rotor, &drivetrain)
+                }),
+            }
+        } else {
+            let built = torsional_params().build().map_err(|e| anyhow!("drivetrain D: {e}"))?;
+            let k_d = built.drivetrain.k_generator;
+            Case {
+                scene: "d-grid-step",
+                channel: "generator.generator_torque",
+                describe: format!(
+                    "d-grid-step split: drivetrain D 2-mass undamped | generator spring K = κ·{k_d:.3e} N·m/rad"
+                ),
+                y_label: "K / K_gen",
+                title: "drivetrain D | generator spring",
+                override_at: Box::new(move |kappa| param("generator", "stiffness", kappa * k_d)),
+                split_at: Box::new(move |kappa| Split::new(&built.model, kappa * k_d)),
+            }
+        })
+    }
+}
 
 /// The algorithms charted: label, master options, and the scheme the theory analyses (None: the
 /// plain iteration's convergence factor; the IQN-ILS panel has no boundary: it converges the coupling).
@@ -80,10 +138,10 @@ fn panels() -> Vec<(&'static str, Algorithm, usize, Acceleration, Option<Scheme>
 
 /// Whether a run kept its amplitude: its master finished and the last quarter's peak is within
 /// `growth` of the first quarter's.
-fn measured_stable(scene: &Scene, stiffness: f64, opts: Options, growth: f64) -> anyhow::Result<bool> {
-    let overrides = vec![param("generator", "stiffness", stiffness)];
+fn measured_stable(scene: &Scene, case: &Case, kappa: f64, opts: Options, growth: f64) -> anyhow::Result<bool> {
+    let overrides = vec![(case.override_at)(kappa)];
     let stop = opts.stop_time;
-    let run = match run_columns_with(scene, &overrides, &["generator.generator_torque"], opts) {
+    let run = match run_columns_with(scene, &overrides, &[case.channel], opts) {
         Ok(r) => r,
         // the master stopped a diverging coupling, or values (or an FMU's state) overflowed
         Err(e)
@@ -93,7 +151,7 @@ fn measured_stable(scene: &Scene, stiffness: f64, opts: Options, growth: f64) ->
         {
             return Ok(false);
         }
-        Err(e) => return Err(anyhow!("d-grid-step: {e}")),
+        Err(e) => return Err(anyhow!("{}: {e}", case.scene)),
     };
     let (t, y) = (&run.columns[0], &run.columns[1]);
     let peak = |from: f64, to: f64| {
@@ -118,11 +176,10 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
         std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create the output folder", dir.display()))?;
     }
     let root = crate::pack::workspace_root()?;
-    let scene = Scene::open(&root.join("scenes").join("d-grid-step"))?;
+    let case = Case::new(&args.split)?;
+    let scene = Scene::open(&root.join("scenes").join(case.scene))?;
     super::run::provide_own_fmus(&scene, false)?;
-    let built = torsional_params().build().map_err(|e| anyhow!("drivetrain D: {e}"))?;
-    let k_d = built.drivetrain.k_generator;
-    let split_at = |kappa: f64| Split::new(&built.model, kappa * k_d);
+    let split_at = &case.split_at;
     let fine_steps: Vec<f64> = (0..=160).map(|i| 1e-4 * 10f64.powf(i as f64 / 40.0)).collect();
     // the splits the theory reads, built once: the runs' stiffnesses (with their top mode) and a fine
     // sweep for the boundary line
@@ -144,9 +201,9 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
         .context("K_gen is on the grid")?;
     let duration = 0.75 * args.stop_time;
     println!(
-        "d-grid-step split: drivetrain D 2-mass undamped | generator spring K = κ·{k_d:.3e} N·m/rad; {} s per run;\n\
+        "{}; {} s per run;\n\
          unstable = diverged, or the amplitude grew more than {}× (theory: spectral radius of the macro-step map)\n",
-        args.stop_time, args.growth
+        case.describe, args.stop_time, args.growth
     );
     println!(
         "{:<20} {:>26} {:>26} {:>10}",
@@ -170,7 +227,7 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
                 opts.order = order;
                 opts.acceleration = acceleration;
                 opts.max_iterations = 20;
-                let ok = measured_stable(&scene, kappa * k_d, opts, args.growth)?;
+                let ok = measured_stable(&scene, &case, kappa, opts, args.growth)?;
                 let theory = theory_stable(split, h);
                 total += 1;
                 agree += usize::from(ok == theory);
@@ -218,10 +275,10 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
         omega_1, STEPS
     );
     let title = format!(
-        "Co-simulation stability on a stiff split (drivetrain D | generator spring): dots = runs ({} s), line = theory",
-        args.stop_time
+        "Co-simulation stability on a stiff split ({}): dots = runs ({} s), line = theory",
+        case.title, args.stop_time
     );
-    write_map(&args.out, &csv, &title, ("macro step H [s]", "K / K_gen"), &drawn)
+    write_map(&args.out, &csv, &title, ("macro step H [s]", case.y_label), &drawn)
 }
 
 /// Writes a stability map's table (STEM.csv) and chart (STEM.png, STEM.svg) and says where.

@@ -145,6 +145,12 @@ impl InputPolynomial {
         w[0] + tau * w[1] + 0.5 * tau * tau * w[2]
     }
 
+    /// ∫₀^τ u(s) ds, exact for the polynomial.
+    pub fn integral(&self, tau: f64) -> f64 {
+        let w = self.0;
+        tau * (w[0] + tau * (w[1] / 2.0 + tau * w[2] / 6.0))
+    }
+
     /// Moves the expansion point forward by `h`.
     pub fn advance(&mut self, h: f64) {
         let w = self.0;

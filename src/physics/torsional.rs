@@ -119,6 +119,12 @@ pub struct Element {
     /// Half the backlash: no force while |δ| < half_backlash.
     pub half_backlash: f64,
     pub variation: Option<MeshStiffnessVariation>,
+    /// Coefficient of the cut boundary's angle in δ when the rotor is cut away
+    /// ([`Section::Drivetrain`]): δ = Σ g_d θ_d + boundary·θ_b. The boundary's share of the force is
+    /// an external load (inputs [`INPUT_CUT_ANGLE`] and [`INPUT_CUT_SPEED`]), not part of
+    /// [`Element::deflection`]. 0 for every other element.
+    #[serde(default)]
+    pub boundary: f64,
     /// Rigid-rotation speed ratio of each coefficient's DOF (filled by the model). Deflections are
     /// summed from angles relative to the rigid rotation with the rotor: the absolute angles grow to
     /// thousands of radians while a mesh deflects by micro-radians, and Σ g·θ over absolute angles
@@ -128,7 +134,8 @@ pub struct Element {
 }
 
 impl Element {
-    /// δ = Σ g_d (θ_d − r_d θ_rotor), the rotor being DOF 0.
+    /// δ = Σ g_d (θ_d − r_d θ_0): relative to the rigid rotation with DOF 0 (the rotor, or the first
+    /// body downstream of a cut).
     pub fn deflection(&self, q: &[f64]) -> f64 {
         if self.ratios.is_empty() {
             return self.coeffs.iter().map(|&(d, g)| g * q[d]).sum();
@@ -243,16 +250,49 @@ pub struct TorsionalModel {
     /// The HSS brake on the generator DOF (none until the owner sets one).
     pub brake: DiskBrake,
     /// Rotor torque drives the rotor, generator torque opposes the generator (the inputs
-    /// [`INPUT_ROTOR_TORQUE`] and [`INPUT_GENERATOR_TORQUE`]).
-    pub input_loads: [InputLoad; 2],
+    /// [`INPUT_ROTOR_TORQUE`] and [`INPUT_GENERATOR_TORQUE`]); a section's cut adds its own.
+    pub input_loads: Vec<InputLoad>,
+    /// The part of the drivetrain this model is (the whole, or one side of a cut in the LSS).
+    #[serde(default)]
+    pub section: Section,
+}
+
+/// Which side of a cut in the low-speed shaft a model is, so that a drivetrain can be split across
+/// two FMUs at its main shaft (or coupled to an aeroelastic code that owns the rotor).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Section {
+    #[default]
+    Whole,
+    /// The rotor's inertia alone: rotor torque drives it, the cut shaft's torque
+    /// ([`INPUT_CUT_TORQUE`]) opposes it.
+    Rotor,
+    /// Everything downstream of the rotor: the LSS's rotor end turns at a prescribed speed
+    /// ([`INPUT_CUT_SPEED`], its angle [`INPUT_CUT_ANGLE`] the integral), the LSS torque is the output.
+    Drivetrain,
+}
+
+impl Section {
+    pub fn parse(s: &str) -> Option<Self> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "whole" => Some(Self::Whole),
+            "rotor" => Some(Self::Rotor),
+            "drivetrain" => Some(Self::Drivetrain),
+            _ => None,
+        }
+    }
 }
 
 /// The model's inputs, in this order: rotor torque (N·m, driving), generator torque (N·m,
-/// electromagnetic, opposing rotation), brake command (0–1).
+/// electromagnetic, opposing rotation), brake command (0–1); at a cut in the LSS the boundary's
+/// angle (rad) and speed (rad/s) for [`Section::Drivetrain`] and the shaft's torque (N·m, opposing
+/// rotation) for [`Section::Rotor`].
 pub const INPUT_ROTOR_TORQUE: usize = 0;
 pub const INPUT_GENERATOR_TORQUE: usize = 1;
 pub const INPUT_BRAKE_COMMAND: usize = 2;
-pub const INPUT_COUNT: usize = 3;
+pub const INPUT_CUT_ANGLE: usize = 3;
+pub const INPUT_CUT_SPEED: usize = 4;
+pub const INPUT_CUT_TORQUE: usize = 5;
+pub const INPUT_COUNT: usize = 6;
 
 struct FullBody {
     slot: Option<usize>,
@@ -377,6 +417,7 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
                         damping: c_rp * opt.damping_scale,
                         half_backlash,
                         variation: variation(k_rp, carrier, cycles, phase),
+                        boundary: 0.0,
                         ratios: Vec::new(),
                     });
                     let sp = elements.len();
@@ -387,6 +428,7 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
                         damping: c_sp * opt.damping_scale,
                         half_backlash,
                         variation: variation(k_sp, carrier, cycles, phase),
+                        boundary: 0.0,
                         ratios: Vec::new(),
                     });
                     if n_planetary < 2 && k < 3 {
@@ -435,6 +477,7 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
                     damping: c * opt.damping_scale,
                     half_backlash,
                     variation: variation(k, pinion, f64::from(p.z_pinion) / TAU, 0.0),
+                    boundary: 0.0,
                     ratios: Vec::new(),
                 });
                 if n_parallel < 2 {
@@ -475,6 +518,7 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
             damping: c * opt.damping_scale,
             half_backlash: 0.0,
             variation: None,
+            boundary: 0.0,
             ratios: Vec::new(),
         });
     }
@@ -636,6 +680,7 @@ impl TorsionalModel {
                     damping: if resistance.is_finite() { 1.0 / resistance } else { 0.0 },
                     half_backlash: 0.0,
                     variation: None,
+                    boundary: 0.0,
                     ratios: Vec::new(),
                 };
                 let mut meshes = vec![None; MESH_SLOTS.len()];
@@ -664,7 +709,7 @@ impl TorsionalModel {
             backlash,
             stiffness_variation,
             brake: DiskBrake::default(),
-            input_loads: [
+            input_loads: vec![
                 InputLoad {
                     input: INPUT_ROTOR_TORQUE,
                     dof: 0,
@@ -676,6 +721,7 @@ impl TorsionalModel {
                     gain: -1.0,
                 },
             ],
+            section: Section::Whole,
             fidelity,
             dof_names: names,
             mass,
@@ -692,6 +738,103 @@ impl TorsionalModel {
 
     pub fn dofs(&self) -> usize {
         self.mass.len()
+    }
+
+    /// This model cut in its low-speed shaft, keeping one side ([`Section`]). The rotor side keeps
+    /// the rotor's inertia and loses every element; the drivetrain side loses the rotor's DOF, its
+    /// LSS grounded at the cut boundary, whose angle and speed load the LSS's downstream body as
+    /// inputs (exact for a linear shaft: k·g₀·θ_b + c·g₀·ω_b moved to the right-hand side).
+    pub fn into_section(mut self, section: Section) -> Self {
+        if self.section != Section::Whole || section == Section::Whole {
+            return self;
+        }
+        self.section = section;
+        let rotor = self.rotor;
+        match section {
+            Section::Whole => {}
+            Section::Rotor => {
+                self.mass.truncate(1);
+                self.dof_names.truncate(1);
+                self.speed_ratio.truncate(1);
+                self.elements.clear();
+                self.generator = 0;
+                self.bodies = self
+                    .bodies
+                    .iter()
+                    .enumerate()
+                    .map(|(slot, b)| if slot == 0 { *b } else { None })
+                    .collect();
+                self.meshes.iter_mut().for_each(|m| *m = None);
+                self.shafts.iter_mut().for_each(|s| *s = None);
+                self.backlash = false;
+                self.stiffness_variation = false;
+                self.input_loads = vec![
+                    InputLoad {
+                        input: INPUT_ROTOR_TORQUE,
+                        dof: 0,
+                        gain: 1.0,
+                    },
+                    InputLoad {
+                        input: INPUT_CUT_TORQUE,
+                        dof: 0,
+                        gain: -1.0,
+                    },
+                ];
+            }
+            Section::Drivetrain => {
+                let shift = |d: usize| d - usize::from(d > rotor);
+                let first_ratio = self.speed_ratio[if rotor == 0 { 1 } else { 0 }];
+                self.mass.remove(rotor);
+                self.dof_names.remove(rotor);
+                self.speed_ratio.remove(rotor);
+                let mut loads = vec![InputLoad {
+                    input: INPUT_GENERATOR_TORQUE,
+                    dof: shift(self.generator),
+                    gain: -1.0,
+                }];
+                for e in &mut self.elements {
+                    if let Some(pos) = e.coeffs.iter().position(|&(d, _)| d == rotor) {
+                        // a shaft: linear, so its boundary share is exactly an external load
+                        e.boundary = e.coeffs.remove(pos).1;
+                        for &(d, g) in &e.coeffs {
+                            for (input, gain) in [(INPUT_CUT_ANGLE, e.stiffness), (INPUT_CUT_SPEED, e.damping)] {
+                                loads.push(InputLoad {
+                                    input,
+                                    dof: shift(d),
+                                    gain: -g * e.boundary * gain,
+                                });
+                            }
+                        }
+                    }
+                    e.coeffs.iter_mut().for_each(|(d, _)| *d = shift(*d));
+                    if let Some(v) = &mut e.variation {
+                        v.dof = shift(v.dof);
+                    }
+                    // deflections relative to the new DOF 0's rigid rotation; the grounded shaft
+                    // has no rigid rotation to subtract
+                    e.ratios = if e.boundary != 0.0 {
+                        Vec::new()
+                    } else {
+                        e.coeffs
+                            .iter()
+                            .map(|&(d, _)| self.speed_ratio[d] / first_ratio)
+                            .collect()
+                    };
+                }
+                self.generator = shift(self.generator);
+                self.bodies.iter_mut().enumerate().for_each(|(slot, b)| {
+                    *b = if slot == 0 { None } else { b.map(|(d, f)| (shift(d), f)) };
+                });
+                self.input_loads = loads;
+            }
+        }
+        self
+    }
+
+    /// The cut boundary's share of element `e`'s deflection and its rate at the boundary's angle and
+    /// speed (zero unless the element is the grounded shaft of [`Section::Drivetrain`]).
+    fn boundary_share(e: &Element, boundary: (f64, f64)) -> (f64, f64) {
+        (e.boundary * boundary.0, e.boundary * boundary.1)
     }
 
     /// True when some element is nonlinear (backlash) so a step needs Newton iterations.
@@ -747,13 +890,17 @@ impl TorsionalModel {
 
     /// Angles of a static equilibrium carrying `rotor_torque` at the LSS (balanced at the generator),
     /// rotor angle 0. Backlash gaps are closed on the loaded flank.
+    /// Cut away from the rotor ([`Section::Drivetrain`]), the boundary's angle is the 0 the rotor's
+    /// would be, and the grounded shaft carries the torque.
     pub fn static_deflection(&self, rotor_torque: f64) -> Result<Vec<f64>, String> {
         let n = self.dofs();
-        if n < 2 {
+        if self.section == Section::Rotor || (n < 2 && self.section == Section::Whole) {
             return Ok(vec![0.0; n]);
         }
         let mut f = vec![0.0; n];
-        f[self.rotor] += rotor_torque;
+        if self.section == Section::Whole {
+            f[self.rotor] += rotor_torque;
+        }
         f[self.generator] -= rotor_torque / self.gear_ratio;
         // A loaded mesh with backlash carries k·(δ − b/2·sign): move that offset to the right-hand side.
         let mut rhs = f.clone();
@@ -769,11 +916,13 @@ impl TorsionalModel {
         self.solve_pinned(&rhs)
     }
 
-    /// Solves K θ = f with the rotor pinned (the free-free K is singular).
+    /// Solves K θ = f with the rotor pinned (the free-free K is singular; cut from the rotor, the
+    /// LSS's boundary holds the model).
     fn solve_pinned(&self, f: &[f64]) -> Result<Vec<f64>, String> {
         let n = self.dofs();
         let k = self.stiffness_matrix();
-        let keep: Vec<usize> = (0..n).filter(|&d| d != self.rotor).collect();
+        let pinned = (self.section == Section::Whole).then_some(self.rotor);
+        let keep: Vec<usize> = (0..n).filter(|&d| Some(d) != pinned).collect();
         let kr = nalgebra::DMatrix::from_fn(keep.len(), keep.len(), |i, j| k[(keep[i], keep[j])]);
         let fr = nalgebra::DVector::from_iterator(keep.len(), keep.iter().map(|&d| f[d]));
         let x = kr
@@ -789,25 +938,28 @@ impl TorsionalModel {
 }
 
 impl TorsionalModel {
-    /// Kinetic energy plus the elastic energy of every element in contact, J.
-    pub fn stored_energy(&self, q: &[f64], v: &[f64]) -> f64 {
+    /// Kinetic energy plus the elastic energy of every element in contact, J; `boundary` is the
+    /// cut's (angle, speed) for [`Section::Drivetrain`] (ignored otherwise).
+    pub fn stored_energy(&self, q: &[f64], v: &[f64], boundary: (f64, f64)) -> f64 {
         let kinetic: f64 = self.mass.iter().zip(v).map(|(m, w)| 0.5 * m * w * w).sum();
         let elastic: f64 = self
             .elements
             .iter()
             .map(|e| {
-                let (x, _) = e.contact(e.deflection(q));
+                let (x, _) = e.contact(e.deflection(q) + Self::boundary_share(e, boundary).0);
                 0.5 * e.stiffness_at(q) * x * x
             })
             .sum();
         kinetic + elastic
     }
 
-    /// Force in element `o` (times its output factor) at the state (q, v).
-    pub fn element_output(&self, o: Option<ForceOutput>, q: &[f64], v: &[f64]) -> f64 {
+    /// Force in element `o` (times its output factor) at the state (q, v) and the cut's (angle,
+    /// speed) `boundary`.
+    pub fn element_output(&self, o: Option<ForceOutput>, q: &[f64], v: &[f64], boundary: (f64, f64)) -> f64 {
         let Some(o) = o else { return 0.0 };
         let e = &self.elements[o.element];
-        o.factor * e.force(e.stiffness_at(q), e.deflection(q), e.deflection(v))
+        let (angle, speed) = Self::boundary_share(e, boundary);
+        o.factor * e.force(e.stiffness_at(q), e.deflection(q) + angle, e.deflection(v) + speed)
     }
 }
 
@@ -883,7 +1035,8 @@ impl SecondOrderSystem for TorsionalModel {
         self.brake.friction(self.generator, u[INPUT_BRAKE_COMMAND])
     }
 
+    /// None when cut from the rotor: the grounded shaft has no rigid rotation.
     fn rigid_mode(&self) -> Option<(&[f64], usize)> {
-        Some((&self.speed_ratio, self.rotor))
+        (self.section != Section::Drivetrain).then_some((&self.speed_ratio[..], 0))
     }
 }

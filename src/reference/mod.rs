@@ -5,6 +5,9 @@
 //!   its FMU (the step response and the torsional benchmark).
 //! - [`grid_step`]: the exact modal solution of the d-grid-step scene, and a run of the scene through
 //!   the master compared with it (the coupling benchmark's work–precision chart).
+//! - [`shaft_cut`]: the exact two-mass solution of the d-shaft-cut scene (a drivetrain cut in its
+//!   main shaft across two FMUs).
+//! - [`split`]: where each coupling scheme is stable on those two splits, from their exact maps.
 //!
 //! What needs the master or FMI import is behind the `cli` feature, as those are.
 
@@ -12,6 +15,7 @@ pub mod grid_step;
 pub mod modes;
 #[cfg(feature = "cli")]
 pub mod scene;
+pub mod shaft_cut;
 pub mod split;
 pub mod step;
 

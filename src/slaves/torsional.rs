@@ -8,8 +8,8 @@ use crate::models::torsional::vr;
 use crate::physics::brake::DiskBrake;
 use crate::physics::drivetrain::Drivetrain;
 use crate::physics::torsional::{
-    Fidelity, INPUT_BRAKE_COMMAND, INPUT_COUNT, INPUT_GENERATOR_TORQUE, INPUT_ROTOR_TORQUE, Lumping, ModelOptions,
-    TorsionalModel,
+    Fidelity, INPUT_BRAKE_COMMAND, INPUT_COUNT, INPUT_CUT_ANGLE, INPUT_CUT_SPEED, INPUT_CUT_TORQUE,
+    INPUT_GENERATOR_TORQUE, INPUT_ROTOR_TORQUE, Lumping, ModelOptions, Section, TorsionalModel,
 };
 use crate::solver::alpha::Alpha;
 use crate::solver::{Driver, DynState, Method, Statistics, rk4};
@@ -24,11 +24,15 @@ pub type Inputs = xml::Inputs;
 
 impl Inputs {
     /// The model's inputs `dt` seconds after the communication point (rotor torque, generator torque,
-    /// brake command; the model clamps the command to [0, 1]).
-    fn write(&self, dt: f64, u: &mut [f64]) {
+    /// brake command, the model clamping the command to [0, 1]; the cut's angle from `cut_angle` at
+    /// the communication point, its speed and torque).
+    fn write(&self, cut_angle: f64, dt: f64, u: &mut [f64]) {
         u[INPUT_ROTOR_TORQUE] = self.rotor_torque.at(dt);
         u[INPUT_GENERATOR_TORQUE] = self.generator_torque.at(dt);
         u[INPUT_BRAKE_COMMAND] = self.brake_command.at(dt);
+        u[INPUT_CUT_ANGLE] = cut_angle + self.cut_speed.integral(dt);
+        u[INPUT_CUT_SPEED] = self.cut_speed.at(dt);
+        u[INPUT_CUT_TORQUE] = self.cut_torque.at(dt);
     }
 }
 
@@ -51,6 +55,10 @@ pub struct TorsionalSlave {
     pub inputs: Inputs,
     /// None until the model is first needed; rebuilt from `params` after deserialisation.
     state: Option<DynState>,
+    /// Angle of the LSS's rotor end at the communication point (section = drivetrain: the integral of
+    /// `cut_speed`; 0 at the static deflection), rad.
+    #[serde(default)]
+    cut_angle: f64,
     #[serde(skip)]
     built: Option<Arc<Built>>,
     #[serde(skip, default = "implicit_driver")]
@@ -69,6 +77,12 @@ impl Params {
             .ok_or_else(|| ParameterError::invalid("fidelity", &self.fidelity, "use 2, 5 or full"))?;
         let lumping = Lumping::parse(&self.lumping)
             .ok_or_else(|| ParameterError::invalid("lumping", &self.lumping, "use physical or thesis"))?;
+        let section = Section::parse(&self.section)
+            .ok_or_else(|| ParameterError::invalid("section", &self.section, "use whole, rotor or drivetrain"))?;
+        let mut drivetrain = drivetrain;
+        for shaft in &mut drivetrain.shafts {
+            shaft.stiffness *= self.shaft_stiffness_scale;
+        }
         let rho = self.spectral_radius;
         let radius =
             |alpha: Result<Alpha, String>| alpha.map_err(|e| ParameterError::invalid("spectral_radius", &rho, &e));
@@ -111,8 +125,13 @@ impl Params {
             contact_ratio: self.contact_ratio,
             lumping,
         };
-        let mut model = TorsionalModel::new(&drivetrain, fidelity, &options).map_err(ParameterError::Model)?;
-        let brake_torque_max = if self.brake_torque_max > 0.0 {
+        let mut model = TorsionalModel::new(&drivetrain, fidelity, &options)
+            .map_err(ParameterError::Model)?
+            .into_section(section);
+        // the rotor section has no HSS, so no brake
+        let brake_torque_max = if section == Section::Rotor {
+            0.0
+        } else if self.brake_torque_max > 0.0 {
             self.brake_torque_max
         } else {
             1.5 * drivetrain.rated_generator_torque()
@@ -149,6 +168,7 @@ impl TorsionalSlave {
             params: std::sync::Arc::default(),
             inputs: Inputs::default(),
             state: None,
+            cut_angle: 0.0,
             built: None,
             driver: implicit_driver(),
         }
@@ -171,6 +191,7 @@ impl TorsionalSlave {
     fn invalidate(&mut self) {
         self.built = None;
         self.state = None;
+        self.cut_angle = 0.0;
     }
 
     /// A parameter change rebuilds the model and its state; inputs are read at the next step.
@@ -180,8 +201,16 @@ impl TorsionalSlave {
         }
     }
 
-    fn element_output(built: &Built, st: &DynState, out: Option<crate::physics::torsional::ForceOutput>) -> f64 {
-        built.model.element_output(out, &st.q, &st.v)
+    fn element_output(&self, out: Option<crate::physics::torsional::ForceOutput>) -> f64 {
+        let (Some(b), Some(st)) = (&self.built, &self.state) else {
+            return 0.0;
+        };
+        b.model.element_output(out, &st.q, &st.v, self.cut())
+    }
+
+    /// The cut's angle and speed now (section = drivetrain; unused by the other sections).
+    fn cut(&self) -> (f64, f64) {
+        (self.cut_angle, self.inputs.cut_speed.value())
     }
 
     /// The integrator's work counters since the model was built.
@@ -209,6 +238,7 @@ impl Slave for TorsionalSlave {
             params: self.params.clone(),
             inputs: self.inputs,
             state: self.state.clone(),
+            cut_angle: self.cut_angle,
             built: self.built.clone(),
             driver: implicit_driver(),
         }
@@ -221,6 +251,7 @@ impl Slave for TorsionalSlave {
         }
         into.inputs.clone_from(&self.inputs);
         into.state.clone_from(&self.state);
+        into.cut_angle = self.cut_angle;
         super::share_build(&mut into.built, &self.built);
     }
 
@@ -244,7 +275,11 @@ impl Slave for TorsionalSlave {
         if let Some(v) = xml::get_real(&self.params, &self.inputs, r) {
             return Ok(v);
         }
-        let (b, st) = self.ensure()?;
+        self.ensure()?;
+        let cut = self.cut();
+        let (Some(b), Some(st)) = (&self.built, &self.state) else {
+            unreachable!("ensure built the model and its state")
+        };
         let body = |slot: u32, speed: bool| {
             b.model.bodies[slot as usize].map_or(0.0, |(d, f)| f * if speed { st.v[d] } else { st.q[d] })
         };
@@ -255,14 +290,14 @@ impl Slave for TorsionalSlave {
             vr::RK4_STEP_LIMIT => b.rk4_step_limit,
             vr::ROTOR_SPEED => body(0, true),
             vr::GENERATOR_SPEED => body(BODY_COUNT - 1, true),
-            vr::LSS_TORQUE => Self::element_output(b, st, b.model.shafts[0]),
-            vr::IS1_TORQUE => Self::element_output(b, st, b.model.shafts[1]),
-            vr::IS2_TORQUE => Self::element_output(b, st, b.model.shafts[2]),
-            vr::HSS_TORQUE => Self::element_output(b, st, b.model.shafts[3]),
+            vr::LSS_TORQUE => self.element_output(b.model.shafts[0]),
+            vr::IS1_TORQUE => self.element_output(b.model.shafts[1]),
+            vr::IS2_TORQUE => self.element_output(b.model.shafts[2]),
+            vr::HSS_TORQUE => self.element_output(b.model.shafts[3]),
             vr::BRAKE_TORQUE => -st.friction_force,
-            vr::STORED_ENERGY => b.model.stored_energy(&st.q, &st.v),
+            vr::STORED_ENERGY => b.model.stored_energy(&st.q, &st.v, cut),
             r if (MESH_FIRST..MESH_FIRST + MESH_COUNT).contains(&r) => {
-                Self::element_output(b, st, b.model.meshes[(r - MESH_FIRST) as usize])
+                self.element_output(b.model.meshes[(r - MESH_FIRST) as usize])
             }
             r if (ANGLE_FIRST..ANGLE_FIRST + BODY_COUNT).contains(&r) => body(r - ANGLE_FIRST, false),
             r if (SPEED_FIRST..SPEED_FIRST + BODY_COUNT).contains(&r) => body(r - SPEED_FIRST, true),
@@ -351,6 +386,7 @@ impl TorsionalSlave {
 
     fn step_with(&mut self, built: &Built, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
         let inputs = &self.inputs;
+        let cut_angle = self.cut_angle;
         let st = self.state.as_mut().unwrap();
         self.driver.max_steps_per_call = self.params.max_steps_per_call;
         let result = self.driver.advance(
@@ -360,7 +396,7 @@ impl TorsionalSlave {
             h,
             self.params.max_internal_step,
             INPUT_COUNT,
-            |dt, u| inputs.write(dt, u),
+            |dt, u| inputs.write(cut_angle, dt, u),
         );
         super::log_brake_events(&self.driver.events, log);
         result.map_err(|e| match e {
@@ -373,6 +409,7 @@ impl TorsionalSlave {
             )),
             e => err(format!("{e} (communication step from t = {t} s, h = {h} s)")),
         })?;
+        self.cut_angle += self.inputs.cut_speed.integral(h);
         self.inputs.advance(h);
         Ok(())
     }
