@@ -1,0 +1,17 @@
+"""Load-case campaigns of `windrive run` jobs on dask.distributed (issue 15 §1).
+
+A campaign file (TOML, docs/CAMPAIGNS.md) names a scene, the load cases (IEC 61400-1 DLC 1.2 wind bins ×
+seeds weighted by a wind climate, a free parameter grid, discrete events with a count per year) and the
+channels to analyse. `python -m windrive_campaign run FILE` expands it into cases, runs each as one
+`windrive run` subprocess on a dask cluster, analyses the series (statistics, DELs, LDD) and writes one
+result file per case, then one Parquet table per campaign. Modules, one job each:
+
+- schema:   read and validate the campaign file (errors name file, key and line)
+- climate:  Weibull/Rayleigh wind-bin probabilities, the IEC normal turbulence model
+- cases:    expand a campaign into cases with stable ids; snapshot the scene
+- analysis: statistics, rainflow DELs and LDD of one series
+- runner:   one case on a worker: subprocess, analysis, atomic result file
+- store:    result files on disk and the campaign's Parquet table
+- cluster:  LocalCluster, a running scheduler, or the SLURM profile
+- driver:   submit, progress, resume, cost
+"""

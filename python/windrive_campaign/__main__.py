@@ -1,0 +1,126 @@
+"""Command line: `python -m windrive_campaign run|cases|job-script CAMPAIGN.toml` (scripts/campaign
+wraps it with the virtual environment and the windrive build)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+from . import cases as cases_mod
+from . import cluster as cluster_mod
+from . import driver, schema
+from .errors import CampaignError
+
+REPO = Path(cluster_mod.PACKAGE_PARENT).parent
+
+EPILOG = """\
+examples (from the repository's root):
+  scripts/campaign run campaigns/c-dlc12.toml
+      DLC 1.2 of drivetrain C on all cores; results in results/campaigns/c-dlc12/
+  scripts/campaign run campaigns/c-dlc12.toml --workers 1
+      the same on one core; rerun after Ctrl-C: finished cases are not run again
+  scripts/campaign cases campaigns/c-dlc12.toml
+      list the cases, their parameters and weights without running them
+  scripts/campaign run campaigns/c-dlc12.toml --scheduler tcp://HOST:8786
+      on a running dask cluster (docs/CAMPAIGNS.md: starting one; the same paths on every worker)
+  scripts/campaign job-script campaigns/c-dlc12.toml
+      the Slurm job script its [slurm] profile submits with --slurm
+
+The campaign file's keys: docs/CAMPAIGNS.md.
+"""
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(
+        prog="scripts/campaign",
+        description="Load-case campaigns of `windrive run` jobs on dask.distributed: one result per case, "
+        "resumable, one Parquet table per campaign.",
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    r = sub.add_parser(
+        "run",
+        help="run the campaign's missing cases, then write its table",
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    r.add_argument("campaign", type=Path, help="campaign file (TOML)")
+    r.add_argument("--out", type=Path, help="campaign folder [default: results/campaigns/<name>]")
+    where = r.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, help="LocalCluster worker processes [default: all cores]")
+    where.add_argument("--scheduler", metavar="ADDRESS", help="join a running dask scheduler instead")
+    where.add_argument("--slurm", action="store_true", help="submit Slurm jobs from the [slurm] profile")
+    r.add_argument("--retry-failed", action="store_true", help="run failed and timed-out cases again")
+    r.add_argument("--windrive", help="windrive binary [default: $WINDRIVE or target/release/windrive]")
+    c = sub.add_parser("cases", help="list the cases and their weights without running them")
+    c.add_argument("campaign", type=Path)
+    c.add_argument("--windrive", help="windrive binary [default: $WINDRIVE or target/release/windrive]")
+    j = sub.add_parser("job-script", help="print the Slurm job script of the [slurm] profile")
+    j.add_argument("campaign", type=Path)
+    args = p.parse_args(argv)
+    try:
+        if args.command == "run" and args.workers is not None and args.workers < 1:
+            raise CampaignError(f"--workers {args.workers}: at least 1")
+        campaign = schema.load(args.campaign)
+        if args.command == "job-script":
+            cluster = cluster_mod.slurm(campaign.slurm, campaign.path)
+            try:
+                print(cluster.job_script())
+            finally:
+                cluster.close()
+            return 0
+        windrive = _windrive(args.windrive)
+        if args.command == "cases":
+            return _list_cases(campaign, windrive)
+        out = args.out or Path("results") / "campaigns" / campaign.name
+        opts = driver.Options(
+            out=out.resolve(),
+            windrive=windrive,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            slurm=args.slurm,
+            retry_failed=args.retry_failed,
+        )
+        return driver.run(campaign, opts)
+    except CampaignError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:  # before the cases started (the driver handles it while they run)
+        print("interrupted", file=sys.stderr)
+        return 130
+
+
+def _windrive(given: str | None) -> str:
+    path = Path(given or os.environ.get("WINDRIVE") or REPO / "target" / "release" / "windrive").resolve()
+    if not (path.is_file() and os.access(path, os.X_OK)):
+        raise CampaignError(f"{path}: no windrive binary (cargo build --release builds it; or --windrive PATH)")
+    return str(path)
+
+
+def _list_cases(campaign, windrive: str) -> int:
+    with tempfile.TemporaryDirectory() as tmp:
+        record = driver.recorded(campaign)
+        scenes = {s: cases_mod.snapshot_scene(s, windrive, Path(tmp), record) for s in cases_mod.scene_paths(campaign)}
+        found = cases_mod.expand(campaign, scenes, cases_mod.windrive_digest(windrive))
+    hours = sum(k.hours for k in found if not math.isnan(k.hours))
+    print(f"{'id':16}  {'name':32}  {'weight':>14}  parameters")
+    for k in found:
+        if not math.isnan(k.hours):
+            weight = f"{k.hours:.1f} h"
+        elif not math.isnan(k.events):
+            weight = f"{k.events:g} events"
+        else:
+            weight = "-"
+        params = " ".join(f"{n}={cases_mod.param_text(v)}" for n, v in k.params.items())
+        print(f"{k.id:16}  {k.name:32}  {weight:>14}  {params}")
+    print(f"{len(found)} cases; the DLC 1.2 cases stand for {hours:.0f} h")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

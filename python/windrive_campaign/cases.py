@@ -1,0 +1,229 @@
+"""A campaign expanded into cases, each with a stable id.
+
+A case's id is the hash of what decides its simulation: the scene snapshot's bytes (the SSD, parameter
+files and FMUs), the windrive binary's bytes, the stop time, the macro step and every parameter passed.
+Same inputs, same id, on any machine and in any order of the campaign file: the driver skips a case whose
+result file is already there. The analysis (channels, slopes, LDD bins, f_eq, transient) is not part of
+the id but of the case's analysis digest, stored in the result: a result analysed differently is rerun.
+The binary runs from a copy under the campaign's folder, so the id names the master that actually ran.
+
+Scenes run from a snapshot: the scene folder zipped into an .ssp under the campaign's folder. `windrive
+run` on a folder copies freshly packed FMUs into the folder's resources/ when target/fmu has newer ones
+(src/cli/run.rs provide_own_fmus), in place and without a lock: parallel runs of one folder could read a
+half-copied FMU, and a rebuild in the middle of a campaign would mix FMU versions. Running the snapshot
+avoids both and makes the digest the bytes actually run.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import itertools
+import json
+import math
+import os
+import shutil
+import subprocess
+import tempfile
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from . import climate as climate_mod
+from .errors import CampaignError
+from .schema import Campaign, ParamValue
+
+
+@dataclass(frozen=True)
+class Case:
+    id: str
+    name: str  # readable: dlc12-v10-s1, grid-fidelity=5, event-shutdown
+    group: str  # dlc12, grid or event
+    scene: str  # the snapshot .ssp the case runs
+    stop_time: float
+    transient: float
+    step: float | None
+    params: dict[str, ParamValue]  # every --param, in the order passed
+    analysis_digest: str
+    wind_speed: float = math.nan  # DLC 1.2: bin speed, m/s
+    seed: int | None = None
+    turbulence_intensity: float = math.nan
+    probability: float = math.nan  # DLC 1.2: of the bin, shared by its seeds
+    hours: float = math.nan  # DLC 1.2: hours over the design life this case stands for
+    events: float = math.nan  # events: occurrences over the design life
+
+    def command(self, windrive: str, out_csv: str, record: list[str]) -> list[str]:
+        cmd = [windrive, "run", self.scene, "--stop-time", repr(self.stop_time), "--out", out_csv, "--quiet"]
+        if self.step is not None:
+            cmd += ["--step", repr(self.step)]
+        if record:
+            cmd += ["--record", ",".join(record)]
+        for name, value in self.params.items():
+            cmd += ["--param", f"{name}={param_text(value)}"]
+        return cmd
+
+
+def param_text(value: ParamValue) -> str:
+    """A parameter value as `--param` reads it: floats in full precision (repr), booleans lower case."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return repr(value)
+    return str(value)
+
+
+def file_digest(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for chunk in iter(lambda: f.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def snapshot_scene(scene: Path, windrive: str, out_dir: Path, record: list[str]) -> tuple[str, str]:
+    """The scene as an immutable .ssp under out_dir/scenes/ and its digest. The scene is first run for
+    one millisecond, recording the campaign's channels: windrive brings its own FMUs in a folder's
+    resources/ up to date (and packs them on a fresh clone), and a misspelt channel is one error now
+    instead of one per case. A folder is then zipped with fixed timestamps and sorted names: the same
+    files give the same bytes."""
+    with tempfile.TemporaryDirectory() as tmp:
+        probe = [windrive, "run", str(scene), "--stop-time", "0.001", "--out", f"{tmp}/probe.csv", "--quiet"]
+        r = subprocess.run(probe + ["--record", ",".join(record)], capture_output=True, text=True)
+        if r.returncode != 0:
+            raise CampaignError(f"{scene}: the scene does not run: {r.stderr.strip() or r.returncode}")
+    if scene.is_file():
+        return str(scene), file_digest(scene)
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", zipfile.ZIP_STORED) as z:  # FMUs are zips already: storing is fastest
+        for p in sorted(scene.rglob("*")):
+            if p.is_file() and "__pycache__" not in p.parts:
+                info = zipfile.ZipInfo(p.relative_to(scene).as_posix(), date_time=(1980, 1, 1, 0, 0, 0))
+                info.external_attr = 0o644 << 16
+                z.writestr(info, p.read_bytes())
+    data = buf.getvalue()
+    digest = hashlib.sha256(data).hexdigest()
+    target = out_dir / "scenes" / f"{scene.name}-{digest[:12]}.ssp"
+    if not target.is_file():
+        target.parent.mkdir(parents=True, exist_ok=True)
+        tmp = target.with_suffix(".ssp.tmp")
+        tmp.write_bytes(data)
+        tmp.replace(target)
+    return str(target), digest
+
+
+def windrive_digest(windrive: str) -> str:
+    """The master's identity: its version line and its bytes (a rebuild can change results)."""
+    try:
+        version = subprocess.run([windrive, "--version"], capture_output=True, text=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError) as e:
+        raise CampaignError(f"{windrive}: cannot run windrive: {e}") from None
+    return hashlib.sha256((version.strip() + file_digest(Path(windrive))).encode()).hexdigest()
+
+
+def snapshot_windrive(windrive: str, out_dir: Path) -> tuple[str, str]:
+    """A copy of the binary under out_dir/bin/ named by its digest, and the digest. The cases run the
+    copy: a `cargo build` during the campaign replaces target/release/windrive, and the cases after it
+    would run another master than the one their id names. The digest is taken of the copy, so a build
+    finishing while it is made cannot pair one binary's name with another's bytes."""
+    (out_dir / "bin").mkdir(parents=True, exist_ok=True)
+    tmp = out_dir / "bin" / f".windrive.{os.getpid()}.tmp"
+    try:
+        shutil.copy2(windrive, tmp)
+    except OSError as e:
+        raise CampaignError(f"{windrive}: cannot copy windrive: {e.strerror}") from None
+    digest = windrive_digest(str(tmp))
+    target = out_dir / "bin" / f"windrive-{digest[:12]}"
+    tmp.replace(target)  # the same bytes if it was there already
+    return str(target), digest
+
+
+def expand(c: Campaign, scenes: dict[Path, tuple[str, str]], windrive_id: str) -> list[Case]:
+    """Every case of the campaign, DLC 1.2 first (bins ascending, then seeds), then the grid (the
+    cartesian product in the file's order of axes), then the events. `scenes` maps each scene path to
+    its snapshot (path, digest)."""
+
+    def make(name, group, scene, stop_time, transient, params, **weights) -> Case:
+        ssp, digest = scenes[scene]
+        identity = {
+            "scene": digest,
+            "windrive": windrive_id,
+            "stop_time": stop_time,
+            "step": c.step,
+            "params": sorted([k, type(v).__name__, v] for k, v in params.items()),
+        }
+        case_id = hashlib.sha256(json.dumps(identity, sort_keys=True).encode()).hexdigest()[:16]
+        analysis = hashlib.sha256(f"{c.analysis_digest()} {transient!r}".encode()).hexdigest()[:16]
+        return Case(case_id, name, group, ssp, stop_time, transient, c.step, params, analysis, **weights)
+
+    def merge(where: str, *layers: dict) -> dict:
+        out: dict = {}
+        for layer in layers:
+            for k, v in layer.items():
+                if k in out:
+                    raise CampaignError(
+                        f"{c.path}: {where}: parameter {k} is set twice (in params and by the load case)"
+                    )
+                out[k] = v
+        return out
+
+    cases: list[Case] = []
+    if c.dlc12 is not None:
+        d = c.dlc12
+        cl = c.climate
+        for b in climate_mod.wind_bins(d.cut_in, d.cut_out, d.bin_width, cl.k, cl.a):
+            ti = d.turbulence_intensity
+            if ti is None:
+                ti = climate_mod.ntm_turbulence_intensity(b.speed, d.turbulence_class)
+            for seed in d.seeds:
+                own = {
+                    f"{d.rotor}.turbulence": "ntm",
+                    f"{d.rotor}.wind_speed": b.speed,
+                    f"{d.rotor}.seed": seed,
+                    f"{d.rotor}.turbulence_intensity": ti,
+                }
+                cases.append(
+                    make(
+                        f"dlc12-v{b.speed:g}-s{seed}",
+                        "dlc12",
+                        c.scene,
+                        c.stop_time,
+                        c.transient,
+                        merge("dlc12", c.params, d.params, own),
+                        wind_speed=b.speed,
+                        seed=seed,
+                        turbulence_intensity=ti,
+                        probability=b.probability / len(d.seeds),
+                        hours=b.probability / len(d.seeds) * climate_mod.HOURS_PER_YEAR * cl.years,
+                    )
+                )
+    if c.grid:
+        axes = list(c.grid)
+        for values in itertools.product(*(c.grid[a] for a in axes)):
+            point = dict(zip(axes, values))
+            label = ",".join(f"{a.split('.', 1)[1]}={param_text(v)}" for a, v in point.items())
+            cases.append(
+                make(f"grid-{label}", "grid", c.scene, c.stop_time, c.transient, merge("grid", c.params, point))
+            )
+    years = c.climate.years if c.climate is not None else 20.0
+    for e in c.events:
+        cases.append(
+            make(
+                f"event-{e.name}",
+                "event",
+                e.scene,
+                e.stop_time,
+                e.transient,
+                merge(f"event {e.name}", c.params, e.params),
+                events=e.per_year * years,
+            )
+        )
+    seen: dict[str, str] = {}
+    for case in cases:
+        if case.id in seen:
+            raise CampaignError(f"{c.path}: cases {seen[case.id]} and {case.name} are the same simulation")
+        seen[case.id] = case.name
+    return cases
+
+
+def scene_paths(c: Campaign) -> list[Path]:
+    return list(dict.fromkeys([c.scene, *(e.scene for e in c.events)]))

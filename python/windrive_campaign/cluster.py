@@ -1,0 +1,66 @@
+"""Where the cases run: a LocalCluster on this machine (the default), a running dask scheduler
+(`--scheduler ADDRESS`), or Slurm jobs from the campaign's [slurm] profile (`--slurm`).
+
+Every worker has one thread: a case is one `windrive run` subprocess plus a short analysis, so a
+worker's thread waits on its child and one worker per core keeps every core busy. Workers elsewhere than
+this machine need the campaign folder, the scene snapshot and the windrive binary at the same paths (a
+shared file system), and this package on their PYTHONPATH (the Slurm profile exports it). So does a
+scheduler started by hand: it unpickles the tasks, which name this package's functions.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import sys
+from pathlib import Path
+
+from .errors import CampaignError
+from .schema import Slurm
+
+PACKAGE_PARENT = str(Path(__file__).resolve().parents[1])
+
+
+def local(workers: int | None):
+    from distributed import LocalCluster
+
+    n = workers or os.cpu_count() or 1
+    # no dashboard (it needs bokeh, and a port per campaign); the scheduler's logs only on errors
+    return LocalCluster(
+        n_workers=n,
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=None,
+        silence_logs=logging.ERROR,
+    )
+
+
+def slurm(profile: Slurm | None, path: Path):
+    """A dask-jobqueue SLURMCluster from the profile; jobs are submitted when it is scaled."""
+    if profile is None:
+        raise CampaignError(f"{path}: --slurm needs a [slurm] table in the campaign file (docs/CAMPAIGNS.md)")
+    from dask_jobqueue import SLURMCluster
+
+    prologue = [f"export PYTHONPATH={PACKAGE_PARENT}${{PYTHONPATH:+:$PYTHONPATH}}", *profile.job_script_prologue]
+    kwargs = dict(
+        cores=profile.cores,
+        processes=profile.cores,  # one single-threaded worker per core, as locally
+        memory=profile.memory,
+        walltime=profile.walltime,
+        job_extra_directives=list(profile.job_extra_directives),
+        job_script_prologue=prologue,
+        python=profile.python or sys.executable,
+        dashboard_address=None,
+        silence_logs=logging.ERROR,
+    )
+    if profile.queue:
+        kwargs["queue"] = profile.queue
+    if profile.account:
+        kwargs["account"] = profile.account
+    if profile.local_directory:
+        kwargs["local_directory"] = profile.local_directory
+    return SLURMCluster(**kwargs)
+
+
+def total_threads(client) -> int:
+    return sum(w["nthreads"] for w in client.scheduler_info()["workers"].values())
