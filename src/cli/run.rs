@@ -133,10 +133,25 @@ pub fn provide_own_fmus(scene: &Scene, refresh: bool) -> anyhow::Result<()> {
         if let Some(dir) = c.path.parent() {
             std::fs::create_dir_all(dir).with_context(|| dir.display().to_string())?;
         }
-        std::fs::copy(&source, &c.path)
-            .with_context(|| format!("copying {} to {}", source.display(), c.path.display()))?;
+        copy_atomically(&source, &c.path)?;
     }
     Ok(())
+}
+
+/// Copies to a file private to this process and renames it into place: runs of the same scene
+/// started together (a campaign's workers) each open a whole FMU, the old or the new, never one half
+/// written.
+fn copy_atomically(source: &std::path::Path, dest: &std::path::Path) -> anyhow::Result<()> {
+    let name = dest
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = dest.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    let context = || format!("copying {} to {}", source.display(), dest.display());
+    std::fs::copy(source, &tmp).with_context(context)?;
+    std::fs::rename(&tmp, dest)
+        .inspect_err(|_| drop(std::fs::remove_file(&tmp)))
+        .with_context(context)
 }
 
 fn parse_growth(s: &str) -> Result<f64, String> {
