@@ -119,7 +119,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     for _ in 1..REPEATS {
         native_wall = native_wall.min(run_native(&base)?.1);
     }
-    // the FMU computes exactly what the bare model does (checked bit for bit by tests/fmi_state.rs
+    // the FMU computes exactly what the bare model does (checked bit for bit by tests/it/fmi_state.rs
     // and the fmpy comparison), so its accuracy is the bare model's
     let (e_peak, e_rms) = errors(&hss_native, &hss_ref);
 

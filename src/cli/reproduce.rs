@@ -308,7 +308,7 @@ pub fn scene_rows() -> anyhow::Result<Vec<Row>> {
 pub fn table(rows: &[Row]) -> String {
     let mut s = String::from(
         "# The thesis's numbers beside ours\n\nWritten by `windrive reproduce`. \"claimed\" rows are asserted by \
-         tests/reproduction.rs within the tolerance shown; the others are shown with the reason they differ.\n\n\
+         tests/it/reproduction.rs within the tolerance shown; the others are shown with the reason they differ.\n\n\
          | quantity | thesis | where | ours | difference | claimed | reason |\n|---|---|---|---|---|---|---|\n",
     );
     for r in rows {

@@ -334,7 +334,7 @@ mod tests {
 
     /// The converged implicit coupling of an undamped system neither grows nor decays (|λ| = 1 within
     /// 1e-9 from H·ω = 0.04 to 37); the plain iteration's factor passes 1 between H·ω = 1.85 and
-    /// 3.7, where the master's plain iteration stops converging (tests/cosim_master.rs).
+    /// 3.7, where the master's plain iteration stops converging (tests/it/cosim_master.rs).
     #[test]
     fn converged_coupling_is_neutral_and_plain_iteration_fails_where_measured() {
         let s = split(1.0);
@@ -347,7 +347,7 @@ mod tests {
 
     /// Over 10 s (amplitude at most doubled): Gauss–Seidel with hold is stable at 50 ms and unstable
     /// at 100 ms; zero-order-hold Jacobi grows already at 1 ms; linear-extrapolation Jacobi is stable
-    /// at 5 ms and not at 10 ms: the limits the master shows (tests/cosim_master.rs
+    /// at 5 ms and not at 10 ms: the limits the master shows (tests/it/cosim_master.rs
     /// `stability_limits_of_the_coupling_algorithms`). The top coupled mode is the 5.89 Hz one.
     #[test]
     fn limits_match_the_masters() {

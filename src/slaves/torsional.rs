@@ -360,7 +360,7 @@ impl Slave for TorsionalSlave {
 
 /// h·ω_max above which an undamped integrator leaves the top mesh modes ringing into a backlash's dead
 /// zone, as measured with 100 µm: drivetrain C's shutdown rattles at 1 ms (h·ω = 49), not at 0.5 ms
-/// (24); D's does not at 1 ms (30) (docs/SPEED-ACCURACY.md, tests/non_smooth.rs).
+/// (24); D's does not at 1 ms (30) (docs/SPEED-ACCURACY.md, tests/it/non_smooth.rs).
 const RATTLE_H_OMEGA: f64 = 30.0;
 
 impl TorsionalSlave {

@@ -2,7 +2,7 @@
 //! state restored into a fresh instance continues bit-identically, and instances on several threads
 //! are independent.
 
-mod common;
+use crate::common;
 use common::*;
 use windrive::fmi2::import::{Fmu, Instance};
 
@@ -163,7 +163,7 @@ fn states_kept_across_free_instance_leak_nothing() {
         .args([
             "--ignored",
             "--exact",
-            "cycles_keeping_states_across_free_instance",
+            "fmi_state::cycles_keeping_states_across_free_instance",
             "--test-threads=1",
         ])
         .output()

@@ -10,7 +10,7 @@
 //! in normal operation and fall to 2 or fewer when the torque reverses in the shutdown (thesis ch. 7:
 //! 6–7, then 1–2). Back-flank contact in normal operation appears in both models or in neither.
 
-mod common;
+use crate::common;
 
 fn run(scene: &str, component: &str, names: &[&str]) -> Vec<Vec<f64>> {
     let channels: Vec<String> = names.iter().map(|n| format!("{component}.{n}")).collect();

@@ -11,7 +11,7 @@
 //! - the brake locks and stays locked; the generator angle does not creep; the held rotor rocks
 //!   about a fixed angle without drift, and its rocking does not grow.
 
-mod common;
+use crate::common;
 
 use windrive::analysis::metrics::range;
 use windrive::analysis::spectrum::dominant_in_window;

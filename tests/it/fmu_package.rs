@@ -1,6 +1,6 @@
 //! The packed .fmu as users receive it: layout, self-containment, GUID agreement.
 
-mod common;
+use crate::common;
 use common::*;
 
 #[test]

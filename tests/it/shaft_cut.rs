@@ -2,7 +2,7 @@
 //! coupled to convergence it is the uncut model, and on d-shaft-cut the two-mass problem's exact
 //! solution.
 
-mod common;
+use crate::common;
 
 use windrive::analysis::metrics::trajectory_error;
 use windrive::cosim::master::run_columns_with;

@@ -1,7 +1,7 @@
 //! Every error class of the master names what is wrong: scene files, FMUs, connections, types,
 //! algebraic loops, capabilities, and FMUs that fail mid-run (partial CSV kept, exit non-zero).
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

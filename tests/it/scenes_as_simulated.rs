@@ -12,7 +12,7 @@
 //!   feathered blades damp it (docs/AERODYNAMICS.md), its largest speed in the last 2 s is under a
 //!   quarter of that in the first 2 s held (the analytic rotor's barely decays: README).
 
-mod common;
+use crate::common;
 
 use std::f64::consts::PI;
 use windrive::physics::drivetrain::Drivetrain;

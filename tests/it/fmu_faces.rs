@@ -2,7 +2,7 @@
 //! XML's min/max on Real and Integer parameters, refusals that name the variable, input clamping
 //! and input polynomials.
 
-mod common;
+use crate::common;
 
 use common::Recorder;
 use windrive::fmi2::slave::{NoLog, Slave};

@@ -3,7 +3,7 @@
 //! convergence orders, and where each algorithm goes unstable. Every run is deterministic (same
 //! calls, same bits), so the thresholds below are margins around measured values, not noise bands.
 
-mod common;
+use crate::common;
 
 use windrive::cosim::{Algorithm, Options};
 use windrive::reference::grid_step::compare as run_grid_step;

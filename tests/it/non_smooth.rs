@@ -2,7 +2,7 @@
 //! standstill, and the meshes' backlash under torque reversal (`windrive chart non-smooth` runs the
 //! full grid; docs/SPEED-ACCURACY.md).
 
-mod common;
+use crate::common;
 
 use windrive::cosim::master::run_columns_with;
 use windrive::cosim::{Algorithm, Options, Scene};

@@ -9,7 +9,7 @@
 //! (docs/FMU-BOUNDARY.md).
 //! A failure names the FMU, the sequence's seed and the call.
 
-mod common;
+use crate::common;
 use common::*;
 use std::time::Duration;
 use windrive::fmi2::import::{Fmu, ImportError, Instance, SavedState};

@@ -5,7 +5,7 @@
 //! the instance refuses every later call. The crash of a third-party FMU mid-run, with every row
 //! kept, is in tests/python/test_master.py.
 
-mod common;
+use crate::common;
 
 use common::{fmu_path, scene_copy};
 use std::path::Path;

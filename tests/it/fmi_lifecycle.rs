@@ -1,7 +1,7 @@
 //! Every FMU through whole life cycles (issue 16): under valgrind, cycles of each lose no byte; on
 //! several threads, instances give bit for bit what one instance alone gives.
 
-mod common;
+use crate::common;
 use common::*;
 use windrive::fmi2::import::{Fmu, Instance};
 
@@ -99,7 +99,12 @@ fn full_life_cycles_lose_no_byte() {
             "--quiet",
         ])
         .arg(&exe)
-        .args(["--ignored", "--exact", "full_life_cycles", "--test-threads=1"])
+        .args([
+            "--ignored",
+            "--exact",
+            "fmi_lifecycle::full_life_cycles",
+            "--test-threads=1",
+        ])
         .output()
         .expect("valgrind runs (apt install valgrind)");
     let report = String::from_utf8_lossy(&out.stderr);

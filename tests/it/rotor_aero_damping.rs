@@ -20,7 +20,7 @@
 //! out the small coupling of the other modes; each is a few per cent. The analytic C_p, which has no
 //! blade, gives the held rotor no damping: its decrement must stay below a tenth of the hand value.
 
-mod common;
+use crate::common;
 
 use windrive::cosim::{Algorithm, Master, Options, Record, Scene, System};
 use windrive::physics::aero::AIR_DENSITY;

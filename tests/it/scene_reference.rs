@@ -2,7 +2,7 @@
 //! and the co-simulation converging to it as the macro step shrinks; `windrive chart work-precision`
 //! and `windrive fidelity` through the command line.
 
-mod common;
+use crate::common;
 
 use windrive::analysis::quantities::{self, relative_error};
 use windrive::cosim::{Algorithm, Options, Scene};

@@ -1,7 +1,7 @@
 //! Every bad-input class of the export layer, called through the real C boundary of the packed FMU:
 //! each answers an error status (never a crash) and logs a message naming the problem.
 
-mod common;
+use crate::common;
 use common::*;
 use std::ffi::{CString, c_int};
 use std::ptr::{null, null_mut};

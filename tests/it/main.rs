@@ -1,0 +1,29 @@
+//! Every Rust integration test in one binary: one crate to compile and one (thin-LTO) link instead of
+//! one per file, which took most of the test suite's build time on a 2-core machine. Each file is a
+//! module; `cargo test --release --test it MODULE::` runs one of them.
+
+mod common;
+mod cosim_errors;
+mod cosim_master;
+mod fmi_bad_input;
+mod fmi_fuzz;
+mod fmi_lifecycle;
+mod fmi_state;
+mod fmu_faces;
+mod fmu_package;
+mod gearbox_bearing;
+mod gearbox_lamina;
+mod gearbox_model;
+mod gearbox_scene;
+mod import_hostile;
+mod isolate;
+mod non_smooth;
+mod physics_modes;
+mod reproduction;
+mod rotor_aero_damping;
+mod scene_reference;
+mod scenes_as_simulated;
+mod scenes_thesis;
+mod shaft_cut;
+mod solver_zoo;
+mod torsional_dynamics;
