@@ -14,4 +14,6 @@ result file per case, then one Parquet table per campaign. Modules, one job each
 - store:    result files on disk and the campaign's Parquet table
 - cluster:  LocalCluster, a running scheduler, or the SLURM profile
 - driver:   submit, progress, resume, cost
+- lifetime: the design life's damage sums, DELs, shares and LDD from the table (issue 15 §2)
+- report:   `report`: lifetime.csv/.json/_ldd.csv, the bar chart and the printed table
 """

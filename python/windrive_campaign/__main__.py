@@ -1,4 +1,4 @@
-"""Command line: `python -m windrive_campaign run|cases|job-script CAMPAIGN.toml` (scripts/campaign
+"""Command line: `python -m windrive_campaign run|cases|job-script|report CAMPAIGN.toml` (scripts/campaign
 wraps it with the virtual environment and the windrive build)."""
 
 from __future__ import annotations
@@ -29,8 +29,18 @@ examples (from the repository's root):
       on a running dask cluster (docs/CAMPAIGNS.md: starting one; the same paths on every worker)
   scripts/campaign job-script campaigns/c-dlc12.toml
       the Slurm job script its [slurm] profile submits with --slurm
+  scripts/campaign report campaigns/c-dlc12.toml
+      its lifetime report (after run): lifetime.csv/.json/_ldd.csv/.png in results/campaigns/c-dlc12/
 
 The campaign file's keys: docs/CAMPAIGNS.md.
+"""
+
+REPORT_EPILOG = """\
+examples (from the repository's root):
+  scripts/campaign run campaigns/c-dlc12.toml && scripts/campaign report campaigns/c-dlc12.toml
+      DLC 1.2 + a shutdown, then its 20-year report in results/campaigns/c-dlc12/
+  scripts/campaign report results/campaigns/c-dlc12 --out /tmp/c-dlc12-life
+      the same report from the folder, written elsewhere
 """
 
 
@@ -62,10 +72,25 @@ def main(argv=None) -> int:
     c.add_argument("--windrive", help="windrive binary [default: $WINDRIVE or target/release/windrive]")
     j = sub.add_parser("job-script", help="print the Slurm job script of the [slurm] profile")
     j.add_argument("campaign", type=Path)
+    rep = sub.add_parser(
+        "report",
+        help="the lifetime report of a finished campaign: damage, lifetime DELs, shares, LDD, chart",
+        description="Lifetime damage sums and DELs per channel and Wöhler slope, each load-case group's "
+        "share, the lifetime LDD and the thesis's DEL ratios, from a campaign's table (docs/CAMPAIGNS.md, "
+        "Lifetime report). Exit status 1 when some cases are pending or failed (they are left out).",
+        epilog=REPORT_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    rep.add_argument("campaign", type=Path, help="campaign folder, its .parquet table, or the campaign file")
+    rep.add_argument("--out", type=Path, help="folder for the report files [default: the campaign folder]")
     args = p.parse_args(argv)
     try:
         if args.command == "run" and args.workers is not None and args.workers < 1:
             raise CampaignError(f"--workers {args.workers}: at least 1")
+        if args.command == "report":
+            from . import report  # pandas and matplotlib: only the report pays their import time
+
+            return report.report(args.campaign, args.out)
         campaign = schema.load(args.campaign)
         if args.command == "job-script":
             cluster = cluster_mod.slurm(campaign.slurm, campaign.path)
