@@ -15,23 +15,7 @@ use std::time::Duration;
 use windrive::fmi2::import::{Fmu, ImportError, Instance, SavedState};
 use windrive::fmi2::types::Fmi2Status;
 
-/// xorshift64*: every sequence is reproducible from its seed.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-    fn pick<T: Copy>(&mut self, xs: &[T]) -> T {
-        xs[self.below(xs.len())]
-    }
-}
+use crate::common::Rng;
 
 const REALS: [f64; 14] = [
     0.0,

@@ -88,32 +88,8 @@ fn full_life_cycles() {
 /// write.
 #[test]
 fn full_life_cycles_lose_no_byte() {
-    let exe = std::env::current_exe().unwrap();
-    let out = std::process::Command::new("valgrind")
-        .args([
-            "--leak-check=full",
-            "--errors-for-leak-kinds=definite,indirect",
-            "--error-exitcode=9",
-            // leaks and invalid accesses are the question; libm's `floor` trips definedness tracking
-            "--undef-value-errors=no",
-            "--quiet",
-        ])
-        .arg(&exe)
-        .args([
-            "--ignored",
-            "--exact",
-            "fmi_lifecycle::full_life_cycles",
-            "--test-threads=1",
-        ])
-        .output()
-        .expect("valgrind runs (apt install valgrind)");
-    let report = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "valgrind found leaks or errors:\n{report}");
-    assert!(
-        String::from_utf8_lossy(&out.stdout).contains("1 passed"),
-        "the cycles did not run:\n{}",
-        String::from_utf8_lossy(&out.stdout)
-    );
+    let stdout = crate::common::valgrind_clean("fmi_lifecycle::full_life_cycles");
+    assert!(stdout.contains("1 passed"), "the cycles did not run:\n{stdout}");
 }
 
 #[test]

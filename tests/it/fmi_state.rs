@@ -149,27 +149,7 @@ fn cycles_keeping_states_across_free_instance() {
 /// (torsional) and 6.5 kB (generator).
 #[test]
 fn states_kept_across_free_instance_leak_nothing() {
-    let exe = std::env::current_exe().unwrap();
-    let out = std::process::Command::new("valgrind")
-        .args([
-            "--leak-check=full",
-            "--errors-for-leak-kinds=definite,indirect",
-            "--error-exitcode=9",
-            // leaks are the question here; libm's `floor` trips valgrind's definedness tracking
-            "--undef-value-errors=no",
-            "--quiet",
-        ])
-        .arg(&exe)
-        .args([
-            "--ignored",
-            "--exact",
-            "fmi_state::cycles_keeping_states_across_free_instance",
-            "--test-threads=1",
-        ])
-        .output()
-        .expect("valgrind runs (apt install valgrind)");
-    let report = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "valgrind found leaks or errors:\n{report}");
+    crate::common::valgrind_clean("fmi_state::cycles_keeping_states_across_free_instance");
 }
 
 #[test]

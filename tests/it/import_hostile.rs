@@ -292,19 +292,7 @@ fn deeply_nested_xml_is_refused_without_exhausting_the_stack() {
     let _ = windrive::fmi2::description::ModelDescription::parse(&md);
 }
 
-/// xorshift64*: the mutations are the same on every run (a failure names its seed).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
+use crate::common::Rng;
 
 /// `text` with a few bytes flipped, deleted, duplicated or replaced by XML-ish fragments.
 fn mutate(text: &[u8], rng: &mut Rng) -> Vec<u8> {
