@@ -783,10 +783,10 @@ impl TorsionalModel {
             }
             Section::Drivetrain => {
                 let shift = |d: usize| d - usize::from(d > rotor);
-                let first_ratio = self.speed_ratio[if rotor == 0 { 1 } else { 0 }];
                 self.mass.remove(rotor);
                 self.dof_names.remove(rotor);
                 self.speed_ratio.remove(rotor);
+                let first_ratio = self.speed_ratio[0];
                 let mut loads = vec![InputLoad {
                     input: INPUT_GENERATOR_TORQUE,
                     dof: shift(self.generator),

@@ -8,16 +8,14 @@ use crate::slaves::torsional::Params;
 /// Rotor torque the scene applies at t = 0, N·m (scenes/d-shaft-cut/rotor.ssv).
 pub const ROTOR_TORQUE: f64 = 385_000.0;
 
-/// The parameters of the scene's two torsional FMUs (rotor.ssv, drivetrain.ssv): drivetrain D,
-/// 2-mass, undamped, with every shaft's stiffness scaled by `stiffness_scale`.
+/// The parameters of the scene's two torsional FMUs (rotor.ssv, drivetrain.ssv): d-grid-step's
+/// drivetrain (D, 2-mass, undamped) cut in two, with every shaft's stiffness scaled by
+/// `stiffness_scale`.
 pub fn params(stiffness_scale: f64) -> (Params, Params) {
     let section = |name: &str| Params {
-        preset: "D".into(),
-        fidelity: "2".into(),
         section: name.into(),
-        damping_scale: 0.0,
         shaft_stiffness_scale: stiffness_scale,
-        ..Params::default()
+        ..super::grid_step::torsional_params()
     };
     (section("rotor"), section("drivetrain"))
 }

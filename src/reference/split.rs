@@ -16,7 +16,9 @@
 //! stepped (Gauss–Seidel) it is held at the new value (order 0) or interpolated linearly from the
 //! old to the new (order ≥ 1); the converged iterative step interpolates every input linearly.
 
-use crate::physics::torsional::{INPUT_CUT_ANGLE, INPUT_CUT_SPEED, INPUT_GENERATOR_TORQUE, TorsionalModel};
+use crate::physics::torsional::{
+    INPUT_CUT_ANGLE, INPUT_CUT_SPEED, INPUT_CUT_TORQUE, INPUT_GENERATOR_TORQUE, TorsionalModel,
+};
 use crate::solver::SecondOrderSystem;
 use nalgebra::{DMatrix, DVector};
 
@@ -181,7 +183,7 @@ impl Split {
     pub fn shaft_cut(rotor: &TorsionalModel, drivetrain: &TorsionalModel) -> Self {
         let lss = drivetrain.shafts[0].expect("a drivetrain has an LSS");
         Self {
-            first: Unit::mechanical(rotor, crate::physics::torsional::INPUT_CUT_TORQUE, 0),
+            first: Unit::mechanical(rotor, INPUT_CUT_TORQUE, 0),
             second: Unit::cut_drivetrain(drivetrain),
             stiffness: drivetrain.elements[lss.element].stiffness,
         }

@@ -201,11 +201,13 @@ impl TorsionalSlave {
         }
     }
 
-    fn element_output(&self, out: Option<crate::physics::torsional::ForceOutput>) -> f64 {
-        let (Some(b), Some(st)) = (&self.built, &self.state) else {
-            return 0.0;
-        };
-        b.model.element_output(out, &st.q, &st.v, self.cut())
+    fn element_output(
+        built: &Built,
+        st: &DynState,
+        cut: (f64, f64),
+        out: Option<crate::physics::torsional::ForceOutput>,
+    ) -> f64 {
+        built.model.element_output(out, &st.q, &st.v, cut)
     }
 
     /// The cut's angle and speed now (section = drivetrain; unused by the other sections).
@@ -275,11 +277,8 @@ impl Slave for TorsionalSlave {
         if let Some(v) = xml::get_real(&self.params, &self.inputs, r) {
             return Ok(v);
         }
-        self.ensure()?;
         let cut = self.cut();
-        let (Some(b), Some(st)) = (&self.built, &self.state) else {
-            unreachable!("ensure built the model and its state")
-        };
+        let (b, st) = self.ensure()?;
         let body = |slot: u32, speed: bool| {
             b.model.bodies[slot as usize].map_or(0.0, |(d, f)| f * if speed { st.v[d] } else { st.q[d] })
         };
@@ -290,14 +289,14 @@ impl Slave for TorsionalSlave {
             vr::RK4_STEP_LIMIT => b.rk4_step_limit,
             vr::ROTOR_SPEED => body(0, true),
             vr::GENERATOR_SPEED => body(BODY_COUNT - 1, true),
-            vr::LSS_TORQUE => self.element_output(b.model.shafts[0]),
-            vr::IS1_TORQUE => self.element_output(b.model.shafts[1]),
-            vr::IS2_TORQUE => self.element_output(b.model.shafts[2]),
-            vr::HSS_TORQUE => self.element_output(b.model.shafts[3]),
+            vr::LSS_TORQUE => Self::element_output(b, st, cut, b.model.shafts[0]),
+            vr::IS1_TORQUE => Self::element_output(b, st, cut, b.model.shafts[1]),
+            vr::IS2_TORQUE => Self::element_output(b, st, cut, b.model.shafts[2]),
+            vr::HSS_TORQUE => Self::element_output(b, st, cut, b.model.shafts[3]),
             vr::BRAKE_TORQUE => -st.friction_force,
             vr::STORED_ENERGY => b.model.stored_energy(&st.q, &st.v, cut),
             r if (MESH_FIRST..MESH_FIRST + MESH_COUNT).contains(&r) => {
-                self.element_output(b.model.meshes[(r - MESH_FIRST) as usize])
+                Self::element_output(b, st, cut, b.model.meshes[(r - MESH_FIRST) as usize])
             }
             r if (ANGLE_FIRST..ANGLE_FIRST + BODY_COUNT).contains(&r) => body(r - ANGLE_FIRST, false),
             r if (SPEED_FIRST..SPEED_FIRST + BODY_COUNT).contains(&r) => body(r - SPEED_FIRST, true),

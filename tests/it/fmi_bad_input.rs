@@ -496,11 +496,20 @@ fn no_rotor_parameter_combination_panics() {
 
 /// Inputs at 1e300 drive a model's outputs out of range: whatever an FMU then returns with OK is
 /// finite, and a non-finite output is an error naming the variable (the generator returned
-/// stored_energy = inf and electrical_power = −inf with OK).
+/// stored_energy = inf and electrical_power = −inf with OK). The torsional FMU also in its two cut
+/// sections, where `cut_speed` and `cut_torque` drive the model.
 #[test]
 fn non_finite_outputs_are_errors_naming_the_variable() {
     let mut refused = 0;
-    for name in ["torsional", "rotor", "generator", "gearbox6dof"] {
+    let cases: [(&str, &[(&str, &str)]); 6] = [
+        ("torsional", &[]),
+        ("torsional", &[("section", "rotor")]),
+        ("torsional", &[("section", "drivetrain")]),
+        ("rotor", &[]),
+        ("generator", &[]),
+        ("gearbox6dof", &[]),
+    ];
+    for (name, strings) in cases {
         let fmu = Fmu::open(&fmu_path(name)).unwrap();
         let vars = &fmu.description.model_variables.variables;
         let inputs: Vec<u32> = vars
@@ -513,7 +522,7 @@ fn non_finite_outputs_are_errors_naming_the_variable() {
             .filter(|v| v.causality == "output" && v.real.is_some())
             .map(|v| (v.name.as_str(), v.value_reference))
             .collect();
-        let mut inst = initialised(&fmu, &[], &[]);
+        let mut inst = initialised(&fmu, strings, &[]);
         for &vr in &inputs {
             let _ = inst.set_real(&[vr], &[1e300]);
         }
