@@ -8,6 +8,7 @@ pub mod calibration;
 pub mod campbell;
 pub mod damage;
 pub mod gear;
+pub mod gear_set;
 /// Hertz contact is physics the gearbox model evaluates too; the analysis reads it from there.
 pub use crate::physics::hertz;
 pub mod ldd;

@@ -16,7 +16,7 @@ pub struct AeroArgs {
     /// Blade data: a folder under fmus/rotor/resources/blades/ or a path to one
     #[arg(long, default_value = "windpact-1.5mw")]
     pub blade: String,
-    /// Scale the blade to this drivetrain preset's rotor (A, B, C or D) and fit its rated point
+    /// Scale the blade to this drivetrain preset's rotor (A, B, C, D or P) and fit its rated point
     #[arg(long, conflicts_with = "radius")]
     pub preset: Option<String>,
     /// Scale the blade to this tip radius [m] (default: the blade as stored)
@@ -76,7 +76,7 @@ pub fn run(args: &AeroArgs) -> anyhow::Result<()> {
     let dir = blade_dir(&args.blade)?;
     let reference = Blade::load(&dir).with_context(|| format!("loading blade {:?}", args.blade))?;
     let drivetrain = match &args.preset {
-        Some(p) => Some(Drivetrain::preset(p).ok_or_else(|| anyhow!("unknown --preset {p:?}: use A, B, C or D"))?),
+        Some(p) => Some(Drivetrain::preset(p).ok_or_else(|| anyhow!("unknown --preset {p:?}: use A, B, C, D or P"))?),
         None => None,
     };
     let radius = match (&drivetrain, args.radius) {

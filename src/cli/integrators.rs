@@ -36,7 +36,7 @@ const STEPS: usize = 4000;
 
 /// The preset with every gear mesh's stiffness times `scale`.
 fn with_mesh_stiffness(preset: &str, scale: f64) -> anyhow::Result<Drivetrain> {
-    let mut dt = Drivetrain::preset(preset).ok_or_else(|| anyhow!("unknown preset {preset:?}: use A, B, C or D"))?;
+    let mut dt = Drivetrain::preset(preset).ok_or_else(|| anyhow!("unknown preset {preset:?}: use A, B, C, D or P"))?;
     for stage in &mut dt.stages {
         match stage {
             Stage::Planetary(p) => {

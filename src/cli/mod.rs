@@ -10,6 +10,7 @@ pub mod fatigue;
 pub mod fidelity;
 pub mod gearbox;
 pub mod gearbox_bench;
+pub mod gears;
 pub mod integrators;
 pub mod isolate_bench;
 pub mod life;
@@ -111,6 +112,20 @@ pub enum Command {
     /// from the wind climate, shutdowns per year, lifetime DELs with the shutdowns' share, and with
     /// --gear the ISO 6336 flank and root stresses, allowables and Miner damage.
     Life(Box<life::LifeArgs>),
+    /// Every gear tooth of a gearbox rated from one series, as the paper does it (seed 004 §1.3).
+    ///
+    /// Per tooth: ISO 6336-2 contact and ISO 6336-3 root stress from the mesh force (nominal, no load
+    /// factors, as the paper's Eqs. 2–3), load cycles from the speeds (its Eq. 1), a two-slope S-N curve
+    /// per material (ISO 6336-5 MQ; second slope 2m − 1), Miner's sum in the window and per day (the
+    /// window's damage repeated over 86 400 s). Sun and ring teeth see every planet; planets bend both
+    /// ways (Y_M = 0.7) and have a flank against the sun (ps) and one against the ring (pr).
+    ///
+    /// Examples:
+    ///   windrive run scenes/p-normal --out p.csv
+    ///   windrive gears p.csv --transient 20
+    ///   windrive gears p.csv --transient 20 --json
+    #[command(verbatim_doc_comment)]
+    Gears(gears::GearsArgs),
     /// Runs an SSP scene (folder, .ssd or .ssp) through the co-simulation master and writes a CSV.
     ///
     /// Loads every component's FMU (ours or another tool's), checks the system (names, types,

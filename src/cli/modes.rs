@@ -36,7 +36,7 @@ pub struct ModesArgs {
 }
 
 pub fn compute(preset: &str, fidelity: &str, generator: &str, lumping: &str) -> anyhow::Result<(Drivetrain, Modes)> {
-    let dt = Drivetrain::preset(preset).ok_or_else(|| anyhow!("unknown preset {preset:?}: use A, B, C or D"))?;
+    let dt = Drivetrain::preset(preset).ok_or_else(|| anyhow!("unknown preset {preset:?}: use A, B, C, D or P"))?;
     let f = Fidelity::parse(fidelity).ok_or_else(|| anyhow!("unknown fidelity {fidelity:?}: use 2, 5 or full"))?;
     let b = Boundary::parse(generator)
         .ok_or_else(|| anyhow!("unknown --generator {generator:?}: use connected, disconnected or locked"))?;

@@ -60,7 +60,7 @@ fn run_scene(dir: &Path, csv: &Path, overrides: &[(String, String, String)]) -> 
 pub fn run(args: &ShutdownArgs) -> anyhow::Result<()> {
     let preset = args.preset.trim().to_ascii_uppercase();
     let drivetrain =
-        Drivetrain::preset(&preset).with_context(|| format!("unknown preset {preset:?}: use A, B, C or D"))?;
+        Drivetrain::preset(&preset).with_context(|| format!("unknown preset {preset:?}: use A, B, C, D or P"))?;
     let root = crate::pack::workspace_root()?;
     let lower = preset.to_ascii_lowercase();
     let suffix = if args.spring { "-spring" } else { "" };

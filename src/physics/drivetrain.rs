@@ -116,18 +116,21 @@ impl Drivetrain {
         self.rated_rotor_torque() / self.gear_ratio()
     }
 
-    /// Looks up a preset by name (case-insensitive): A, B, C or D.
+    /// Looks up a preset by name (case-insensitive): A, B, C, D or P.
     pub fn preset(name: &str) -> Option<Drivetrain> {
         match name.trim().to_ascii_uppercase().as_str() {
             "A" => Some(preset_a()),
             "B" => Some(preset_b()),
             "C" => Some(preset_c()),
             "D" => Some(preset_d()),
+            "P" => Some(preset_p()),
             _ => None,
         }
     }
 }
 
+/// The thesis's drivetrains (Table 4.1). [`preset_p`], the paper's turbine, is not among them: the
+/// thesis tables (4.1, 4.6, 3.1) and the checks against them do not apply to it.
 pub const PRESETS: [&str; 4] = ["A", "B", "C", "D"];
 
 /// Rated generator speeds of A–D, rpm (thesis Table 4.6). The presets' rated rotor speeds are these over
@@ -150,12 +153,15 @@ fn with_generator_rated_speed(mut dt: Drivetrain) -> Drivetrain {
     dt
 }
 
-/// Rotor speed range (min, max) of a preset in rpm (thesis Table 3.1 / 4.1; PARAMETERS.md §1).
+/// Rotor speed range (min, max) of a preset in rpm (thesis Table 3.1 / 4.1; PARAMETERS.md §1; P: an
+/// estimate).
 pub fn operating_speed_range_rpm(name: &str) -> Option<(f64, f64)> {
     match name.trim().to_ascii_uppercase().as_str() {
         "A" | "B" => Some((8.6, 18.4)),
         "C" => Some((10.8, 19.1)),
         "D" => Some((14.8, 22.1)),
+        // the paper gives none: C's minimum and maximum over its rated speed (0.59, 1.04) at 17.5 rpm
+        "P" => Some((10.3, 18.3)),
         _ => None,
     }
 }
@@ -342,4 +348,130 @@ pub fn preset_d() -> Drivetrain {
         k_generator: 2.81e4,
         k_generator_estimated: false,
     })
+}
+
+/// Density of gear steel, kg/m³ (the gearbox6dof presets' value).
+const STEEL_DENSITY: f64 = 7850.0;
+
+/// Estimated inertia and mass of a gear as a solid steel cylinder of its reference diameter and face
+/// width: (J = ρπb d⁴/32, m = ρπb d²/4). The paper's gearbox6dof preset estimates its bodies the same way.
+fn solid_gear(z: u32, module: f64, helix_deg: f64, face_width: f64) -> (f64, f64) {
+    let d = f64::from(z) * module / helix_deg.to_radians().cos();
+    let area = std::f64::consts::PI * d * d / 4.0;
+    (
+        STEEL_DENSITY * area * face_width * d * d / 8.0,
+        STEEL_DENSITY * area * face_width,
+    )
+}
+
+/// Linear mesh stiffness, N/m, of an impact contact F = k·δ^e at force F: dF/dδ = e·k^(1/e)·F^(1−1/e).
+fn impact_tangent_stiffness(k: f64, exponent: f64, force: f64) -> f64 {
+    exponent * k.powf(1.0 / exponent) * force.powf(1.0 - 1.0 / exponent)
+}
+
+/// Drivetrain P: the paper's 1.5 MW turbine (shared seed 004, PARAMETERS.md §8): Table 2's rotor and
+/// generator inertias and main shaft (5e9 N·m/rad, 1e7 N·m·s/rad), Table 4's gears, 17.5 rpm rated.
+///
+/// Rated power is the rotor's 1.65 MW: the paper's mean power "stays constant (almost 1650 kW)" above
+/// rated wind (its Fig. 3), the 1.5 MW nameplate being the grid's side of the generator's and
+/// converter's losses, which our lossless models do not have. The WindPACT 1.5 MW blade at 35 m then
+/// reaches it at 11.65 m/s, where the paper places its rated wind ("slightly higher than 11.5 m/s
+/// (possibly 11.6 m/s)"); with 1.5 MW it would at 11.18 m/s.
+///
+/// Estimates, because the paper's ADAMS model is of rigid bodies joined by contact elements:
+/// - gear inertias: solid steel cylinders of reference diameter and face width; each carrier 250 / 60
+///   kg·m² (the gearbox6dof preset's estimates) plus its planets' orbiting mass m·a²;
+/// - mesh stiffness: Table 5's impact law F = k·δ^1.5 (k in N/mm^1.5, as the gearbox6dof preset reads
+///   it) linearised at rated torque; damping from the mesh damping ratio, as for A–C;
+/// - the shafts between stages (3e8, 5e7 N·m/rad) and the HSS with its coupling (2e6 N·m/rad): the
+///   gearbox6dof preset's estimates;
+/// - the ratio from the teeth is 100.84, the paper's Table 2 says 100.75 (0.09 % apart).
+pub fn preset_p() -> Drivetrain {
+    let rated_power = 1.65e6;
+    let rated_rotor_speed = rpm(17.5);
+    let rated_torque = rated_power / rated_rotor_speed;
+    // k of Table 5 in N/mm^1.5 → N/m^1.5
+    let k_si = |k: f64| k * 1000f64.powf(1.5);
+    let stage1 = geometry(14.0, 0.0, false);
+    let stage2 = geometry(9.0, 0.0, false);
+    let stage3 = geometry(6.0, 12.0, false);
+    let planetary_stage =
+        |z: (u32, u32, u32), g: Geometry, faces: (f64, f64), carrier: f64, k_sp: f64, k_rp: f64, torque: f64| {
+            let (j_sun, _) = solid_gear(z.0, g.module, 0.0, faces.0);
+            let (j_planet, m_planet) = solid_gear(z.1, g.module, 0.0, faces.1);
+            let orbit = 0.5 * f64::from(z.0 + z.1) * g.module;
+            let (r_s, r_p) = (g.base_radius(z.0), g.base_radius(z.1));
+            // per mesh along the line of action: carrier torque T = 3 · 2F · (r_s + r_p)
+            let force = torque / (6.0 * (r_s + r_p));
+            Stage::Planetary(Planetary {
+                z_sun: z.0,
+                z_planet: z.1,
+                z_ring: z.2,
+                planets: 3,
+                j_carrier: carrier + 3.0 * m_planet * orbit * orbit,
+                j_planet,
+                j_sun,
+                // torsional stiffness referred to the sun base radius
+                k_ring_planet: impact_tangent_stiffness(k_si(k_rp), 1.5, force) * r_s * r_s,
+                k_sun_planet: impact_tangent_stiffness(k_si(k_sp), 1.5, force) * r_s * r_s,
+                c_ring_planet: None,
+                c_sun_planet: None,
+                geometry: g,
+            })
+        };
+    let s1 = planetary_stage((23, 34, 91), stage1, (0.38, 0.38), 250.0, 9.6e5, 1.3e6, rated_torque);
+    let t2 = rated_torque / s1.ratio();
+    let s2 = planetary_stage((25, 45, 116), stage2, (0.18, 0.18), 60.0, 8e5, 1.1e6, t2);
+    let t3 = t2 / s2.ratio();
+    let (j_gear, _) = solid_gear(101, stage3.module, 12.0, 0.18);
+    let (j_pinion, _) = solid_gear(28, stage3.module, 12.0, 0.19);
+    let (r_g, r_pin) = (stage3.base_radius(101), stage3.base_radius(28));
+    let k3 = impact_tangent_stiffness(k_si(8e5), 1.5, t3 / r_g) * r_pin * r_pin;
+    let s3 = parallel(101, 28, j_gear, j_pinion, k3, stage3);
+    let mut dt = Drivetrain {
+        name: "P".into(),
+        rated_power,
+        rated_rotor_speed,
+        j_rotor: 3.0854e6,
+        j_generator: 53.036,
+        stages: vec![s1, s2, s3],
+        shafts: vec![
+            Shaft {
+                stiffness: 5e9,
+                damping: Some(1e7),
+            },
+            shaft(3e8),
+            shaft(5e7),
+            shaft(2e6),
+        ],
+        k_generator: 0.0,
+        k_generator_estimated: true,
+    };
+    dt.k_generator = estimated_k_generator(&dt);
+    dt
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Preset P from the paper's Tables 2 and 4: the ratio from the teeth within 0.1 % of the printed
+    /// 100.75, the rated torque of 1650 kW at 17.5 rpm, and the linearised impact contact: the tangent
+    /// of F = k·δ^1.5 at rated force equals a finite difference of the law.
+    #[test]
+    fn paper_preset() {
+        let p = Drivetrain::preset("p").unwrap();
+        assert!((p.gear_ratio() / 100.75 - 1.0).abs() < 1e-3, "{}", p.gear_ratio());
+        assert!((p.rated_rotor_torque() - 1.65e6 / rpm(17.5)).abs() < 1e-6);
+        assert_eq!((p.j_rotor, p.j_generator), (3.0854e6, 53.036));
+        let (k, e, f): (f64, f64, f64) = (3.04e10, 1.5, 3.7e5);
+        let delta = (f / k).powf(1.0 / e);
+        let h = delta * 1e-6;
+        let fd = (k * (delta + h).powf(e) - k * (delta - h).powf(e)) / (2.0 * h);
+        assert!((impact_tangent_stiffness(k, e, f) / fd - 1.0).abs() < 1e-8);
+        // a solid cylinder: J = m d²/8
+        let (j, m) = solid_gear(34, 0.014, 0.0, 0.38);
+        assert!((j / (m * 0.476f64.powi(2) / 8.0) - 1.0).abs() < 1e-12);
+        assert!(!PRESETS.contains(&"P") && operating_speed_range_rpm("P").is_some());
+    }
 }

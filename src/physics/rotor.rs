@@ -310,7 +310,7 @@ fn design_tip_speed_ratio() -> f64 {
     c.rated_rotor_speed * RADIUS_C / v
 }
 
-/// Preset rotor (radius, hub height), m. C: the thesis's 80 m rotor. A, B, D: the radius at which the
+/// Preset rotor (radius, hub height), m. C: the thesis's 80 m rotor; P: the paper's 70 m rotor. A, B, D: the radius at which the
 /// analytic C_p gives rated power at rated speed at C's rated tip-speed ratio (6.69). D's real NM48
 /// rotor is 48.2 m but stall-regulated, which this C_p does not describe. Hub heights are estimates.
 pub fn preset_rotor(d: &Drivetrain, name: &str) -> (f64, f64) {
@@ -321,6 +321,10 @@ pub fn preset_rotor(d: &Drivetrain, name: &str) -> (f64, f64) {
     };
     if name.trim().eq_ignore_ascii_case("C") {
         return (RADIUS_C, hub);
+    }
+    // the paper's turbine: 70 m rotor, 80 m hub (seed 004 Table 1)
+    if name.trim().eq_ignore_ascii_case("P") {
+        return (35.0, 80.0);
     }
     // P = ½ρπR²V³C_p with V = ωR/λ  ⇒  R⁵ = 2P / (ρπ C_p (ω/λ)³)
     let lambda = design_tip_speed_ratio();

@@ -232,7 +232,11 @@ impl Params {
                 None
             } else {
                 let d = Drivetrain::preset(source_preset).ok_or_else(|| {
-                    ParameterError::invalid("source_preset", &source_preset, "use A, B, C or D (or leave it empty)")
+                    ParameterError::invalid(
+                        "source_preset",
+                        &source_preset,
+                        "use A, B, C, D or P (or leave it empty)",
+                    )
                 })?;
                 Some((d, source_preset.to_string()))
             },
@@ -244,7 +248,7 @@ impl Params {
         let choices = self.choices()?;
         let preset = self.preset.as_str();
         let drivetrain = Drivetrain::preset(preset)
-            .ok_or_else(|| ParameterError::invalid("preset", &preset, "unknown drivetrain, use A, B, C or D"))?;
+            .ok_or_else(|| ParameterError::invalid("preset", &preset, "unknown drivetrain, use A, B, C, D or P"))?;
         if !matches!(self.mode.trim(), "aero" | "playback") {
             return Err(ParameterError::invalid("mode", &self.mode.trim(), "use aero or playback").into());
         }

@@ -71,8 +71,9 @@ fn implicit_driver() -> Driver {
 
 impl Params {
     pub fn build(&self) -> SlaveResult<Built> {
-        let drivetrain = Drivetrain::preset(&self.preset)
-            .ok_or_else(|| ParameterError::invalid("preset", &self.preset, "unknown drivetrain, use A, B, C or D"))?;
+        let drivetrain = Drivetrain::preset(&self.preset).ok_or_else(|| {
+            ParameterError::invalid("preset", &self.preset, "unknown drivetrain, use A, B, C, D or P")
+        })?;
         let fidelity = Fidelity::parse(&self.fidelity)
             .ok_or_else(|| ParameterError::invalid("fidelity", &self.fidelity, "use 2, 5 or full"))?;
         let lumping = Lumping::parse(&self.lumping)

@@ -18,6 +18,7 @@ mod gearbox_scene;
 mod import_hostile;
 mod isolate;
 mod non_smooth;
+mod paper_turbine;
 mod physics_modes;
 mod reproduction;
 mod rotor_aero_damping;

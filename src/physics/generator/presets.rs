@@ -51,7 +51,8 @@ fn table_4_6(name: &str) -> (u32, f64, f64, f64) {
     match name {
         "A" => (10, 0.32, 0.64, 0.09),
         "B" => (4, 3.0, 0.1, 0.09),
-        "C" => (4, 3.0, 0.1, 0.1),
+        // P: the paper's FAST model has no electrical machine (a torque–speed law); C's DFIG values
+        "C" | "P" => (4, 3.0, 0.1, 0.1),
         _ => (4, 2.56, 0.016, 0.06),
     }
 }
@@ -137,7 +138,7 @@ pub fn optimal_region2_gain(dt: &Drivetrain, name: &str) -> f64 {
 pub fn build(name: &str, kind: Kind, o: &Overrides) -> Result<Generator, String> {
     let name = name.trim().to_ascii_uppercase();
     let dt = Drivetrain::preset(&name)
-        .ok_or_else(|| format!("parameter preset = {name:?}: unknown drivetrain, use A, B, C or D"))?;
+        .ok_or_else(|| format!("parameter preset = {name:?}: unknown drivetrain, use A, B, C, D or P"))?;
     let rated_speed = dt.rated_rotor_speed * dt.gear_ratio();
     let (poles, l_m, l_ls, line) = table_4_6(&name);
     let poles = if o.poles > 0 { o.poles as u32 } else { poles };

@@ -1,0 +1,82 @@
+//! The paper's 1.5 MW turbine (preset P, scenes/p-normal; shared seed 004) as its global model behaves:
+//!
+//! - steady wind above rated: rotor speed at 17.5 rpm within 0.5 % and rotor power at the 1650 kW the
+//!   paper reports above rated within 1 % (the pitch PI holds speed; the torque law holds torque);
+//!   below rated (steady 9 m/s) the power is under 60 % of it and the pitch stays at fine pitch;
+//! - steady 11.5 m/s lies just under the rated wind (11.65 m/s for this rotor): less power than at
+//!   14 m/s, as the paper explains its own 11.5 m/s results;
+//! - the gear ratings of `windrive gears` over those series: the sun's flank and the ring's root carry
+//!   more damage at 14 than at 11.5 m/s, and next to nothing at 9 m/s.
+
+use crate::common;
+use windrive::analysis::gear_set::paper_1p5mw;
+use windrive::physics::drivetrain::Drivetrain;
+
+const CHANNELS: [&str; 3] = ["torsional.rotor_speed", "rotor.aerodynamic_power", "rotor.pitch"];
+
+struct Steady {
+    speed_rpm: f64,
+    power: f64,
+    pitch_deg: f64,
+    flank_s1: f64,
+    root_r1: f64,
+}
+
+/// 30 s of steady wind; the means and the gear damage over the last 15 s.
+fn steady(wind: f64) -> Steady {
+    let teeth = paper_1p5mw();
+    let mut channels: Vec<String> = CHANNELS.iter().map(|c| c.to_string()).collect();
+    for t in &teeth {
+        for c in [&t.force, &t.cycles.speed] {
+            if !channels.contains(c) {
+                channels.push(c.clone());
+            }
+        }
+    }
+    let wind = wind.to_string();
+    let c = common::run_scene(
+        "p-normal",
+        &[("rotor", "wind_speed", &wind), ("rotor", "turbulence", "none")],
+        &channels,
+        Some(30.0),
+    );
+    let first = c[0].iter().position(|&t| t >= 15.0).unwrap();
+    let mean = |i: usize| c[i][first..].iter().sum::<f64>() / (c[i].len() - first) as f64;
+    let column = |name: &str| &c[1 + channels.iter().position(|n| n == name).unwrap()][first..];
+    let rate = |name: &str| {
+        let tooth = teeth.iter().find(|t| t.name == name).unwrap();
+        tooth
+            .rate(&c[0][first..], column(&tooth.force), column(&tooth.cycles.speed))
+            .unwrap()
+    };
+    Steady {
+        speed_rpm: mean(1) * 30.0 / std::f64::consts::PI,
+        power: mean(2),
+        pitch_deg: mean(3).to_degrees(),
+        flank_s1: rate("s1").flank_damage,
+        root_r1: rate("r1").root_damage,
+    }
+}
+
+#[test]
+fn the_paper_turbine_in_steady_wind() {
+    let rated = Drivetrain::preset("P").unwrap().rated_power;
+    let (low, near, above) = (steady(9.0), steady(11.5), steady(14.0));
+    for (v, s) in [(9.0, &low), (11.5, &near), (14.0, &above)] {
+        println!(
+            "{v} m/s: {:.2} rpm, {:.0} kW, pitch {:.2}°, D_flank(s1) {:.3e}, D_root(r1) {:.3e}",
+            s.speed_rpm,
+            s.power / 1e3,
+            s.pitch_deg,
+            s.flank_s1,
+            s.root_r1
+        );
+    }
+    assert!((above.speed_rpm / 17.5 - 1.0).abs() < 5e-3, "{}", above.speed_rpm);
+    assert!((above.power / rated - 1.0).abs() < 0.01, "{}", above.power);
+    assert!(above.pitch_deg > 1.0);
+    assert!(low.power < 0.6 * rated && low.pitch_deg.abs() < 1e-9);
+    assert!(near.power < above.power && near.power > 0.9 * rated, "{}", near.power);
+    assert!(above.flank_s1 > near.flank_s1 && above.root_r1 > near.root_r1);
+    assert!(low.flank_s1 < 1e-3 * near.flank_s1 && low.root_r1 < 1e-3 * near.root_r1);
+}
