@@ -241,9 +241,8 @@ impl RatedTooth {
     }
 }
 
-/// Rates every tooth of `teeth` over the series in `path` after `transient` seconds, reading the file
-/// once.
-pub fn rate_series(path: &Path, teeth: &[RatedTooth], transient: f64) -> Result<Vec<ToothDamage>, GearSetError> {
+/// The channels `teeth` read, each once, in order of first use.
+pub fn channels(teeth: &[RatedTooth]) -> Vec<&str> {
     let mut names: Vec<&str> = Vec::new();
     for tooth in teeth {
         for c in [tooth.force.as_str(), tooth.cycles.speed.as_str()] {
@@ -252,6 +251,13 @@ pub fn rate_series(path: &Path, teeth: &[RatedTooth], transient: f64) -> Result<
             }
         }
     }
+    names
+}
+
+/// Rates every tooth of `teeth` over the series in `path` after `transient` seconds, reading the file
+/// once.
+pub fn rate_series(path: &Path, teeth: &[RatedTooth], transient: f64) -> Result<Vec<ToothDamage>, GearSetError> {
+    let names = channels(teeth);
     let (t, columns) = series::read_channels(path, &names)?;
     let first = t.partition_point(|&ti| ti < transient);
     let seconds = t

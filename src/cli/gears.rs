@@ -1,14 +1,15 @@
 //! `windrive gears`: every gear tooth of a gearbox rated from one series (ISO 6336 stresses, load
 //! cycles from the speeds, two-slope S-N, Miner) through [`crate::analysis::gear_set`].
 
-use crate::analysis::gear_set::{ToothDamage, gear_table, rate_series};
+use crate::analysis::gear_set::{ToothDamage, channels, gear_table, rate_series};
 use anyhow::Context;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct GearsArgs {
     /// The series: a CSV of `windrive run` with the torsional FMU's mesh forces and speeds
-    pub series: PathBuf,
+    #[arg(required_unless_present = "channels")]
+    pub series: Option<PathBuf>,
     /// Gear table: P, the paper's 1.5 MW gearbox (seed 004 Table 4), the only preset whose face widths
     /// and profile shifts are published; the series must come from the torsional FMU with preset P
     #[arg(long, default_value = "P")]
@@ -19,6 +20,9 @@ pub struct GearsArgs {
     /// Print the results as JSON (one object per rated tooth)
     #[arg(long)]
     pub json: bool,
+    /// Print the channels the gear table reads (for `windrive run --record`), one per line, and stop
+    #[arg(long)]
+    pub channels: bool,
 }
 
 pub fn run(args: &GearsArgs) -> anyhow::Result<()> {
@@ -27,7 +31,12 @@ pub fn run(args: &GearsArgs) -> anyhow::Result<()> {
     if !(args.transient.is_finite() && args.transient >= 0.0) {
         anyhow::bail!("--transient {}: must be a number ≥ 0", args.transient);
     }
-    let rated = rate_series(&args.series, &teeth, args.transient)?;
+    if args.channels {
+        println!("{}", channels(&teeth).join("\n"));
+        return Ok(());
+    }
+    let series = args.series.as_ref().expect("clap requires it without --channels");
+    let rated = rate_series(series, &teeth, args.transient)?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&rated)?);
     } else {

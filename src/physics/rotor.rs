@@ -49,16 +49,21 @@ impl TorqueSeries {
     }
 }
 
-/// Shutdown: from `time` on, pitch to feather at `feather_rate`; trip the generator after
-/// `trip_delay`; deploy the HSS brake after `brake_delay`, its command ramping 0 → 1 over
-/// `brake_ramp_time` (as OpenFAST's HSS brake deployment time). Negative `time` = never.
+/// Shutdown: from `time` on, pitch to feather at `feather_rate` (after `pitch_delay`: a grid loss
+/// trips the generator at once and the controller only reacts once it has detected it); trip the
+/// generator after `trip_delay`; deploy the HSS brake after `brake_delay`, its command ramping 0 → 1
+/// over `brake_ramp_time` (as OpenFAST's HSS brake deployment time). A normal stop brakes only once
+/// the rotor has slowed: with `brake_speed` > 0 the brake waits, after `brake_delay`, for the rotor
+/// speed to fall to it (rad/s). Negative `time` = never.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Shutdown {
     pub time: f64,
     pub feather_rate: f64,
+    pub pitch_delay: f64,
     pub trip_delay: f64,
     pub brake_delay: f64,
     pub brake_ramp_time: f64,
+    pub brake_speed: f64,
 }
 
 impl Shutdown {
@@ -66,15 +71,18 @@ impl Shutdown {
         self.time >= 0.0 && t >= self.time
     }
 
+    pub fn feathering(&self, t: f64) -> bool {
+        self.time >= 0.0 && t >= self.time + self.pitch_delay
+    }
+
     pub fn generator_connected(&self, t: f64) -> bool {
         !(self.time >= 0.0 && t >= self.time + self.trip_delay)
     }
 
-    pub fn brake_command(&self, t: f64) -> f64 {
-        if self.time < 0.0 {
-            return 0.0;
-        }
-        let since = t - (self.time + self.brake_delay);
+    /// Brake command at `t` when the deployment began at `from` (None: not yet).
+    fn ramp(&self, t: f64, from: Option<f64>) -> f64 {
+        let Some(from) = from else { return 0.0 };
+        let since = t - from;
         if since < 0.0 {
             0.0
         } else if self.brake_ramp_time <= 0.0 {
@@ -83,6 +91,46 @@ impl Shutdown {
             (since / self.brake_ramp_time).min(1.0)
         }
     }
+
+    /// The time-triggered brake command (`brake_speed` = 0).
+    pub fn brake_command(&self, t: f64) -> f64 {
+        if self.time < 0.0 {
+            return 0.0;
+        }
+        self.ramp(t, Some(self.time + self.brake_delay))
+    }
+}
+
+/// Start-up: until `time` the rotor idles at its initial pitch with the generator off-line; from then
+/// the pitch controller runs, no faster than `pitch_rate` towards fine pitch, and the generator is
+/// switched online once the rotor reaches `connect_speed` (rad/s), as the thesis's field start-up
+/// (ch. 3.1: accelerated without grid connection to rated rotor speed, then switched online).
+/// Negative `time` = never (the turbine starts in operation).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Startup {
+    pub time: f64,
+    pub pitch_rate: f64,
+    pub connect_speed: f64,
+}
+
+impl Startup {
+    pub const NONE: Startup = Startup {
+        time: -1.0,
+        pitch_rate: 0.0,
+        connect_speed: 0.0,
+    };
+
+    pub fn planned(&self) -> bool {
+        self.time >= 0.0
+    }
+}
+
+/// What the event sequences have latched: the generator still off-line in a start-up, and when a
+/// speed-triggered brake began to deploy.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub struct SequenceState {
+    pub offline: bool,
+    pub brake_from: Option<f64>,
 }
 
 /// Pitching (tilt) moment at the hub: rotor weight on the overhang plus the thrust's offset under
@@ -197,7 +245,9 @@ pub struct RotorOutputs {
 pub struct RotorModel {
     pub source: std::sync::Arc<Source>,
     pub shutdown: Shutdown,
+    pub startup: Startup,
     pub state: PitchState,
+    pub sequence: SequenceState,
     pub time: f64,
 }
 
@@ -206,7 +256,9 @@ impl Clone for RotorModel {
         Self {
             source: std::sync::Arc::clone(&self.source),
             shutdown: self.shutdown,
+            startup: self.startup,
             state: self.state,
+            sequence: self.sequence,
             time: self.time,
         }
     }
@@ -218,7 +270,9 @@ impl Clone for RotorModel {
             self.source = std::sync::Arc::clone(&other.source);
         }
         self.shutdown = other.shutdown;
+        self.startup = other.startup;
         self.state = other.state;
+        self.sequence = other.sequence;
         self.time = other.time;
     }
 }
@@ -261,36 +315,79 @@ impl RotorModel {
         }
     }
 
-    /// Advances the pitch (controller, or feathering once the shutdown began) and the clock.
+    /// Advances the pitch (controller, idling before a start-up, or feathering once the shutdown
+    /// began), the sequences' latches and the clock.
     pub fn advance(&mut self, rotor_speed: f64, h: f64) {
-        if let Source::Aero {
-            rotor,
-            pitch,
-            target,
-            gear_ratio,
-            ..
-        } = &*self.source
-        {
-            let n = (h / CONTROL_STEP).ceil().max(1.0) as usize;
-            let dt = h / n as f64;
-            for k in 0..n {
-                let t = self.time + k as f64 * dt;
-                if self.shutdown.active(t) {
-                    let max = pitch.max_pitch;
-                    self.state.pitch = (self.state.pitch + self.shutdown.feather_rate * dt).min(max);
-                } else {
-                    let e = match *target {
-                        PitchTarget::Speed(setpoint) => rotor_speed * gear_ratio - setpoint,
-                        PitchTarget::Power(rated) => {
-                            let torque = rotor.torque(rotor_speed, self.wind(t), self.state.pitch);
-                            torque * rotor_speed / rated - 1.0
-                        }
+        let n = (h / CONTROL_STEP).ceil().max(1.0) as usize;
+        let dt = h / n as f64;
+        for k in 0..n {
+            let t = self.time + k as f64 * dt;
+            self.latch(t, rotor_speed);
+            let Source::Aero {
+                rotor,
+                pitch,
+                target,
+                gear_ratio,
+                ..
+            } = &*self.source
+            else {
+                continue;
+            };
+            if self.shutdown.feathering(t) {
+                let max = pitch.max_pitch;
+                self.state.pitch = (self.state.pitch + self.shutdown.feather_rate * dt).min(max);
+            } else if self.startup.planned() && t < self.startup.time {
+                // idling at the initial pitch: the controller waits for the start command
+            } else {
+                let e = match *target {
+                    PitchTarget::Speed(setpoint) => rotor_speed * gear_ratio - setpoint,
+                    PitchTarget::Power(rated) => {
+                        let torque = rotor.torque(rotor_speed, self.wind(t), self.state.pitch);
+                        torque * rotor_speed / rated - 1.0
+                    }
+                };
+                if self.sequence.offline {
+                    let slow = PitchController {
+                        max_rate: pitch.max_rate.min(self.startup.pitch_rate),
+                        ..*pitch
                     };
+                    slow.step(&mut self.state, e, dt);
+                } else {
                     pitch.step(&mut self.state, e, dt);
                 }
             }
         }
         self.time += h;
+    }
+
+    /// The start-up's switch online and the normal stop's speed-triggered brake.
+    fn latch(&mut self, t: f64, rotor_speed: f64) {
+        let (startup, shutdown) = (self.startup, self.shutdown);
+        if self.sequence.offline && t >= startup.time && rotor_speed >= startup.connect_speed {
+            self.sequence.offline = false;
+        }
+        if shutdown.brake_speed > 0.0
+            && self.sequence.brake_from.is_none()
+            && shutdown.active(t)
+            && t >= shutdown.time + shutdown.brake_delay
+            && rotor_speed.abs() <= shutdown.brake_speed
+        {
+            self.sequence.brake_from = Some(t);
+        }
+    }
+
+    /// HSS brake command 0..1 of the shutdown sequence now.
+    pub fn brake_command(&self) -> f64 {
+        if self.shutdown.brake_speed > 0.0 {
+            self.shutdown.ramp(self.time, self.sequence.brake_from)
+        } else {
+            self.shutdown.brake_command(self.time)
+        }
+    }
+
+    /// False while a start-up holds the generator off-line and once a shutdown tripped it.
+    pub fn generator_connected(&self) -> bool {
+        !self.sequence.offline && self.shutdown.generator_connected(self.time)
     }
 }
 
@@ -405,9 +502,11 @@ mod tests {
         let s = Shutdown {
             time: 10.0,
             feather_rate: 0.14,
+            pitch_delay: 0.0,
             trip_delay: 0.2,
             brake_delay: 0.5,
             brake_ramp_time: 0.6,
+            brake_speed: 0.0,
         };
         assert!(s.generator_connected(10.1) && !s.generator_connected(10.2));
         assert_eq!(s.brake_command(10.4), 0.0);
@@ -415,6 +514,121 @@ mod tests {
         assert_eq!(s.brake_command(12.0), 1.0);
         let never = Shutdown { time: -1.0, ..s };
         assert!(never.generator_connected(1e9) && never.brake_command(1e9) == 0.0);
+    }
+
+    /// A model of C's analytic rotor in steady wind with the sequences given.
+    fn model(shutdown: Shutdown, startup: Startup, pitch: f64) -> RotorModel {
+        let rotor = Aerodynamics::Analytic(Rotor {
+            radius: 40.0,
+            lambda_min: 0.5,
+        });
+        RotorModel {
+            source: std::sync::Arc::new(Source::Aero {
+                rotor,
+                mean_wind: 16.0,
+                turbulence: None,
+                pitch: PitchController {
+                    kp: 0.033498,
+                    ki: 0.0089128,
+                    gain_halving_pitch: 0.11,
+                    min_pitch: 0.0,
+                    max_pitch: std::f64::consts::FRAC_PI_2,
+                    max_rate: 0.14,
+                },
+                target: PitchTarget::Speed(180.0),
+                tilt: TiltModel::new(40.0, 80.0, 0.0, 0.0, 0.0),
+                gear_ratio: 92.0,
+            }),
+            shutdown,
+            startup,
+            state: PitchState { pitch, integral: 0.0 },
+            sequence: SequenceState {
+                offline: startup.planned(),
+                brake_from: None,
+            },
+            time: 0.0,
+        }
+    }
+
+    const NO_SHUTDOWN: Shutdown = Shutdown {
+        time: -1.0,
+        feather_rate: 0.14,
+        pitch_delay: 0.0,
+        trip_delay: 0.0,
+        brake_delay: 0.0,
+        brake_ramp_time: 0.6,
+        brake_speed: 0.0,
+    };
+
+    /// A start-up idles at its initial pitch until the start command, then pitches towards fine pitch
+    /// no faster than its rate; the generator stays off-line until the rotor reaches the connect speed,
+    /// and once online stays online (a latch, not a speed band).
+    #[test]
+    fn startup_sequence() {
+        let startup = Startup {
+            time: 2.0,
+            pitch_rate: 0.035,
+            connect_speed: 1.9,
+        };
+        let mut m = model(NO_SHUTDOWN, startup, std::f64::consts::FRAC_PI_2);
+        m.advance(0.0, 2.0);
+        assert_eq!(m.state.pitch, std::f64::consts::FRAC_PI_2);
+        assert!(!m.generator_connected());
+        m.advance(0.5, 1.0);
+        assert!(
+            (m.state.pitch - (std::f64::consts::FRAC_PI_2 - 0.035)).abs() < 1e-9,
+            "{}",
+            m.state.pitch
+        );
+        m.advance(1.89, 1.0);
+        assert!(!m.generator_connected());
+        m.advance(1.9, 0.01);
+        assert!(m.generator_connected());
+        m.advance(0.5, 1.0);
+        assert!(m.generator_connected());
+        // online, the controller's own rate applies again
+        let before = m.state.pitch;
+        m.advance(0.5, 0.1);
+        assert!((before - m.state.pitch - 0.014).abs() < 1e-9);
+        // no start-up planned: online from the start
+        assert!(model(NO_SHUTDOWN, Startup::NONE, 0.0).generator_connected());
+    }
+
+    /// A grid loss feathers only after the pitch delay; a normal stop brakes once the rotor has slowed
+    /// to the brake speed, not before the brake delay, and ramps from there.
+    #[test]
+    fn pitch_delay_and_speed_triggered_brake() {
+        let grid_loss = Shutdown {
+            time: 1.0,
+            pitch_delay: 0.2,
+            ..NO_SHUTDOWN
+        };
+        let mut m = model(grid_loss, Startup::NONE, 0.2);
+        m.advance(1.9, 1.1);
+        assert!(!m.generator_connected());
+        let held = m.state.pitch;
+        m.advance(1.9, 0.1);
+        assert!((m.state.pitch - held).abs() < 0.14 * 0.1 + 1e-12);
+        m.advance(1.9, 0.5);
+        assert!(
+            (m.state.pitch - (held + 0.14 * 0.5)).abs() < 0.02,
+            "{} {held}",
+            m.state.pitch
+        );
+        let stop = Shutdown {
+            time: 1.0,
+            brake_delay: 2.0,
+            brake_speed: 0.2,
+            ..NO_SHUTDOWN
+        };
+        let mut m = model(stop, Startup::NONE, 0.2);
+        m.advance(0.1, 2.0);
+        assert_eq!(m.brake_command(), 0.0, "slow already, but before the brake delay");
+        m.advance(1.0, 2.0);
+        assert_eq!(m.brake_command(), 0.0, "after the delay, but fast");
+        m.advance(0.15, 0.01);
+        m.advance(1.0, 0.3);
+        assert!((m.brake_command() - 0.5).abs() < 0.02, "{}", m.brake_command());
     }
 
     /// Above rated wind the trimmed pitch gives rated power at rated speed; below it, fine pitch.

@@ -9,8 +9,8 @@ use crate::physics::bem::BemRotor;
 use crate::physics::blade::Blade;
 use crate::physics::drivetrain::Drivetrain;
 use crate::physics::rotor::{
-    Aerodynamics, CONTROL_STEP, PitchTarget, RotorModel, RotorOutputs, Shutdown, Source, TiltModel, TorqueSeries,
-    preset_rotor, rated_wind_speed, trim_pitch,
+    Aerodynamics, CONTROL_STEP, PitchTarget, RotorModel, RotorOutputs, SequenceState, Shutdown, Source, Startup,
+    TiltModel, TorqueSeries, preset_rotor, rated_wind_speed, trim_pitch,
 };
 use crate::physics::turbulence::{TurbulenceModel, TurbulenceSeries, iec_sigma, kaimal_length};
 use serde::{Deserialize, Serialize};
@@ -164,6 +164,10 @@ impl Params {
             ("pitch_max_rate", self.pitch_max_rate),
             ("pitch_max", self.pitch_max),
             ("feather_rate", self.feather_rate),
+            ("startup_pitch_rate", self.startup_pitch_rate),
+            ("connect_speed_ratio", self.connect_speed_ratio),
+            ("pitch_delay", self.pitch_delay),
+            ("brake_speed_ratio", self.brake_speed_ratio),
         ];
         for (name, v) in finite {
             if !(v.is_finite() && v >= 0.0) {
@@ -275,9 +279,19 @@ impl Params {
             trim_pitch(&rotor, mean_wind, drivetrain.rated_power, rated_speed, self.pitch_max)
         };
         let mut state = PitchState { pitch, integral: 0.0 };
+        if !self.startup_time.is_finite() {
+            return Err(ParameterError::invalid("startup_time", &self.startup_time, "must be finite").into());
+        }
+        let startup = Startup {
+            time: self.startup_time,
+            pitch_rate: self.startup_pitch_rate,
+            connect_speed: self.connect_speed_ratio * rated_speed,
+        };
         let shutdown = Shutdown {
             time: self.shutdown_time,
             feather_rate: self.feather_rate,
+            pitch_delay: self.pitch_delay,
+            brake_speed: self.brake_speed_ratio * rated_speed,
             trip_delay: self.trip_delay,
             brake_delay: self.brake_delay,
             brake_ramp_time: self.brake_ramp_time,
@@ -383,7 +397,12 @@ impl Params {
             model: RotorModel {
                 source: std::sync::Arc::new(source),
                 shutdown,
+                startup,
                 state,
+                sequence: SequenceState {
+                    offline: startup.planned(),
+                    brake_from: None,
+                },
                 time: 0.0,
             },
             rated_wind_speed: rated_wind,
@@ -424,7 +443,7 @@ pub struct RotorSlave {
     built: Option<Built>,
     start_time: f64,
     /// The model's pitch state and clock after the last step (None: at the start time).
-    motion: Option<(PitchState, f64)>,
+    motion: Option<(PitchState, SequenceState, f64)>,
     /// Outputs at (time, rotor speed) last computed: a master reads several per step.
     #[serde(skip)]
     cache: Option<(f64, f64, RotorOutputs)>,
@@ -444,7 +463,9 @@ impl RotorSlave {
         if self.built.is_none() {
             let mut b = self.params.build(self.resources.as_deref())?;
             match self.motion {
-                Some((state, time)) => (b.model.state, b.model.time) = (state, time),
+                Some((state, sequence, time)) => {
+                    (b.model.state, b.model.sequence, b.model.time) = (state, sequence, time)
+                }
                 None => b.model.time = self.start_time,
             }
             self.built = Some(b);
@@ -506,7 +527,7 @@ impl Slave for RotorSlave {
             vr::TURBULENCE_SIGMA => b.sigma,
             vr::ROTOR_TORQUE => out.torque,
             vr::PITCHING_MOMENT => out.pitching_moment,
-            vr::BRAKE_COMMAND => b.model.shutdown.brake_command(b.model.time),
+            vr::BRAKE_COMMAND => b.model.brake_command(),
             vr::PITCH => out.pitch,
             vr::WIND_SPEED_HUB => out.wind_speed,
             vr::THRUST => out.thrust,
@@ -533,7 +554,7 @@ impl Slave for RotorSlave {
         match r {
             vr::GENERATOR_CONNECTED => {
                 let b = self.ensure()?;
-                Ok(b.model.shutdown.generator_connected(b.model.time))
+                Ok(b.model.generator_connected())
             }
             _ => Err(xml::no_getter(VarType::Boolean, r)),
         }
@@ -574,18 +595,33 @@ impl Slave for RotorSlave {
         if sd.time >= 0.0 {
             let crossed = |at: f64| before < at && at <= after;
             if crossed(sd.time) {
-                log.event(&format!("shutdown at t = {} s: pitching to feather", sd.time));
+                log.event(&format!("shutdown at t = {} s", sd.time));
+            }
+            if crossed(sd.time + sd.pitch_delay) {
+                log.event("pitching to feather");
             }
             if crossed(sd.time + sd.trip_delay) {
                 log.event("generator tripped (generator_connected = false)");
             }
-            if crossed(sd.time + sd.brake_delay) {
+            if sd.brake_speed <= 0.0 && crossed(sd.time + sd.brake_delay) {
                 log.event("HSS brake deploying");
             }
         }
+        if b.model.startup.planned() && before < b.model.startup.time && b.model.startup.time <= after {
+            log.event(&format!("start-up at t = {} s", b.model.startup.time));
+        }
+        let latched = b.model.sequence;
         // the controller sees the speed at the middle of the step (second order in h)
         b.model.advance(w.at(h / 2.0), h);
-        self.motion = Some((b.model.state, b.model.time));
+        if latched.offline && !b.model.sequence.offline {
+            log.event(&format!("generator switched online at t ≈ {after} s"));
+        }
+        if latched.brake_from.is_none() && b.model.sequence.brake_from.is_some() {
+            log.event(&format!(
+                "rotor slowed to the brake speed: HSS brake deploying at t ≈ {after} s"
+            ));
+        }
+        self.motion = Some((b.model.state, b.model.sequence, b.model.time));
         self.inputs.advance(h);
         Ok(())
     }

@@ -9,7 +9,7 @@
 //!   more damage at 14 than at 11.5 m/s, and next to nothing at 9 m/s.
 
 use crate::common;
-use windrive::analysis::gear_set::paper_1p5mw;
+use windrive::analysis::gear_set::{self, paper_1p5mw};
 use windrive::physics::drivetrain::Drivetrain;
 
 const CHANNELS: [&str; 3] = ["torsional.rotor_speed", "rotor.aerodynamic_power", "rotor.pitch"];
@@ -26,13 +26,7 @@ struct Steady {
 fn steady(wind: f64) -> Steady {
     let teeth = paper_1p5mw();
     let mut channels: Vec<String> = CHANNELS.iter().map(|c| c.to_string()).collect();
-    for t in &teeth {
-        for c in [&t.force, &t.cycles.speed] {
-            if !channels.contains(c) {
-                channels.push(c.clone());
-            }
-        }
-    }
+    channels.extend(gear_set::channels(&teeth).into_iter().map(String::from));
     let wind = wind.to_string();
     let c = common::run_scene(
         "p-normal",
