@@ -1,7 +1,7 @@
 """Load-case campaigns of `windrive run` jobs on dask.distributed (issue 15 §1).
 
 A campaign file (TOML, docs/CAMPAIGNS.md) names a scene, the load cases (IEC 61400-1 DLC 1.2 wind bins ×
-seeds weighted by a wind climate, a free parameter grid, discrete events with a count per year) and the
+seeds weighted by a wind climate, free parameter grids, discrete events with a count per year) and the
 channels to analyse. `python -m windrive_campaign run FILE` expands it into cases, runs each as one
 `windrive run` subprocess on a dask cluster, analyses the series (statistics, DELs, LDD) and writes one
 result file per case, then one Parquet table per campaign. Modules, one job each:
@@ -16,4 +16,8 @@ result file per case, then one Parquet table per campaign. Modules, one job each
 - driver:   submit, progress, resume, cost
 - lifetime: the design life's damage sums, DELs, shares and LDD from the table (issue 15 §2)
 - report:   `report`: lifetime.csv/.json/_ldd.csv, the bar chart and the printed table
+- gears:    [gears]: every gear tooth rated per case by `windrive gears` on the case's series
+- paper_data: the paper's (seed 004) Tables 6 and 7, transcribed
+- paper:    `paper`: our gear damage per wind speed x TI cell beside the paper's, η, the shape checks
+- paper_report: `paper`: the tables as CSV/Markdown, the η heat maps, the JSON summary, the printout
 """

@@ -1,5 +1,5 @@
-"""Command line: `python -m windrive_campaign run|cases|job-script|report CAMPAIGN.toml` (scripts/campaign
-wraps it with the virtual environment and the windrive build)."""
+"""Command line: `python -m windrive_campaign run|cases|job-script|report|paper CAMPAIGN.toml`
+(scripts/campaign wraps it with the virtual environment and the windrive build)."""
 
 from __future__ import annotations
 
@@ -31,6 +31,8 @@ examples (from the repository's root):
       the Slurm job script its [slurm] profile submits with --slurm
   scripts/campaign report campaigns/c-dlc12.toml
       its lifetime report (after run): lifetime.csv/.json/_ldd.csv/.png in results/campaigns/c-dlc12/
+  scripts/campaign paper campaigns/tiny-paper.toml
+      the paper's Tables 6 and 7 beside ours, η heat maps, shape checks (a grid with [gears], after run)
 
 The campaign file's keys: docs/CAMPAIGNS.md.
 """
@@ -41,6 +43,16 @@ examples (from the repository's root):
       DLC 1.2 + a shutdown, then its 20-year report in results/campaigns/c-dlc12/
   scripts/campaign report results/campaigns/c-dlc12 --out /tmp/c-dlc12-life
       the same report from the folder, written elsewhere
+"""
+
+
+PAPER_EPILOG = """\
+examples (from the repository's root):
+  scripts/campaign run campaigns/tiny-paper.toml && scripts/campaign paper campaigns/tiny-paper.toml
+      a small wind speed x TI grid of the paper's turbine with [gears], then the comparison
+      in results/campaigns/tiny-paper/paper_*
+  scripts/campaign paper results/campaigns/tiny-paper --out /tmp/paper
+      the same from the folder, written elsewhere
 """
 
 
@@ -83,6 +95,18 @@ def main(argv=None) -> int:
     )
     rep.add_argument("campaign", type=Path, help="campaign folder, its .parquet table, or the campaign file")
     rep.add_argument("--out", type=Path, help="folder for the report files [default: the campaign folder]")
+    pap = sub.add_parser(
+        "paper",
+        help="the paper's Tables 6 and 7 (seed 004) beside ours, η heat maps and shape checks",
+        description="Gear damage of a finished wind speed x turbulence intensity grid with [gears] beside the "
+        "paper's Table 6 (1-day damage, TI 14 %) and Table 7 (η against steady rated wind), heat maps of η, "
+        "and the shapes the paper concludes from (docs/CAMPAIGNS.md, The paper's comparison). Exit status 1 "
+        "when some grid cases are pending or failed (they are left out).",
+        epilog=PAPER_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    pap.add_argument("campaign", type=Path, help="campaign folder, its .parquet table, or the campaign file")
+    pap.add_argument("--out", type=Path, help="folder for the files [default: the campaign folder]")
     args = p.parse_args(argv)
     try:
         if args.command == "run" and args.workers is not None and args.workers < 1:
@@ -91,6 +115,10 @@ def main(argv=None) -> int:
             from . import report  # pandas and matplotlib: only the report pays their import time
 
             return report.report(args.campaign, args.out)
+        if args.command == "paper":
+            from . import paper_report  # pandas and matplotlib, as for report
+
+            return paper_report.report(args.campaign, args.out)
         campaign = schema.load(args.campaign)
         if args.command == "job-script":
             cluster = cluster_mod.slurm(campaign.slurm, campaign.path)
@@ -130,7 +158,10 @@ def _windrive(given: str | None) -> str:
 def _list_cases(campaign, windrive: str) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         record = driver.recorded(campaign)
-        scenes = {s: cases_mod.snapshot_scene(s, windrive, Path(tmp), record) for s in cases_mod.scene_paths(campaign)}
+        scenes = {
+            s: cases_mod.snapshot_scene(s, windrive, Path(tmp), record, campaign.gears)
+            for s in cases_mod.scene_paths(campaign)
+        }
         found = cases_mod.expand(campaign, scenes, cases_mod.windrive_digest(windrive))
     hours = sum(k.hours for k in found if not math.isnan(k.hours))
     print(f"{'id':16}  {'name':32}  {'weight':>14}  parameters")

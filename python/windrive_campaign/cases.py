@@ -30,6 +30,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from . import climate as climate_mod
+from . import gears as gears_mod
 from .errors import CampaignError
 from .schema import Campaign, ParamValue
 
@@ -80,17 +81,26 @@ def file_digest(path: Path) -> str:
     return h.hexdigest()
 
 
-def snapshot_scene(scene: Path, windrive: str, out_dir: Path, record: list[str]) -> tuple[str, str]:
+def snapshot_scene(
+    scene: Path, windrive: str, out_dir: Path, record: list[str], gears: str | None = None
+) -> tuple[str, str]:
     """The scene as an immutable .ssp under out_dir/scenes/ and its digest. The scene is first run for
     one millisecond, recording the campaign's channels: windrive brings its own FMUs in a folder's
     resources/ up to date (and packs them on a fresh clone), and a misspelt channel is one error now
-    instead of one per case. A folder is then zipped with fixed timestamps and sorted names: the same
-    files give the same bytes."""
+    instead of one per case. With `gears`, `windrive gears` rates that probe too, so recorded channels
+    that no longer match what it reads stop the campaign here rather than fail every case. A folder is
+    then zipped with fixed timestamps and sorted names: the same files give the same bytes."""
     with tempfile.TemporaryDirectory() as tmp:
         probe = [windrive, "run", str(scene), "--stop-time", "0.001", "--out", f"{tmp}/probe.csv", "--quiet"]
         r = subprocess.run(probe + ["--record", ",".join(record)], capture_output=True, text=True)
         if r.returncode != 0:
             raise CampaignError(f"{scene}: the scene does not run: {r.stderr.strip() or r.returncode}")
+        if gears is not None:
+            rate = gears_mod.command(windrive, f"{tmp}/probe.csv", gears, 0.0)
+            r = subprocess.run(rate, capture_output=True, text=True)
+            if r.returncode != 0:
+                raise CampaignError(f"{scene}: [gears] table = {gears!r}: windrive gears cannot rate its series: "
+                                    f"{r.stderr.strip() or r.returncode}")  # fmt: skip
     if scene.is_file():
         return str(scene), file_digest(scene)
     buf = io.BytesIO()
@@ -138,9 +148,15 @@ def snapshot_windrive(windrive: str, out_dir: Path) -> tuple[str, str]:
 
 
 def expand(c: Campaign, scenes: dict[Path, tuple[str, str]], windrive_id: str) -> list[Case]:
-    """Every case of the campaign, DLC 1.2 first (bins ascending, then seeds), then the grid (the
-    cartesian product in the file's order of axes), then the events. `scenes` maps each scene path to
-    its snapshot (path, digest)."""
+    """Every case of the campaign, DLC 1.2 first (bins ascending, then seeds), then the grids (each
+    grid's cartesian product in the file's order of axes, the grids in the file's order), then the
+    events. `scenes` maps each scene path to its snapshot (path, digest).
+
+    Several grids give the union of their products. A parameter set that two grids both produce is one
+    simulation, so it is one case, named by the first grid that produces it; case ids, not names, decide
+    what is already done, so resuming is unaffected by which grid names a case. Two different cases with
+    one name (axes of different components but the same variable name, or a value "1" beside 1) are an
+    error: the name is what the table and the progress lines show."""
 
     def make(name, group, scene, stop_time, transient, params, **weights) -> Case:
         ssp, digest = scenes[scene]
@@ -196,14 +212,16 @@ def expand(c: Campaign, scenes: dict[Path, tuple[str, str]], windrive_id: str) -
                         hours=b.probability / len(d.seeds) * climate_mod.HOURS_PER_YEAR * cl.years,
                     )
                 )
-    if c.grid:
-        axes = list(c.grid)
-        for values in itertools.product(*(c.grid[a] for a in axes)):
+    grid_ids: set[str] = set()
+    for grid in c.grids:
+        axes = list(grid)
+        for values in itertools.product(*(grid[a] for a in axes)):
             point = dict(zip(axes, values))
             label = ",".join(f"{a.split('.', 1)[1]}={param_text(v)}" for a, v in point.items())
-            cases.append(
-                make(f"grid-{label}", "grid", c.scene, c.stop_time, c.transient, merge("grid", c.params, point))
-            )
+            case = make(f"grid-{label}", "grid", c.scene, c.stop_time, c.transient, merge("grid", c.params, point))
+            if case.id not in grid_ids:  # reached by an earlier grid already: the same simulation
+                grid_ids.add(case.id)
+                cases.append(case)
     years = c.climate.years if c.climate is not None else 20.0
     for e in c.events:
         cases.append(
@@ -218,11 +236,22 @@ def expand(c: Campaign, scenes: dict[Path, tuple[str, str]], windrive_id: str) -
             )
         )
     seen: dict[str, str] = {}
+    named: dict[str, Case] = {}
     for case in cases:
         if case.id in seen:
             raise CampaignError(f"{c.path}: cases {seen[case.id]} and {case.name} are the same simulation")
         seen[case.id] = case.name
+        if case.name in named:
+            raise CampaignError(
+                f"{c.path}: two different cases are named {case.name} "
+                f"({_params_text(named[case.name].params)} and {_params_text(case.params)}): rename an axis or value"
+            )
+        named[case.name] = case
     return cases
+
+
+def _params_text(params: dict[str, ParamValue]) -> str:
+    return " ".join(f"{k}={v!r}" for k, v in params.items())
 
 
 def scene_paths(c: Campaign) -> list[Path]:

@@ -14,7 +14,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from . import analysis
+from . import analysis, gears
 from . import cases as cases_mod
 from . import cluster as cluster_mod
 from . import store
@@ -71,14 +71,18 @@ def prepare(c: Campaign, opts: Options) -> tuple[list[cases_mod.Case], str]:
     """The cases and the windrive copy they run (cases.snapshot_windrive)."""
     opts.out.mkdir(parents=True, exist_ok=True)
     store.write_atomic(opts.out / "campaign.toml", c.path.read_bytes())
-    scenes = {p: cases_mod.snapshot_scene(p, opts.windrive, opts.out, recorded(c)) for p in cases_mod.scene_paths(c)}
+    scenes = {
+        p: cases_mod.snapshot_scene(p, opts.windrive, opts.out, recorded(c), c.gears) for p in cases_mod.scene_paths(c)
+    }
     windrive, digest = cases_mod.snapshot_windrive(opts.windrive, opts.out)
     return cases_mod.expand(c, scenes, digest), windrive
 
 
 def recorded(c: Campaign) -> list[str]:
-    """The channels each case records: the analysed ones, their LDD speeds, and `record`."""
-    return list(dict.fromkeys([*analysis.needed_columns(c.channels), *c.record]))
+    """The channels each case records: the analysed ones, their LDD speeds, what `windrive gears` reads
+    with [gears], and `record`."""
+    rated = gears.CHANNELS[c.gears] if c.gears is not None else ()
+    return list(dict.fromkeys([*analysis.needed_columns(c.channels), *rated, *c.record]))
 
 
 def run(c: Campaign, opts: Options, stream=sys.stderr) -> int:
@@ -100,6 +104,7 @@ def run(c: Campaign, opts: Options, stream=sys.stderr) -> int:
         keep_series=c.keep_series,
         record=tuple(recorded(c)),
         timeout=c.timeout,
+        gears=c.gears,
     )
     interrupted = False
     cost = None

@@ -17,6 +17,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
+from . import gears as gears_mod
 from .errors import CampaignError
 
 TURBULENCE_CLASSES = ("A", "B", "C")  # IEC 61400-1 ed. 3; I_ref in climate.IREF
@@ -101,14 +102,19 @@ class Campaign:
     channels: tuple[Channel, ...]
     climate: Climate | None
     dlc12: Dlc12 | None
-    grid: dict[str, tuple[ParamValue, ...]]
+    # one table of axes per [[grid]] (a single [grid] is one); the cases are the union of their products
+    grids: tuple[dict[str, tuple[ParamValue, ...]], ...]
     events: tuple[Event, ...]
     slurm: Slurm | None
+    gears: str | None = None  # [gears] table: the gear table `windrive gears --gearbox` rates each case with
 
     def analysis_spec(self) -> dict:
         """What the analysis of a series depends on (not the simulation): a result whose analysis
         digest differs is stale and its case runs again."""
-        return {"channels": [asdict(c) for c in self.channels], "feq": self.feq}
+        spec = {"channels": [asdict(c) for c in self.channels], "feq": self.feq}
+        if self.gears is not None:  # only when rated: the digests of campaigns without [gears] stay as they were
+            spec["gears"] = self.gears
+        return spec
 
     def analysis_digest(self) -> str:
         spec = json.dumps(self.analysis_spec(), sort_keys=True)
@@ -284,7 +290,7 @@ class _Reader:
     def campaign(self, doc: dict) -> Campaign:
         top = (
             "name", "scene", "stop_time", "transient", "step", "timeout", "keep_series", "record", "feq",
-            "params", "channel", "climate", "dlc12", "grid", "event", "slurm",
+            "params", "channel", "climate", "dlc12", "grid", "event", "slurm", "gears",
         )  # fmt: skip
         self.check_keys(doc, (), top)
         root = ()
@@ -302,10 +308,10 @@ class _Reader:
         dlc12 = self.dlc12(doc)
         if dlc12 is not None and climate is None:
             self.fail(("dlc12",), "DLC 1.2 cases are weighted by the wind climate: add a [climate] table")
-        grid = self.params(doc, root, "grid", lists=True) if "grid" in doc else {}
+        grids = self.grids(doc)
         scene = self.scene(doc, root, "scene")
         events = self.events(doc, scene, stop_time, transient)
-        if dlc12 is None and not grid and not events:
+        if dlc12 is None and not grids and not events:
             self.fail(("dlc12",), "the campaign has no load cases: give [dlc12], [grid] or [[event]]")
         return Campaign(
             path=self.path,
@@ -322,9 +328,10 @@ class _Reader:
             channels=channels,
             climate=climate,
             dlc12=dlc12,
-            grid=grid,
+            grids=grids,
             events=events,
             slurm=self.slurm(doc),
+            gears=self.gears(doc),
         )
 
     def channels(self, doc: dict) -> tuple[Channel, ...]:
@@ -359,6 +366,37 @@ class _Reader:
             if names.index(n) != i - 1:
                 self.fail((("channel", i), "name"), f"{n} is analysed twice")
         return tuple(out)
+
+    def grids(self, doc: dict) -> tuple[dict[str, tuple[ParamValue, ...]], ...]:
+        """`[grid]` (one table of axes, as before) or `[[grid]]` (several, counted from 1 in errors).
+        An empty [grid] adds no case, as it always did; an empty [[grid]] entry is surely a mistake."""
+        v = doc.get("grid")
+        if v is None:
+            return ()
+        if isinstance(v, dict):
+            axes = self.params(doc, (), "grid", lists=True)
+            return (axes,) if axes else ()
+        if not isinstance(v, list) or not v or not all(isinstance(e, dict) for e in v):
+            self.fail(("grid",), "must be a table [grid] or an array of tables [[grid]] of axes, "
+                      "component.variable = [values]")  # fmt: skip
+        out = []
+        for i, e in enumerate(v, 1):
+            axes = self.params(e, (("grid", i),), None, lists=True)
+            if not axes:
+                self.fail((("grid", i),), "no axis: give component.variable = [values]")
+            out.append(axes)
+        return tuple(out)
+
+    def gears(self, doc: dict) -> str | None:
+        t = self.table(doc, (), "gears")
+        if t is None:
+            return None
+        key = ("gears",)
+        self.check_keys(t, key, ("table",))
+        table = self.string(t, key, "table", choices=gears_mod.TABLES)
+        if table is None:
+            self.fail(key + ("table",), f"missing (the gear table, one of {', '.join(gears_mod.TABLES)})")
+        return table
 
     def climate(self, doc: dict) -> Climate | None:
         t = self.table(doc, (), "climate")

@@ -199,20 +199,24 @@ impl RatedTooth {
         );
         let limit_h = self.material.contact_limit;
         let limit_f = 2.0 * self.material.bending_limit * self.tooth.mean_stress_factor();
+        // ISO's stresses are σ_H ∝ √F and σ_F ∝ F at fixed geometry: their coefficients once, rather than
+        // the pair's geometry (an involute-function inversion) three times a sample
+        let unit = stress.tangential_from_normal(1.0);
+        let (c_h, c_f) = (stress.contact(unit), stress.bending(unit));
         let (mut cycles, mut dh, mut df, mut max_h, mut max_f) = (0.0, 0.0, 0.0, 0.0f64, 0.0f64);
         for (j, (_dt, revs)) in sample_revolutions(t, speed).enumerate() {
             let n = revs * self.cycles.factor;
             cycles += n;
-            let ft = stress.tangential_from_normal(force[j]);
+            let f = force[j].abs();
             if self.flank {
-                let s = stress.contact(ft);
+                let s = c_h * f.sqrt();
                 max_h = max_h.max(s);
                 if s > 0.0 {
                     dh += n / self.material.contact.cycles_to_failure(s / limit_h);
                 }
             }
             if self.root {
-                let s = stress.bending(ft);
+                let s = c_f * f;
                 max_f = max_f.max(s);
                 if s > 0.0 {
                     df += n / self.material.bending.cycles_to_failure(s / limit_f);

@@ -1,0 +1,77 @@
+"""`[gears]`: every gear tooth of the case's gearbox rated by `windrive gears` on the case's series
+(src/cli/gears.rs, src/analysis/gear_set.rs): ISO 6336 contact and root stress from the mesh forces, load
+cycles from the speeds, a two-slope S-N curve and Miner's sum per day, as the paper does it (seed 004).
+
+The rating stays in Rust, run as a second subprocess on the series the case just wrote, so the campaign's
+figures are exactly what `windrive gears` prints for that series (tested to 1e-12). Each tooth becomes
+five columns of the table, `gear.<tooth>.<column>`, NaN where windrive rates no such thing (a planet's
+root is `p1`, its flanks `ps1` and `pr1`).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+
+# The channels `windrive gears --gearbox <table>` reads, which the cases must record (a campaign records
+# only what it analyses). They mirror the table's force and speed channels in gear_set.rs
+# (paper_1p5mw); a mismatch is caught before any case runs, because the driver rates the scene's probe
+# series (cases.snapshot_scene).
+CHANNELS: dict[str, tuple[str, ...]] = {
+    "P": (
+        "torsional.mesh_force_sun_planet_1",
+        "torsional.mesh_force_ring_planet_1",
+        "torsional.speed_carrier_1",
+        "torsional.mesh_force_sun_planet2_1",
+        "torsional.mesh_force_ring_planet2_1",
+        "torsional.speed_carrier_2",
+        "torsional.mesh_force_gear_pinion_1",
+        "torsional.speed_pinion_1",
+        "torsional.speed_gear_1",
+    ),
+}
+TABLES = tuple(CHANNELS)
+
+# table column suffix -> the field of `windrive gears --json`
+COLUMNS = {
+    "flank_day": "flank_damage_per_day",
+    "root_day": "root_damage_per_day",
+    "max_contact": "max_contact_stress",
+    "max_root": "max_root_stress",
+    "cycles": "load_cycles",
+}
+
+ERROR_CHARS = 4000  # of windrive's stderr kept, as for a failed run
+
+
+class GearsError(Exception):
+    """`windrive gears` failed on the series; the message is its stderr."""
+
+
+def command(windrive: str, series: str, table: str, transient: float) -> list[str]:
+    return [windrive, "gears", series, "--gearbox", table, "--transient", repr(transient), "--json"]
+
+
+def columns(rated: list[dict]) -> dict[str, float]:
+    """`gear.<tooth>.<column>` of every rated tooth; JSON's null (not rated) as NaN."""
+    out = {}
+    for tooth in rated:
+        for column, field in COLUMNS.items():
+            value = tooth[field]
+            out[f"gear.{tooth['name']}.{column}"] = math.nan if value is None else float(value)
+    return out
+
+
+def rate(windrive: str, series: str, table: str, transient: float, timeout: float) -> dict[str, float]:
+    """The table's columns for one series; GearsError with windrive's stderr when it fails."""
+    try:
+        r = subprocess.run(command(windrive, series, table, transient), capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        raise GearsError(f"windrive gears gave no result within the timeout of {timeout} s") from None
+    if r.returncode != 0:
+        raise GearsError((r.stderr.strip() or f"windrive gears exited with {r.returncode}")[-ERROR_CHARS:])
+    try:
+        return columns(json.loads(r.stdout))
+    except (ValueError, KeyError, TypeError) as e:
+        raise GearsError(f"windrive gears: unexpected output ({type(e).__name__}: {e}): {r.stdout[:200]!r}") from None

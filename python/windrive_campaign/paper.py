@@ -1,0 +1,330 @@
+"""The paper's comparison (seed 004, Tables 6 and 7; paper_data.py) from a campaign's table: our gear
+damage per cell of wind speed × turbulence intensity, both tables side by side, and the shapes the paper
+draws its conclusions from. Pure computation on the table; paper_report.py writes and prints it.
+
+- A cell is a mean wind speed and a TI in percent; steady wind (`rotor.turbulence = "none"`) is TI 0, as
+  in the paper's Table 7. A turbulent case with TI 0 is not steady: the rotor FMU reads TI 0 as its IEC
+  class default, so such a case is left out and named. Our damage per cell is the mean over its cases
+  (the seeds); only finished grid cases count.
+- η = (D − D_const,rated) / D_const,rated × 100 % (the paper's Eq. 5), D_const,rated the steady 11.5 m/s
+  cell. The shapes work on D / D_const,rated = 1 + η/100, so the paper's Table 7 goes through the same
+  functions as ours.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from . import paper_data as data
+from .errors import CampaignError
+
+ROTOR = "rotor"  # the component whose parameters set the wind (scenes/p-normal)
+WIND = f"param.{ROTOR}.wind_speed"
+TI = f"param.{ROTOR}.turbulence_intensity"
+TURBULENCE = f"param.{ROTOR}.turbulence"
+STEADY = "none"
+
+FLAT_SPEEDS = (14.0, 20.0)  # (a): the paper's "almost constant when mean wind speed is higher than 14 m/s"
+STEADY_ABOVE = 14.0  # (b): "beyond 13 m/s, the damage caused by steady wind is higher"; cells at 14 m/s and up
+
+
+def damage_column(kind: str, tooth: str) -> str:
+    return f"gear.{tooth}.{data.DAMAGE_COLUMN[kind]}"
+
+
+def label(kind: str, tooth: str) -> str:
+    return f"{tooth} {kind}"
+
+
+TABLE7_LABELS = [label(k, t) for k, t in data.TABLE7_COLUMNS]
+
+
+def _key(x: float) -> float:
+    """Cell coordinates rounded so that 0.14 × 100 and 14.0 meet."""
+    return round(float(x), 6)
+
+
+@dataclass
+class Cells:
+    mean: pd.DataFrame  # index (wind_speed, ti_pct), columns every gear damage column: the mean over cases
+    count: pd.Series  # cases per cell
+    used: int
+    left_out: dict[str, list[str]] = field(default_factory=dict)  # why -> case names
+
+
+def cells(t: pd.DataFrame) -> Cells:
+    """Our finished grid cases placed in cells, averaged per cell."""
+    gear_columns = [c for c in t.columns if c.startswith("gear.") and c.endswith((".root_day", ".flank_day"))]
+    if not gear_columns:
+        raise CampaignError("no gear damage columns (gear.<tooth>.root_day, .flank_day): "
+                            "run the campaign with [gears] table = \"P\" (docs/CAMPAIGNS.md)")  # fmt: skip
+    needed = {damage_column(r[2], r[3]) for r in data.TABLE6}
+    needed |= {damage_column(kind, tooth) for kind, tooth in data.TABLE7_COLUMNS}
+    absent = sorted(needed - set(gear_columns))
+    if absent:
+        raise CampaignError(f"no column {', '.join(absent)}: the paper's teeth are those of [gears] table = \"P\"")
+    if WIND not in t.columns:
+        raise CampaignError(f"no column {WIND}: the grid must set the wind speed")
+    left_out: dict[str, list[str]] = {}
+
+    def leave(why: str, rows: pd.DataFrame):
+        if len(rows):
+            left_out.setdefault(why, []).extend(rows["name"])
+
+    for status, rows in t[t.status != "ok"].groupby("status"):
+        leave(str(status), rows)
+    leave("not a grid case", t[(t.status == "ok") & (t.group != "grid")])
+    ok = t[(t.status == "ok") & (t.group == "grid")].copy()
+    steady = pd.Series(False, index=ok.index)  # without the column every case has the scene's turbulence
+    if TURBULENCE in ok:
+        steady = ok[TURBULENCE].eq(STEADY).fillna(False).astype(bool)
+    ti = ok[TI].astype(float) * 100.0 if TI in ok else pd.Series(math.nan, index=ok.index)
+    ok["wind_speed_"] = ok[WIND].astype(float).map(_key)
+    ok["ti_pct"] = ti.where(~steady, 0.0).map(lambda x: _key(x) if x == x else x)
+    leave("no rotor.wind_speed", ok[ok.wind_speed_.isna()])
+    leave("turbulent without rotor.turbulence_intensity", ok[~steady & ok.ti_pct.isna()])
+    leave("turbulent with TI 0 (the IEC class default, not steady wind)", ok[~steady & (ok.ti_pct == 0.0)])
+    placed = ok[ok.wind_speed_.notna() & ok.ti_pct.notna() & (steady | (ok.ti_pct > 0.0))]
+    grouped = placed.groupby(["wind_speed_", "ti_pct"])
+    mean = grouped[gear_columns].mean()
+    mean.index.names = ["wind_speed", "ti_pct"]
+    count = grouped.size()
+    count.index.names = ["wind_speed", "ti_pct"]
+    return Cells(mean=mean, count=count, used=len(placed), left_out=left_out)
+
+
+def const_rated(c: Cells) -> pd.Series:
+    """D_const,rated of every damage column: the steady cell at the rated 11.5 m/s."""
+    key = (_key(data.RATED_SPEED), 0.0)
+    if key not in c.mean.index:
+        raise CampaignError(
+            f"no finished steady {data.RATED_SPEED:g} m/s case ({TURBULENCE} = \"{STEADY}\", "
+            f"{WIND} = {data.RATED_SPEED:g}): η (the paper's Eq. 5) is relative to its damage"
+        )
+    return c.mean.loc[key]
+
+
+def relative(c: Cells, dc: pd.Series) -> pd.DataFrame:
+    """D / D_const,rated of the six Table 7 damages per cell."""
+    out = pd.DataFrame(index=c.mean.index)
+    for kind, tooth in data.TABLE7_COLUMNS:
+        col = damage_column(kind, tooth)
+        out[label(kind, tooth)] = c.mean[col] / dc[col] if dc[col] > 0 else math.nan
+    return out
+
+
+def paper_relative() -> pd.DataFrame:
+    """The paper's Table 7 as D / D_const,rated = 1 + η/100."""
+    rows = {(_key(v), _key(ti)): [1.0 + e / 100.0 for e in etas] for v, by_ti in data.TABLE7.items()
+            for ti, etas in by_ti.items()}  # fmt: skip
+    out = pd.DataFrame.from_dict(rows, orient="index", columns=TABLE7_LABELS)
+    out.index = pd.MultiIndex.from_tuples(out.index, names=["wind_speed", "ti_pct"])
+    return out.sort_index()
+
+
+def paper_cells() -> list[tuple[float, float]]:
+    return [(_key(v), _key(ti)) for v, by_ti in data.TABLE7.items() for ti in by_ti]
+
+
+# ---------------------------------------------------------------------------------------------------
+# the two tables
+
+
+def table6(c: Cells) -> pd.DataFrame:
+    """The paper's Table 6 beside ours: damage per day (absolute, not ×1e-6), ours/paper, and each gear's
+    rank within its stage and kind of damage (1 = most damaged; the paper's "-" ranks last)."""
+    rows = []
+    for stage, gear, damage, tooth, values in data.TABLE6:
+        col = damage_column(damage, tooth)
+        row = {"stage": stage, "gear": gear, "damage": damage, "tooth": tooth, "column": col}
+        for speed, paper in zip(data.TABLE6_SPEEDS, values):
+            key = (_key(speed), _key(data.TABLE6_TI_PCT))
+            ours = float(c.mean.at[key, col]) if key in c.mean.index and col in c.mean else math.nan
+            theirs = math.nan if paper is None else paper * data.TABLE6_UNIT
+            row[f"paper_{speed:g}"] = theirs
+            row[f"ours_{speed:g}"] = ours
+            row[f"ratio_{speed:g}"] = ours / theirs if theirs == theirs else math.nan
+        rows.append(row)
+    t = pd.DataFrame(rows)
+    by = t.groupby(["stage", "damage"], sort=False)
+    for speed in data.TABLE6_SPEEDS:
+        s = f"{speed:g}"
+        t[f"rank_paper_{s}"] = by[f"paper_{s}"].transform(lambda x: x.fillna(0.0).rank(ascending=False, method="min"))
+        t[f"rank_ours_{s}"] = by[f"ours_{s}"].transform(lambda x: x.rank(ascending=False, method="min"))
+    return t
+
+
+def table7(rel: pd.DataFrame) -> pd.DataFrame:
+    """The paper's Table 7 rows with the paper's η, ours and ours − paper (percentage points)."""
+    rows = []
+    for v, by_ti in data.TABLE7.items():
+        for ti, etas in by_ti.items():
+            key = (_key(v), _key(ti))
+            row = {"wind_speed": v, "ti_pct": ti}
+            for name, paper in zip(TABLE7_LABELS, etas):
+                ours = (float(rel.at[key, name]) - 1.0) * 100.0 if key in rel.index else math.nan
+                row[f"{name} paper"] = paper
+                row[f"{name} ours"] = ours
+                row[f"{name} diff"] = ours - paper
+            rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def missing_cells(c: Cells) -> list[tuple[float, float]]:
+    """The paper's Table 7 cells (which include Table 6's) that the campaign has no case for."""
+    return [k for k in paper_cells() if k not in c.mean.index]
+
+
+# ---------------------------------------------------------------------------------------------------
+# the shapes (a)-(c), on D / D_const,rated per cell, for ours and the paper's alike
+
+
+def _turbulent(rel: pd.DataFrame) -> pd.DataFrame:
+    return rel[rel.index.get_level_values("ti_pct") > 0.0]
+
+
+def flatness(rel: pd.DataFrame, lo: float = FLAT_SPEEDS[0], hi: float = FLAT_SPEEDS[1]) -> dict:
+    """(a) Per damage: the TI-averaged damage (mean over the turbulent cells of each speed) at every speed
+    from lo to hi, and its max / min: 1 is perfectly flat."""
+    turb = _turbulent(rel)
+    v = turb.index.get_level_values("wind_speed")
+    avg = turb[(v >= lo) & (v <= hi)].groupby(level="wind_speed").mean()
+    out = {}
+    for name in rel.columns:
+        s = avg[name].dropna()
+        out[name] = {
+            "speeds": [float(x) for x in s.index],
+            "ti_averaged": [float(x) for x in s],
+            "max_over_min": float(s.max() / s.min()) if len(s) >= 2 else math.nan,
+        }
+    return out
+
+
+def steady_above_turbulent(rel: pd.DataFrame, above: float = STEADY_ABOVE) -> dict:
+    """(b) Per damage: of the turbulent cells at `above` m/s and faster that have a steady cell at their
+    speed, how many are less damaging than it."""
+    steady = rel[rel.index.get_level_values("ti_pct") == 0.0].droplevel("ti_pct")
+    turb = _turbulent(rel)
+    turb = turb[turb.index.get_level_values("wind_speed") >= above]
+    out = {}
+    for name in rel.columns:
+        wins = total = 0
+        for (v, _ti), d in turb[name].items():
+            if v in steady.index and d == d and steady.at[v, name] == steady.at[v, name]:
+                total += 1
+                wins += bool(steady.at[v, name] > d)
+        out[name] = {"steady_higher": wins, "cells": total, "fraction": wins / total if total else math.nan}
+    return out
+
+
+def speed_sensitivity(rel: pd.DataFrame) -> dict:
+    """(c) Per damage: ∂D/∂V as linear finite differences between consecutive simulated speeds of the
+    TI-averaged damage, in D_const,rated per m/s. Each difference averages over the turbulent TIs that
+    both speeds have (the paper's 9 m/s row has TI 24 % only), so a missing cell does not pose as a
+    slope. The peak is the interval with the largest difference."""
+    turb = _turbulent(rel)
+    speeds = sorted(set(turb.index.get_level_values("wind_speed")))
+    out = {}
+    for name in rel.columns:
+        slopes = []
+        for v0, v1 in zip(speeds, speeds[1:]):
+            a = turb.xs(v0, level="wind_speed")[name].dropna()
+            b = turb.xs(v1, level="wind_speed")[name].dropna()
+            common = a.index.intersection(b.index)
+            if len(common):
+                slopes.append((v0, v1, float((b[common] - a[common]).mean() / (v1 - v0))))
+        peak = max(slopes, key=lambda s: s[2]) if slopes else (math.nan, math.nan, math.nan)
+        out[name] = {
+            "slopes": [{"from": s[0], "to": s[1], "per_m_s": s[2]} for s in slopes],
+            "peak_from": peak[0],
+            "peak_to": peak[1],
+            "peak_per_m_s": peak[2],
+        }
+    return out
+
+
+def rankings(t6: pd.DataFrame) -> dict:
+    """(d) The teeth ordered by damage, most damaged first, per speed and kind of damage, ours beside the
+    paper's, and the share of pairs the two order alike (pairs the paper ties, its "-", and teeth we
+    have no value for are not counted)."""
+    out = {}
+    for speed in data.TABLE6_SPEEDS:
+        s = f"{speed:g}"
+        for damage in ("bending", "pitting"):
+            sub = t6[t6.damage == damage]
+            paper = sub[f"paper_{s}"].fillna(0.0).to_numpy()
+            ours = sub[f"ours_{s}"].to_numpy()
+            teeth = list(sub.tooth)
+            same = pairs = 0
+            for i in range(len(teeth)):
+                for j in range(i + 1, len(teeth)):
+                    if paper[i] != paper[j] and np.isfinite(ours[i]) and np.isfinite(ours[j]) and ours[i] != ours[j]:
+                        pairs += 1
+                        same += (paper[i] > paper[j]) == (ours[i] > ours[j])
+            out[f"{damage} {s} m/s"] = {
+                "paper": [teeth[i] for i in np.argsort(-paper, kind="stable")],
+                "ours": [teeth[i] for i in np.argsort(-np.nan_to_num(ours, nan=-np.inf), kind="stable")
+                         if np.isfinite(ours[i])],  # fmt: skip
+                "pairs_in_the_same_order": same,
+                "pairs": pairs,
+            }
+    return out
+
+
+def shapes(rel: pd.DataFrame) -> dict:
+    return {
+        "flat_above_14": flatness(rel),
+        "steady_above_turbulent": steady_above_turbulent(rel),
+        "speed_sensitivity": speed_sensitivity(rel),
+    }
+
+
+# ---------------------------------------------------------------------------------------------------
+# everything at once
+
+
+@dataclass
+class Comparison:
+    cells: Cells
+    const_rated: pd.Series  # D_const,rated per damage column (ours)
+    table6: pd.DataFrame
+    table7: pd.DataFrame
+    relative: pd.DataFrame  # ours, D / D_const,rated for the Table 7 damages
+    shapes_ours: dict
+    shapes_paper: dict
+    rankings: dict
+    missing: list[tuple[float, float]]
+
+
+def compare(t: pd.DataFrame) -> Comparison:
+    c = cells(t)
+    dc = const_rated(c)
+    rel = relative(c, dc)
+    t6 = table6(c)
+    return Comparison(
+        cells=c,
+        const_rated=dc,
+        table6=t6,
+        table7=table7(rel),
+        relative=rel,
+        shapes_ours=shapes(rel),
+        shapes_paper=shapes(paper_relative()),
+        rankings=rankings(t6),
+        missing=missing_cells(c),
+    )
+
+
+def paper_const_rated() -> dict[str, float]:
+    """The paper's D_const,rated as Table 6 implies it: its TI 14 % damage at 11.5 m/s over 1 + η/100 of
+    the same cell in Table 7 (for the six Table 7 damages; Table 6's pitting is Table 7's contacting)."""
+    out = {}
+    eta = dict(zip(TABLE7_LABELS, data.TABLE7[data.RATED_SPEED][data.TABLE6_TI_PCT]))
+    for kind, tooth in data.TABLE7_COLUMNS:
+        t6_kind = "pitting" if kind == "contacting" else kind
+        (values,) = [r[4] for r in data.TABLE6 if r[2] == t6_kind and r[3] == tooth]
+        out[label(kind, tooth)] = values[0] * data.TABLE6_UNIT / (1.0 + eta[label(kind, tooth)] / 100.0)
+    return out

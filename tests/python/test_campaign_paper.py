@@ -1,0 +1,266 @@
+"""`scripts/campaign paper` (python/windrive_campaign/paper.py, paper_report.py, paper_data.py;
+docs/CAMPAIGNS.md, The paper's comparison): the transcription of the paper's Tables 6 and 7, η and the
+shape checks of a synthetic table against a hand computation, the files written, and the errors. No
+simulation: the tables are built here. A few seconds."""
+
+import json
+import math
+import os
+import pathlib
+import subprocess
+import sys
+
+import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "python"))
+
+from windrive_campaign import paper  # noqa: E402
+from windrive_campaign import paper_data as data  # noqa: E402
+from windrive_campaign.errors import CampaignError  # noqa: E402
+
+
+def campaign_cli(*args, timeout=120):
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "python")}
+    return subprocess.run(
+        [sys.executable, "-m", "windrive_campaign", *map(str, args)],
+        capture_output=True, text=True, env=env, timeout=timeout,
+    )  # fmt: skip
+
+
+# ---------------------------------------------------------------------------------------------------
+# the transcription
+
+
+def test_table6_spot_checks():
+    by = {(stage, gear, damage): values for stage, gear, damage, _tooth, values in data.TABLE6}
+    assert by[("1st", "sun", "bending")] == (1.28, 1.71)
+    assert by[("1st", "sun", "pitting")] == (483.0, 603.0)
+    assert by[("1st", "planet", "bending")] == (88.2, 113.0)
+    assert by[("1st", "planet-forward", "pitting")] == (109.0, 136.1)
+    assert by[("1st", "planet-back", "pitting")] == (0.003, 0.003)
+    assert by[("2nd", "ring", "pitting")] == (None, None)  # "-": too small to display
+    assert by[("3rd", "pinion", "bending")] == (9.20, 14.7)
+    assert data.TABLE6_UNIT == 1e-6 and data.TABLE6_SPEEDS == (11.5, 18.0) and data.TABLE6_TI_PCT == 14.0
+    # every tooth `windrive gears` rates appears, planets split into root (p), forward (ps) and back (pr)
+    teeth = {(damage, tooth) for _s, _g, damage, tooth, _v in data.TABLE6}
+    assert {t for d, t in teeth if d == "bending"} == {"s1", "p1", "r1", "s2", "p2", "r2", "g3", "p3"}
+    assert {t for d, t in teeth if d == "pitting"} == {"s1", "ps1", "pr1", "r1", "s2", "ps2", "pr2", "r2", "g3", "p3"}
+
+
+def test_table7_spot_checks():
+    assert data.TABLE7[9.0] == {24.0: (-94.4, -94.8, -99.6, -94.1, -95.9, -98.5)}
+    assert data.TABLE7[11.5][0.0] == (0.0,) * 6
+    assert data.TABLE7[14.0][0.0] == (97.7, 82.4, 102.2, 97.3, 81.9, 89.0)
+    assert data.TABLE7[16.0][14.0] == (77.9, 59.7, 114.2, 77.7, 57.6, 87.9)
+    assert data.TABLE7[20.0][24.0][2] == 296.8
+    tis = [0.0, 9.0, 12.0, 14.0, 16.0, 18.0, 21.0, 24.0]
+    assert all(list(data.TABLE7[v]) == tis for v in (11.5, 14.0, 16.0, 18.0, 20.0))
+    assert len(paper.paper_cells()) == 1 + 5 * 8
+
+
+def test_the_two_tables_agree_with_each_other():
+    """Table 6's 18 over 11.5 m/s damage at TI 14 % is Table 7's (1 + η_18/100) / (1 + η_11.5/100), for the
+    six damages both give, to the printed digits: a misread number in either breaks it."""
+    t6 = {(damage, tooth): values for _s, _g, damage, tooth, values in data.TABLE6}
+    for k, (kind, tooth) in enumerate(data.TABLE7_COLUMNS):
+        lo, hi = t6[("pitting" if kind == "contacting" else kind, tooth)]
+        eta_lo, eta_hi = data.TABLE7[11.5][14.0][k], data.TABLE7[18.0][14.0][k]
+        assert hi / lo == pytest.approx((1 + eta_hi / 100) / (1 + eta_lo / 100), rel=5e-3), (kind, tooth)
+
+
+# ---------------------------------------------------------------------------------------------------
+# a synthetic table, by hand
+
+ROOTS = {"r1": 8, "r2": 7, "p1": 6, "p2": 5, "p3": 4, "s1": 3, "s2": 2, "g3": 1}  # swaps the paper's s2, g3
+FLANKS = {"s1": 10, "ps1": 9, "s2": 8, "ps2": 7, "r1": 6, "p3": 5, "g3": 4, "pr1": 3, "r2": 2, "pr2": 1}
+
+
+def case(name, v, factor, ti=None, steady=False, seed=1, status="ok", group="grid", **override):
+    """A case whose every damage is factor × the tooth's weight above; `override` gives a column its own
+    factor (its name with __ for the dots)."""
+    row = {"name": name, "group": group, "status": status, "error": "",
+           "param.rotor.wind_speed": v, "param.rotor.turbulence_intensity": ti,
+           "param.rotor.turbulence": "none" if steady else "ntm", "param.rotor.seed": seed}  # fmt: skip
+    for tooth, w in ROOTS.items():
+        row[f"gear.{tooth}.root_day"] = w * override.get(f"{tooth}__root_day", factor)
+    for tooth, w in FLANKS.items():
+        row[f"gear.{tooth}.flank_day"] = w * override.get(f"{tooth}__flank_day", factor)
+    if status != "ok":
+        row.update({k: math.nan for k in row if k.startswith("gear.")})
+    return row
+
+
+def synthetic_rows():
+    return [
+        case("rated-steady", 11.5, 2.0, steady=True),  # D_const,rated: factor 2
+        case("rated-s1", 11.5, 3.0, ti=0.14),
+        case("rated-s2", 11.5, 4.0, ti=0.14, seed=2),  # the cell's mean: factor 3.5, η = 75 %
+        case("v14-ti9", 14.0, 2.2, ti=0.09),
+        case("v14-ti14", 14.0, 2.4, ti=0.14),
+        case("v14-steady", 14.0, 1.9, steady=True),
+        case("v18-ti14", 18.0, 1.0, ti=0.14, s1__flank_day=8.0, r1__root_day=3.0),
+        case("v18-steady", 18.0, 2.5, steady=True),
+        case("v20-failed", 20.0, 1.0, ti=0.14, status="failed"),
+        case("v20-pending", 20.0, 1.0, ti=0.16, status="pending"),
+        case("v16-ti0", 16.0, 1.0, ti=0.0),  # TI 0 is the IEC default, not steady: left out
+        case("dlc12-v12-s1", 12.0, 1.0, ti=0.17, group="dlc12"),
+    ]
+
+
+def write_table(folder: pathlib.Path, rows, name="synthetic"):
+    folder.mkdir(parents=True, exist_ok=True)
+    t = pa.Table.from_pandas(pd.DataFrame(rows), preserve_index=False)
+    meta = {"campaign": name, "years": None, "feq_hz": 1.0, "ldd_bins": {}}
+    pq.write_table(t.replace_schema_metadata({"windrive_campaign": json.dumps(meta)}), folder / f"{name}.parquet")
+    return folder
+
+
+def test_eta_is_the_hand_computation():
+    cmp = paper.compare(pd.DataFrame(synthetic_rows()))
+    t7 = cmp.table7.set_index(["wind_speed", "ti_pct"])
+    assert t7.at[(11.5, 0.0), "r1 bending ours"] == 0.0
+    assert t7.at[(11.5, 14.0), "r1 bending ours"] == pytest.approx(75.0, rel=1e-12)  # 3.5 / 2 − 1
+    assert t7.at[(11.5, 14.0), "p3 contacting ours"] == pytest.approx(75.0, rel=1e-12)
+    assert t7.at[(14.0, 9.0), "s2 contacting ours"] == pytest.approx(10.0, rel=1e-12)
+    assert t7.at[(14.0, 0.0), "r2 bending ours"] == pytest.approx(-5.0, rel=1e-12)
+    assert t7.at[(18.0, 0.0), "p3 bending ours"] == pytest.approx(25.0, rel=1e-12)
+    # bending is the root, contacting the flank: the 18 m/s case's own factors for r1's root and s1's flank
+    assert t7.at[(18.0, 14.0), "r1 bending ours"] == pytest.approx(50.0, rel=1e-12)
+    assert t7.at[(18.0, 14.0), "s1 contacting ours"] == pytest.approx(300.0, rel=1e-12)
+    assert t7.at[(18.0, 14.0), "r2 bending ours"] == pytest.approx(-50.0, rel=1e-12)
+    assert t7.at[(18.0, 14.0), "r1 bending diff"] == pytest.approx(50.0 - 81.5, rel=1e-12)
+    assert t7.at[(18.0, 14.0), "r1 bending paper"] == 81.5
+    assert math.isnan(t7.at[(20.0, 14.0), "r1 bending ours"])  # failed: no case in the cell
+    assert cmp.cells.used == 8
+    assert cmp.cells.count[(11.5, 14.0)] == 2
+    assert cmp.cells.left_out == {
+        "failed": ["v20-failed"],
+        "pending": ["v20-pending"],
+        "not a grid case": ["dlc12-v12-s1"],
+        "turbulent with TI 0 (the IEC class default, not steady wind)": ["v16-ti0"],
+    }
+    assert (16.0, 0.0) in cmp.missing and (11.5, 14.0) not in cmp.missing
+
+
+def test_table6_ratios_and_ranks():
+    t6 = paper.compare(pd.DataFrame(synthetic_rows())).table6.set_index(["stage", "gear", "damage"])
+    r = t6.loc[("1st", "sun", "bending")]
+    assert r["ours_11.5"] == pytest.approx(3.5 * ROOTS["s1"], rel=1e-12)
+    assert r["ratio_11.5"] == pytest.approx(3.5 * 3 / 1.28e-6, rel=1e-12)
+    assert r["ours_18"] == pytest.approx(1.0 * ROOTS["s1"], rel=1e-12)
+    assert t6.loc[("1st", "ring", "bending"), "ours_18"] == pytest.approx(3.0 * ROOTS["r1"], rel=1e-12)
+    # ranks within the stage: 1st-stage bending ring > planet > sun in both
+    assert [t6.loc[("1st", g, "bending"), "rank_paper_11.5"] for g in ("ring", "planet", "sun")] == [1, 2, 3]
+    assert [t6.loc[("1st", g, "bending"), "rank_ours_11.5"] for g in ("ring", "planet", "sun")] == [1, 2, 3]
+    # the paper's "-" ranks last, tied; its ratio is undefined
+    assert t6.loc[("2nd", "planet-back", "pitting"), "rank_paper_11.5"] == 3
+    assert t6.loc[("2nd", "ring", "pitting"), "rank_paper_11.5"] == 3
+    assert math.isnan(t6.loc[("2nd", "ring", "pitting"), "ratio_11.5"])
+
+
+def test_shape_checks_by_hand():
+    cmp = paper.compare(pd.DataFrame(synthetic_rows()))
+    s = cmp.shapes_ours
+    # (a) TI-averaged D / D_const,rated: 14 m/s (2.2 + 2.4) / 2 / 2 = 1.15; 18 m/s r1 3 / 2, r2 1 / 2
+    assert s["flat_above_14"]["r1 bending"]["max_over_min"] == pytest.approx(1.5 / 1.15, rel=1e-12)
+    assert s["flat_above_14"]["r2 bending"]["max_over_min"] == pytest.approx(1.15 / 0.5, rel=1e-12)
+    assert s["flat_above_14"]["r2 bending"]["speeds"] == [14.0, 18.0]
+    # (b) steady 1.9 at 14 m/s is below both turbulent cells; at 18 m/s 2.5 is above r2's 1, below r1's 3
+    assert s["steady_above_turbulent"]["r2 bending"] == {"steady_higher": 1, "cells": 3, "fraction": 1 / 3}
+    assert s["steady_above_turbulent"]["r1 bending"]["steady_higher"] == 0
+    # (c) over the TI both speeds have (14 %): 11.5 -> 14: (1.2 − 1.75) / 2.5; 14 -> 18: r1 (1.5 − 1.2) / 4
+    sens = s["speed_sensitivity"]["r1 bending"]
+    assert [(x["from"], x["to"]) for x in sens["slopes"]] == [(11.5, 14.0), (14.0, 18.0)]
+    assert sens["slopes"][0]["per_m_s"] == pytest.approx(-0.22, rel=1e-12)
+    assert (sens["peak_from"], sens["peak_to"]) == (14.0, 18.0)
+    assert sens["peak_per_m_s"] == pytest.approx(0.075, rel=1e-12)
+    # the peak is the largest slope, not the steepest: r2 falls on both intervals
+    assert s["speed_sensitivity"]["r2 bending"]["peak_per_m_s"] == pytest.approx(-0.175, rel=1e-12)
+    # (d) our bending order swaps the paper's s2 and g3: 27 of 28 pairs agree; pitting: all pairs but the
+    # paper's tie of its two "-" values
+    bending = cmp.rankings["bending 11.5 m/s"]
+    assert bending["paper"] == ["r1", "r2", "p1", "p2", "p3", "s1", "g3", "s2"]
+    assert bending["ours"] == ["r1", "r2", "p1", "p2", "p3", "s1", "s2", "g3"]
+    assert (bending["pairs_in_the_same_order"], bending["pairs"]) == (27, 28)
+    pitting = cmp.rankings["pitting 11.5 m/s"]
+    assert (pitting["pairs_in_the_same_order"], pitting["pairs"]) == (44, 44)
+
+
+def test_the_papers_own_shapes():
+    """The same checks on the paper's Table 7: its conclusions 2 and 3 (flat above 14 m/s, steady above
+    turbulent) and its peak of ∂D/∂V at rated, by hand from the transcribed rows."""
+    s = paper.compare(pd.DataFrame(synthetic_rows())).shapes_paper
+    r1 = {v: sum(1 + e[0] / 100 for ti, e in data.TABLE7[v].items() if ti > 0) / 7 for v in (14.0, 16.0, 18.0, 20.0)}
+    assert s["flat_above_14"]["r1 bending"]["max_over_min"] == pytest.approx(max(r1.values()) / min(r1.values()))
+    assert s["steady_above_turbulent"]["r1 bending"] == {"steady_higher": 28, "cells": 28, "fraction": 1.0}
+    assert s["steady_above_turbulent"]["p3 bending"]["steady_higher"] == 22
+    sens = s["speed_sensitivity"]["r1 bending"]
+    assert (sens["peak_from"], sens["peak_to"]) == (9.0, 11.5)
+    assert sens["peak_per_m_s"] == pytest.approx((1.414 - 0.056) / 2.5, rel=1e-12)  # TI 24 % only at 9 m/s
+
+
+# ---------------------------------------------------------------------------------------------------
+# the command
+
+
+def test_the_report_writes_its_files(tmp_path):
+    folder = write_table(tmp_path / "c", synthetic_rows())
+    r = campaign_cli("paper", folder, "--out", tmp_path / "out")
+    assert r.returncode == 1, r.stderr  # a failed and a pending case left out
+    assert "not compared: 1 failed: v20-failed" in r.stderr and "1 pending: v20-pending" in r.stderr
+    assert "no case in 34 of the paper's 41 cells" in r.stderr, r.stderr
+    out = tmp_path / "out"
+    for f in ("paper_table6.csv", "paper_table6.md", "paper_table7.csv", "paper_table7.md", "paper_summary.json"):
+        assert (out / f).stat().st_size > 0, f
+    assert (out / "paper_eta.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    t7 = pd.read_csv(out / "paper_table7.csv")
+    assert len(t7) == 41
+    row = t7[(t7.wind_speed == 18.0) & (t7.ti_pct == 14.0)].iloc[0]
+    assert row["s1 contacting ours"] == pytest.approx(300.0, rel=1e-12) and row["s1 contacting paper"] == 81.4
+    assert "| 18 | 14 | 81.5 | 50 | -31.5 |" in (out / "paper_table7.md").read_text()
+    t6 = pd.read_csv(out / "paper_table6.csv")
+    assert len(t6) == len(data.TABLE6) and t6["paper_11.5"].iloc[0] == pytest.approx(1.28e-6, rel=1e-12)
+    assert "| 1st | sun | bending | s1 | 1.28 | 1.05e+07 |" in (out / "paper_table6.md").read_text()
+
+    def no_nan(token):
+        raise AssertionError(f"{token} in the JSON summary")
+
+    summary = json.loads((out / "paper_summary.json").read_text(), parse_constant=no_nan)
+    assert summary["shapes"]["ours"]["steady_above_turbulent"]["r2 bending"]["steady_higher"] == 1
+    assert summary["shapes"]["paper"]["steady_above_turbulent"]["r1 bending"]["cells"] == 28
+    assert summary["d_const_rated"]["ours"]["r1 bending"] == 2.0 * ROOTS["r1"]
+    assert summary["cases_left_out"]["failed"] == ["v20-failed"]
+    # printed: both sides of each shape check
+    assert "(c) where ∂D/∂V peaks" in r.stdout and "14-18 m/s (0.075) |       9-11.5 m/s (0.543)" in r.stdout
+
+
+def one_line_error(r, *fragments):
+    assert r.returncode == 2, r.stderr
+    assert "Traceback" not in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    for f in fragments:
+        assert f in r.stderr, r.stderr
+
+
+def test_no_steady_rated_case_is_one_line_naming_it(tmp_path):
+    rows = [r for r in synthetic_rows() if r["name"] != "rated-steady"]
+    folder = write_table(tmp_path / "c", rows)
+    one_line_error(campaign_cli("paper", folder), "synthetic.parquet: no finished steady 11.5 m/s case",
+                   'param.rotor.turbulence = "none"', "param.rotor.wind_speed = 11.5")  # fmt: skip
+    # a failed steady case does not count either
+    rows = [{**r, "status": "failed"} if r["name"] == "rated-steady" else r for r in synthetic_rows()]
+    with pytest.raises(CampaignError, match="no finished steady 11.5 m/s case"):
+        paper.compare(pd.DataFrame(rows))
+
+
+def test_a_table_without_gear_damage_is_one_line(tmp_path):
+    rows = [{k: v for k, v in r.items() if not k.startswith("gear.")} for r in synthetic_rows()]
+    one_line_error(campaign_cli("paper", write_table(tmp_path / "c", rows)), "no gear damage columns",
+                   '[gears] table = "P"')  # fmt: skip
+    rows = [{k: v for k, v in r.items() if k != "gear.p3.flank_day"} for r in synthetic_rows()]
+    one_line_error(campaign_cli("paper", write_table(tmp_path / "d", rows)), "no column gear.p3.flank_day")
+    rows = [{k: v for k, v in r.items() if k != "param.rotor.wind_speed"} for r in synthetic_rows()]
+    one_line_error(campaign_cli("paper", write_table(tmp_path / "e", rows)), "no column param.rotor.wind_speed")
