@@ -82,7 +82,7 @@ def file_digest(path: Path) -> str:
 
 
 def snapshot_scene(
-    scene: Path, windrive: str, out_dir: Path, record: list[str], gears: str | None = None
+    scene: Path, windrive: str, out_dir: Path, record: list[str], gears: gears_mod.Gears | None = None
 ) -> tuple[str, str]:
     """The scene as an immutable .ssp under out_dir/scenes/ and its digest. The scene is first run for
     one millisecond, recording the campaign's channels: windrive brings its own FMUs in a folder's
@@ -99,7 +99,8 @@ def snapshot_scene(
             rate = gears_mod.command(windrive, f"{tmp}/probe.csv", gears, 0.0)
             r = subprocess.run(rate, capture_output=True, text=True)
             if r.returncode != 0:
-                raise CampaignError(f"{scene}: [gears] table = {gears!r}: windrive gears cannot rate its series: "
+                raise CampaignError(f"{scene}: [gears] table = {gears.table!r}, component = {gears.component!r}: "
+                                    "windrive gears cannot rate its series: "
                                     f"{r.stderr.strip() or r.returncode}")  # fmt: skip
     if scene.is_file():
         return str(scene), file_digest(scene)

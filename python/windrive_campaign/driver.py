@@ -81,7 +81,7 @@ def prepare(c: Campaign, opts: Options) -> tuple[list[cases_mod.Case], str]:
 def recorded(c: Campaign) -> list[str]:
     """The channels each case records: the analysed ones, their LDD speeds, what `windrive gears` reads
     with [gears], and `record`."""
-    rated = gears.CHANNELS[c.gears] if c.gears is not None else ()
+    rated = c.gears.channels() if c.gears is not None else ()
     return list(dict.fromkeys([*analysis.needed_columns(c.channels), *rated, *c.record]))
 
 

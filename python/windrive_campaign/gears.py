@@ -13,25 +13,42 @@ from __future__ import annotations
 import json
 import math
 import subprocess
+from dataclasses import dataclass
 
-# The channels `windrive gears --gearbox <table>` reads, which the cases must record (a campaign records
-# only what it analyses). They mirror the table's force and speed channels in gear_set.rs
-# (paper_1p5mw); a mismatch is caught before any case runs, because the driver rates the scene's probe
-# series (cases.snapshot_scene).
-CHANNELS: dict[str, tuple[str, ...]] = {
+# The channels `windrive gears --gearbox <table> --component <component>` reads, less the component's
+# name, which the cases must record (a campaign records only what it analyses). They mirror the table's
+# force and speed channels in gear_set.rs (paper_1p5mw; `windrive gears --channels` prints them); a
+# mismatch is caught before any case runs, because the driver rates the scene's probe series
+# (cases.snapshot_scene).
+_CHANNELS: dict[str, tuple[str, ...]] = {
     "P": (
-        "torsional.mesh_force_sun_planet_1",
-        "torsional.mesh_force_ring_planet_1",
-        "torsional.speed_carrier_1",
-        "torsional.mesh_force_sun_planet2_1",
-        "torsional.mesh_force_ring_planet2_1",
-        "torsional.speed_carrier_2",
-        "torsional.mesh_force_gear_pinion_1",
-        "torsional.speed_pinion_1",
-        "torsional.speed_gear_1",
+        "mesh_force_sun_planet_1",
+        "rotor_speed",
+        "mesh_force_ring_planet_1",
+        "mesh_force_sun_planet2_1",
+        "mesh_force_ring_planet2_1",
+        "mesh_force_gear_pinion_1",
     ),
 }
-TABLES = tuple(CHANNELS)
+TABLES = tuple(_CHANNELS)
+# each FMU whose outputs windrive gears reads (its --fmu), with the name the repository's scenes give it
+FMUS = {"torsional": "torsional", "gearbox6dof": "gearbox"}
+DEFAULT_FMU = "torsional"
+
+
+@dataclass(frozen=True)
+class Gears:
+    """[gears]: the gear table, the FMU whose mesh forces the series holds (the torsional FMU with
+    preset P gives transverse forces, the gearbox6dof FMU with the paper's gearbox normal ones) and its
+    name in the scene."""
+
+    table: str
+    fmu: str = DEFAULT_FMU
+    component: str = FMUS[DEFAULT_FMU]
+
+    def channels(self) -> tuple[str, ...]:
+        return tuple(f"{self.component}.{c}" for c in _CHANNELS[self.table])
+
 
 # table column suffix -> the field of `windrive gears --json`
 COLUMNS = {
@@ -49,8 +66,11 @@ class GearsError(Exception):
     """`windrive gears` failed on the series; the message is its stderr."""
 
 
-def command(windrive: str, series: str, table: str, transient: float) -> list[str]:
-    return [windrive, "gears", series, "--gearbox", table, "--transient", repr(transient), "--json"]
+def command(windrive: str, series: str, gears: Gears, transient: float) -> list[str]:
+    return [
+        windrive, "gears", series, "--gearbox", gears.table, "--fmu", gears.fmu, "--component", gears.component,
+        "--transient", repr(transient), "--json",
+    ]  # fmt: skip
 
 
 def columns(rated: list[dict]) -> dict[str, float]:
@@ -63,10 +83,10 @@ def columns(rated: list[dict]) -> dict[str, float]:
     return out
 
 
-def rate(windrive: str, series: str, table: str, transient: float, timeout: float) -> dict[str, float]:
+def rate(windrive: str, series: str, gears: Gears, transient: float, timeout: float) -> dict[str, float]:
     """The table's columns for one series; GearsError with windrive's stderr when it fails."""
     try:
-        r = subprocess.run(command(windrive, series, table, transient), capture_output=True, text=True, timeout=timeout)
+        r = subprocess.run(command(windrive, series, gears, transient), capture_output=True, text=True, timeout=timeout)
     except subprocess.TimeoutExpired:
         raise GearsError(f"windrive gears gave no result within the timeout of {timeout} s") from None
     if r.returncode != 0:

@@ -17,28 +17,15 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-import pyarrow as pa
-import pyarrow.parquet as pq
 
-from . import lifetime, paper
+from . import paper
 from . import paper_data as data
 from .errors import CampaignError
-from .report import locate_table
+from .report import locate_table, read_table
 
-TABLE_COLUMNS = ("name", "group", "status")
+TABLE_COLUMNS = ("name", "group", "status")  # the grid cases' columns this report reads
 FILES = ("paper_table6.csv", "paper_table6.md", "paper_table7.csv", "paper_table7.md", "paper_eta.png",
          "paper_summary.json")  # fmt: skip
-
-
-def read_table(path: Path) -> tuple[pd.DataFrame, dict]:
-    try:
-        t = pq.read_table(path)
-    except (OSError, pa.ArrowInvalid) as e:
-        raise CampaignError(f"{path}: cannot read the table: {e}") from None
-    missing = [c for c in TABLE_COLUMNS if c not in t.column_names]
-    if missing:
-        raise CampaignError(f"{path}: not a campaign table (no column {', '.join(missing)})")
-    return t.to_pandas(), lifetime.read_metadata(t.schema.metadata)
 
 
 def _num(x: float, digits: int = 4) -> str:
@@ -277,7 +264,7 @@ def _interval(s: dict) -> str:
 def report(given: Path, out_dir: Path | None) -> int:
     """Writes the comparison; 0 when every grid case counted, 1 when some are pending, failed or timed out."""
     table = locate_table(given)
-    t, meta = read_table(table)
+    t, meta = read_table(table, TABLE_COLUMNS)
     try:
         cmp = paper.compare(t)
     except CampaignError as e:

@@ -1,23 +1,32 @@
 """`scripts/campaign report`: a finished campaign's lifetime figures (lifetime.py) as lifetime.csv,
 lifetime.json, lifetime_ldd.csv, a bar chart of each group's share of the damage (lifetime.png) and a
-printed table. Cases that are not finished are left out and counted, never guessed."""
+printed table; with `[gears]` also the teeth's lifetime damage (gear_lifetime.py) as lifetime_gears.csv,
+a section of lifetime.json, lifetime_gears.png and a printed table. Cases that are not finished are left
+out and counted, never guessed."""
 
 from __future__ import annotations
 
 import csv
 import json
+import math
 import sys
 from pathlib import Path
 
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from . import gear_lifetime as gl
 from . import lifetime as lt
 from . import schema
 from .errors import CampaignError
 
 # what the lifetime reads besides the statistics (store.table writes them all)
 TABLE_COLUMNS = ("name", "group", "status", "wind_speed", "hours", "events", "analysed_s")
+
+# the gear section's own statement of what its damage is (docs/CAMPAIGNS.md, Lifetime report)
+GEAR_METHOD = ("Miner's sum per tooth flank (pitting) and root (bending) over the design life: nominal ISO 6336 "
+               "stresses without load factors, two-slope S-N curve, as the paper (windrive gears)")  # fmt: skip
+GEAR_KIND_TITLES = {"flank": "flank (pitting)", "root": "root (bending)"}
 
 
 def locate_table(given: Path) -> Path:
@@ -42,13 +51,14 @@ def locate_table(given: Path) -> Path:
     return tables[0]
 
 
-def read_table(path: Path):
-    """The campaign's table as pandas and its metadata (climate years, f_eq, LDD bins)."""
+def read_table(path: Path, required: tuple[str, ...] = TABLE_COLUMNS):
+    """The campaign's table as pandas and its metadata (climate years, f_eq, LDD bins); `required` are
+    the columns the caller needs (the lifetime report's weights by default)."""
     try:
         t = pq.read_table(path)
     except (OSError, pa.ArrowInvalid) as e:
         raise CampaignError(f"{path}: cannot read the table: {e}") from None
-    missing = [c for c in TABLE_COLUMNS if c not in t.column_names]
+    missing = [c for c in required if c not in t.column_names]
     if missing:
         raise CampaignError(f"{path}: not a campaign table (no column {', '.join(missing)})")
     return t.to_pandas(), lt.read_metadata(t.schema.metadata)
@@ -73,8 +83,17 @@ def write_ldd_csv(life: lt.Lifetime, path: Path):
                 w.writerow([ch, i, repr(e[i]), repr(e[i + 1]), repr(s), repr(s / 3600.0), repr(n)])
 
 
+def write_gears_csv(life: lt.Lifetime, path: Path):
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["tooth", "kind", "damage", "life_years", *(f"share:{g}" for g in life.groups)])
+        for r in life.gears:
+            w.writerow([r["tooth"], r["kind"], repr(r["damage"]), repr(r["life_years"]),
+                        *(repr(r["share"][g]) for g in life.groups)])  # fmt: skip
+
+
 def as_json(life: lt.Lifetime) -> dict:
-    return {
+    d = {
         "campaign": life.campaign,
         "years": life.years,
         "feq_hz": life.feq_hz,
@@ -89,6 +108,19 @@ def as_json(life: lt.Lifetime) -> dict:
         "ldd": life.ldd,
         "thesis_ratios": life.ratios,
     }
+    if life.gears:  # only then: a campaign without [gears] keeps the JSON it had
+        d["gears"] = {"method": GEAR_METHOD, "lifetime": [_gear_json(r) for r in life.gears]}
+    return d
+
+
+def _gear_json(row: dict) -> dict:
+    """A tooth's row with null for a damage-free tooth's infinite life and undefined shares, as JSON
+    has neither (paper_summary.json does the same)."""
+    return {**row, "life_years": _finite(row["life_years"]), "share": {g: _finite(s) for g, s in row["share"].items()}}
+
+
+def _finite(x: float) -> float | None:
+    return x if math.isfinite(x) else None
 
 
 def bar_chart(life: lt.Lifetime, path: Path):
@@ -117,6 +149,48 @@ def bar_chart(life: lt.Lifetime, path: Path):
     plt.close(fig)
 
 
+def gear_chart(life: lt.Lifetime, path: Path):
+    """A panel for the flanks and one for the roots: per tooth, a bar stacked from each group's share of
+    its lifetime damage, with the damage and life written above it. Shares rather than damage on the
+    axis because the teeth's damage spans decades: on one linear axis the small ones would vanish."""
+    import matplotlib
+
+    matplotlib.use("Agg")  # files only, as bar_chart
+    import matplotlib.pyplot as plt
+
+    kinds = [k for k in gl.KINDS if any(r["kind"] == k for r in life.gears)]
+    teeth = max(sum(r["kind"] == k for r in life.gears) for k in kinds)
+    fig, axes = plt.subplots(len(kinds), 1, figsize=(max(6.0, 0.8 * teeth + 3.5), 3.4 * len(kinds)), squeeze=False)
+    colours = plt.get_cmap("tab10" if len(life.groups) <= 10 else "tab20")
+    for ax, kind in zip(axes[:, 0], kinds):
+        rows = [r for r in life.gears if r["kind"] == kind]
+        _stacked_shares(ax, rows, life.groups, colours)
+        ax.set_title(f"{GEAR_KIND_TITLES[kind]}: each group's share of the {life.years:g}-year Miner damage",
+                     fontsize=10)  # fmt: skip
+        ax.set_ylabel("share of D [%]")
+        ax.set_ylim(0, 125)  # room for the labels above the bars
+        ax.set_xticks(range(len(rows)), [r["tooth"] for r in rows], fontsize=8)
+    axes[0, 0].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    fig.suptitle(f"campaign {life.campaign}: gear damage (nominal ISO 6336, two-slope S-N)", fontsize=11)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110, bbox_inches="tight")  # the legend sits outside the axes
+    plt.close(fig)
+
+
+def _stacked_shares(ax, rows: list[dict], groups: list[str], colours):
+    bottom = [0.0] * len(rows)
+    for k, g in enumerate(groups):
+        heights = [100 * r["share"][g] if r["damage"] > 0 else 0.0 for r in rows]
+        ax.bar(range(len(rows)), heights, 0.7, bottom=bottom, label=g, color=colours(k % colours.N))
+        bottom = [b + h for b, h in zip(bottom, heights)]
+    for i, r in enumerate(rows):
+        ax.text(i, 102, f"D {r['damage']:.2g}\n{_years(r['life_years'])}", ha="center", va="bottom", fontsize=7)
+
+
+def _years(life_years: float) -> str:
+    return "no damage" if math.isinf(life_years) else f"{life_years:.3g} y"
+
+
 def print_tables(life: lt.Lifetime, out=sys.stdout):
     print(f"campaign {life.campaign}: {life.used} cases over {life.years:g} years "
           f"({life.operating_hours:.0f} operating h, {life.events:g} events); "
@@ -134,6 +208,20 @@ def print_tables(life: lt.Lifetime, out=sys.stdout):
         for q in life.ratios:
             print(f"  {q['channel']}: {q['shutdown']} / {q['versus']} ({q['versus_cases']}): "
                   f"ours {q['ours']:.2f}, thesis {q['thesis']:.2f}", file=out)  # fmt: skip
+    if life.gears:
+        print_gear_tables(life, out)
+
+
+def print_gear_tables(life: lt.Lifetime, out=sys.stdout):
+    print(f"\ngear damage over {life.years:g} years (Miner; nominal ISO 6336 stresses, two-slope S-N)", file=out)
+    print(f"{'tooth':8} {'kind':6} {'damage D':>11} {'life [years]':>13}", file=out)
+    for r in life.gears:
+        print(f"{r['tooth']:8} {r['kind']:6} {r['damage']:>11.4e} {r['life_years']:>13.4g}", file=out)
+    heads = [f"{r['tooth']} {r['kind']}" for r in life.gears]
+    print("\nshare of gear damage [%]", file=out)
+    print(f"{'group':24} " + " ".join(f"{h:>10}" for h in heads), file=out)
+    for g in life.groups:
+        print(f"{g:24} " + " ".join(f"{100 * r['share'][g]:>10.2f}" for r in life.gears), file=out)
 
 
 def report(given: Path, out_dir: Path | None) -> int:
@@ -143,12 +231,19 @@ def report(given: Path, out_dir: Path | None) -> int:
     life = lt.compute(t, meta)
     out_dir = out_dir or table.parent
     out_dir.mkdir(parents=True, exist_ok=True)
+    written = ["lifetime.csv", "lifetime.json", "lifetime_ldd.csv"]
     write_csv(life, out_dir / "lifetime.csv")
     write_ldd_csv(life, out_dir / "lifetime_ldd.csv")
     (out_dir / "lifetime.json").write_text(json.dumps(as_json(life), indent=1))
-    bar_chart(life, out_dir / "lifetime.png")
+    if life.rows:  # a campaign of channels without Wöhler slopes has no DEL to chart
+        bar_chart(life, out_dir / "lifetime.png")
+        written.append("lifetime.png")
+    if life.gears:
+        write_gears_csv(life, out_dir / "lifetime_gears.csv")
+        gear_chart(life, out_dir / "lifetime_gears.png")
+        written += ["lifetime_gears.csv", "lifetime_gears.png"]
     print_tables(life)
-    print(f"\nwritten: {out_dir}/lifetime.csv, lifetime.json, lifetime_ldd.csv, lifetime.png")
+    print(f"\nwritten: {out_dir}/{', '.join(written)}")
     return _warn_left_out(life)
 
 

@@ -41,7 +41,7 @@ class RunSpec:
     keep_series: bool
     record: tuple[str, ...]  # every channel recorded (driver.recorded)
     timeout: float
-    gears: str | None = None  # the gear table `windrive gears` rates each series with, if any
+    gears: gears.Gears | None = None  # what `windrive gears` rates each series with, if anything
 
 
 # loaded here, not in the forked child: dlopen between fork and exec of a threaded process can deadlock

@@ -106,14 +106,15 @@ class Campaign:
     grids: tuple[dict[str, tuple[ParamValue, ...]], ...]
     events: tuple[Event, ...]
     slurm: Slurm | None
-    gears: str | None = None  # [gears] table: the gear table `windrive gears --gearbox` rates each case with
+    gears: gears_mod.Gears | None = None  # [gears]: what `windrive gears` rates each case with
 
     def analysis_spec(self) -> dict:
         """What the analysis of a series depends on (not the simulation): a result whose analysis
         digest differs is stale and its case runs again."""
         spec = {"channels": [asdict(c) for c in self.channels], "feq": self.feq}
         if self.gears is not None:  # only when rated: the digests of campaigns without [gears] stay as they were
-            spec["gears"] = self.gears
+            g = self.gears
+            spec["gears"] = g.table if g == gears_mod.Gears(g.table) else asdict(g)
         return spec
 
     def analysis_digest(self) -> str:
@@ -387,16 +388,20 @@ class _Reader:
             out.append(axes)
         return tuple(out)
 
-    def gears(self, doc: dict) -> str | None:
+    def gears(self, doc: dict) -> gears_mod.Gears | None:
         t = self.table(doc, (), "gears")
         if t is None:
             return None
         key = ("gears",)
-        self.check_keys(t, key, ("table",))
+        self.check_keys(t, key, ("table", "fmu", "component"))
         table = self.string(t, key, "table", choices=gears_mod.TABLES)
         if table is None:
             self.fail(key + ("table",), f"missing (the gear table, one of {', '.join(gears_mod.TABLES)})")
-        return table
+        fmu = self.string(t, key, "fmu", choices=tuple(gears_mod.FMUS)) or gears_mod.DEFAULT_FMU
+        component = self.string(t, key, "component")
+        if component is not None and not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", component):
+            self.fail(key + ("component",), f"{component!r}: a scene component's name ([A-Za-z_][A-Za-z0-9_]*)")
+        return gears_mod.Gears(table, fmu, component or gears_mod.FMUS[fmu])
 
     def climate(self, doc: dict) -> Climate | None:
         t = self.table(doc, (), "climate")

@@ -189,6 +189,15 @@ impl Default for Factors {
     }
 }
 
+/// What a mesh-force channel holds. Both act along the line of action; they differ by the helix.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum MeshForce {
+    /// In the transverse plane, F_bt (torque / base radius): the torsional FMU's mesh forces.
+    Transverse,
+    /// Normal to the tooth, F_bn = F_bt / cos β_b: the gearbox6dof FMU's mesh forces.
+    Normal,
+}
+
 /// Stresses of one pair made of steel (E = 206 GPa, ν = 0.3) unless given.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ToothStress {
@@ -242,10 +251,18 @@ impl ToothStress {
     }
 
     /// Transverse tangential force on the reference circle from the normal force along the line of
-    /// action (the torsional model's mesh force): F_bt = F_t / cos α_t and F_bn = F_bt / cos β_b.
+    /// action (the gearbox6dof FMU's mesh force): F_bt = F_t / cos α_t and F_bn = F_bt / cos β_b.
     pub fn tangential_from_normal(&self, f_normal: f64) -> f64 {
         let g = self.pair.geometry();
         f_normal * g.transverse_pressure_angle.cos() * g.base_helix_angle.cos()
+    }
+
+    /// Transverse tangential force on the reference circle from a mesh force of either kind.
+    pub fn tangential(&self, force: f64, kind: MeshForce) -> f64 {
+        match kind {
+            MeshForce::Normal => self.tangential_from_normal(force),
+            MeshForce::Transverse => force * self.pair.geometry().transverse_pressure_angle.cos(),
+        }
     }
 }
 

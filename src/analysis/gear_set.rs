@@ -7,7 +7,7 @@
 //! The gear table of the paper's 1.5 MW gearbox is [`paper_1p5mw`]; its channels are the torsional
 //! FMU's outputs for preset P.
 
-use super::gear::{GearPair, Tooth, ToothStress};
+use super::gear::{GearPair, MeshForce, Tooth, ToothStress};
 use super::ldd::sample_revolutions;
 use super::series::{self, SeriesError};
 use super::tooth_root::{BasicRack, LoadPoint, root_form};
@@ -107,8 +107,9 @@ pub struct RatedTooth {
     /// Short name as the paper's figures write it (s1, p1, r1, …; ps1/pr1 for a planet's two flanks).
     pub name: &'static str,
     pub description: &'static str,
-    /// Mesh force along the line of action, N.
+    /// Mesh force along the line of action, N, and which one it is (transverse or normal).
     pub force: String,
+    pub force_kind: MeshForce,
     pub pair: GearPair,
     /// 1 (z1 of the pair) or 2.
     pub member: u8,
@@ -201,7 +202,7 @@ impl RatedTooth {
         let limit_f = 2.0 * self.material.bending_limit * self.tooth.mean_stress_factor();
         // ISO's stresses are σ_H ∝ √F and σ_F ∝ F at fixed geometry: their coefficients once, rather than
         // the pair's geometry (an involute-function inversion) three times a sample
-        let unit = stress.tangential_from_normal(1.0);
+        let unit = stress.tangential(1.0, self.force_kind);
         let (c_h, c_f) = (stress.contact(unit), stress.bending(unit));
         let (mut cycles, mut dh, mut df, mut max_h, mut max_f) = (0.0, 0.0, 0.0, 0.0f64, 0.0f64);
         for (j, (_dt, revs)) in sample_revolutions(t, speed).enumerate() {
@@ -281,14 +282,17 @@ pub fn rate_series(path: &Path, teeth: &[RatedTooth], transient: f64) -> Result<
         .collect()
 }
 
-/// The paper's gearbox (seed 004 Table 4; PARAMETERS.md §8) as the torsional FMU's preset P outputs
-/// it: planet 1's meshes stand for all three (the paper multiplies the sun's and ring's cycles by 3).
+/// The paper's gearbox (seed 004 Table 4; PARAMETERS.md §8) as the scene's `component` outputs it: the
+/// torsional FMU with preset P (transverse mesh forces) or the gearbox6dof FMU with `paper1p5mw`
+/// (normal mesh forces), both of which name their mesh forces alike. Planet 1's meshes stand for all three (the paper multiplies the sun's and ring's cycles
+/// by 3). The load cycles of every tooth follow from the rotor speed and the tooth counts (the shafts'
+/// twist rates are a few per mille of their speeds and average out).
 /// Each pair's face width is the engaged one, the smaller of its two; the rings are 34CrNiMo6, every
 /// other gear 18CrNiMo7-6. The paper prints the rings' profile shifts as −1.42 and −0.36: the other sign
 /// convention for internal gears. In ours (inv α_wt from x_ring − x_planet) +1.42 and +0.36 put the
 /// planet–ring centre distance on the sun–planet one (410.8 mm for stage 1, exactly; 0.1 % apart for
 /// stage 2), and −1.42 would give no working pressure angle at all.
-pub fn paper_1p5mw() -> Vec<RatedTooth> {
+pub fn paper_1p5mw(component: &str, force_kind: MeshForce) -> Vec<RatedTooth> {
     let pair = |z1, z2, internal, module_mm: f64, helix_deg: f64, face_mm: f64, x1, x2| GearPair {
         z1,
         z2,
@@ -301,12 +305,13 @@ pub fn paper_1p5mw() -> Vec<RatedTooth> {
         shift2: x2,
         tip_diameters: None,
     };
-    let channel = |name: &str| format!("torsional.{name}");
+    let channel = |name: &str| format!("{component}.{name}");
+    let rotor_speed = channel("rotor_speed");
     let mut teeth = Vec::new();
-    // (stage, sun, planet, ring, module, faces sun–planet / planet–ring, shifts, suffix of the channels)
+    // (sun, planet, ring, module, faces sun–planet / planet–ring, shifts, suffix of the channels)
     let stages = [
-        (1, 23u32, 34u32, 91u32, 14.0, (380.0, 370.0), (0.46, 0.48, 1.42), ""),
-        (2, 25, 45, 116, 9.0, (180.0, 170.0), (0.28, 0.31, 0.36), "2"),
+        (23u32, 34u32, 91u32, 14.0, (380.0, 370.0), (0.46, 0.48, 1.42), ""),
+        (25, 45, 116, 9.0, (180.0, 170.0), (0.28, 0.31, 0.36), "2"),
     ];
     const NAMES: [[&str; 5]; 2] = [["s1", "p1", "ps1", "pr1", "r1"], ["s2", "p2", "ps2", "pr2", "r2"]];
     const DESCRIPTIONS: [[&str; 5]; 2] = [
@@ -325,10 +330,11 @@ pub fn paper_1p5mw() -> Vec<RatedTooth> {
             "2nd stage ring",
         ],
     ];
-    for (i, (stage, zs, zp, zr, m, (b_sp, b_pr), (xs, xp, xr), suffix)) in stages.into_iter().enumerate() {
+    // carrier speed over rotor speed: 1 for the first stage, the first stage's ratio for the second
+    let mut carrier_speed = 1.0;
+    for (i, (zs, zp, zr, m, (b_sp, b_pr), (xs, xp, xr), suffix)) in stages.into_iter().enumerate() {
         let sun_planet = pair(zs, zp, false, m, 0.0, b_sp, xs, xp);
         let planet_ring = pair(zp, zr, true, m, 0.0, b_pr, xp, xr);
-        let carrier = channel(&format!("speed_carrier_{stage}"));
         let (sp_force, rp_force) = (
             channel(&format!("mesh_force_sun_planet{suffix}_1")),
             channel(&format!("mesh_force_ring_planet{suffix}_1")),
@@ -336,14 +342,15 @@ pub fn paper_1p5mw() -> Vec<RatedTooth> {
         // tooth revolutions relative to the carrier per carrier revolution: sun z_r/z_s, planet z_r/z_p
         let relative = |z: u32| f64::from(zr) / f64::from(z);
         let cycles = |factor: f64| Cycles {
-            speed: carrier.clone(),
-            factor,
+            speed: rotor_speed.clone(),
+            factor: factor * carrier_speed,
         };
         let n = 3;
         let rated = |k: usize, force: &String, p: GearPair, member, tooth, material, factor, flank, root| RatedTooth {
             name: NAMES[i][k],
             description: DESCRIPTIONS[i][k],
             force: force.clone(),
+            force_kind,
             pair: p,
             member,
             tooth,
@@ -408,24 +415,27 @@ pub fn paper_1p5mw() -> Vec<RatedTooth> {
             true,
             true,
         ));
+        carrier_speed *= 1.0 + f64::from(zr) / f64::from(zs);
     }
     let parallel = pair(28, 101, false, 6.0, 12.0, 180.0, 0.08, 0.15);
     let force = channel("mesh_force_gear_pinion_1");
+    // the gear turns with the second sun, the pinion 101/28 times faster
     for (name, description, member, speed) in [
-        ("p3", "3rd stage pinion", 1, "speed_pinion_1"),
-        ("g3", "3rd stage gear", 2, "speed_gear_1"),
+        ("p3", "3rd stage pinion", 1, carrier_speed * 101.0 / 28.0),
+        ("g3", "3rd stage gear", 2, carrier_speed),
     ] {
         teeth.push(RatedTooth {
             name,
             description,
             force: force.clone(),
+            force_kind,
             pair: parallel,
             member,
             tooth: Tooth::Parallel,
             material: CASE_CARBURISED,
             cycles: Cycles {
-                speed: channel(speed),
-                factor: 1.0,
+                speed: rotor_speed.clone(),
+                factor: speed,
             },
             flank: true,
             root: true,
@@ -434,10 +444,11 @@ pub fn paper_1p5mw() -> Vec<RatedTooth> {
     teeth
 }
 
-/// Gear tables by name: the presets whose every gear dimension is published.
-pub fn gear_table(name: &str) -> Option<Vec<RatedTooth>> {
+/// Gear tables by name, reading the channels of the scene's `component`, whose mesh forces are of
+/// `force_kind`: the presets whose every gear dimension is published.
+pub fn gear_table(name: &str, component: &str, force_kind: MeshForce) -> Option<Vec<RatedTooth>> {
     match name.trim().to_ascii_uppercase().as_str() {
-        "P" => Some(paper_1p5mw()),
+        "P" => Some(paper_1p5mw(component, force_kind)),
         _ => None,
     }
 }
@@ -476,7 +487,7 @@ mod tests {
     /// distance, as one carrier requires: exactly for stage 1, within 0.2 % for stage 2.
     #[test]
     fn ring_shifts_close_the_carrier() {
-        let teeth = paper_1p5mw();
+        let teeth = paper_1p5mw("torsional", MeshForce::Transverse);
         let pair = |name: &str| teeth.iter().find(|t| t.name == name).unwrap().pair;
         for (sun, ring, tol) in [("s1", "r1", 1e-3), ("s2", "r2", 2e-3)] {
             let (a_sp, a_pr) = (
@@ -489,25 +500,32 @@ mod tests {
     }
 
     fn rate_one(name: &str, force: &[f64], speed: f64, t_end: f64) -> ToothDamage {
-        let tooth = paper_1p5mw().into_iter().find(|t| t.name == name).unwrap();
+        let tooth = paper_1p5mw("torsional", MeshForce::Transverse)
+            .into_iter()
+            .find(|t| t.name == name)
+            .unwrap();
         let n = force.len();
         let t: Vec<f64> = (0..n).map(|i| t_end * i as f64 / (n - 1) as f64).collect();
         tooth.rate(&t, force, &vec![speed; n]).unwrap()
     }
 
-    /// A constant mesh force at a constant carrier speed: the sun sees 3·z_r/z_s load cycles per carrier
-    /// revolution, the ring 3, the planet z_r/z_p; the damage is those cycles over N at the stress, and
-    /// a day is 86 400 s of it.
+    /// A constant mesh force at a constant rotor speed: the sun sees 3·z_r/z_s load cycles per carrier
+    /// revolution, the ring 3, the planet z_r/z_p, the second stage's carrier turns with the first sun,
+    /// the pinion at the overall ratio; the damage is those cycles over N at the stress, and a day is
+    /// 86 400 s of it.
     #[test]
     fn constant_load_counts_kinematic_cycles() {
         let (w, t_end, f) = (1.8, 60.0, 3e5);
         let revs = w * t_end / std::f64::consts::TAU;
         let force = vec![f; 6001];
+        let carrier_2 = 1.0 + 91.0 / 23.0;
         for (name, per_rev) in [
             ("s1", 3.0 * 91.0 / 23.0),
             ("r1", 3.0),
             ("p1", 91.0 / 34.0),
-            ("s2", 3.0 * 116.0 / 25.0),
+            ("s2", 3.0 * 116.0 / 25.0 * carrier_2),
+            ("r2", 3.0 * carrier_2),
+            ("p3", carrier_2 * (1.0 + 116.0 / 25.0) * 101.0 / 28.0),
         ] {
             let r = rate_one(name, &force, w, t_end);
             // 6000 intervals span the 60 s (the last sample holds no time)
@@ -518,7 +536,10 @@ mod tests {
                 r.load_cycles
             );
         }
-        let tooth = paper_1p5mw().into_iter().find(|t| t.name == "s1").unwrap();
+        let tooth = paper_1p5mw("torsional", MeshForce::Transverse)
+            .into_iter()
+            .find(|t| t.name == "s1")
+            .unwrap();
         let r = rate_one("s1", &force, w, t_end);
         let (y_f, y_s) = tooth.form_factors().unwrap();
         let st = ToothStress::steel(
@@ -530,7 +551,7 @@ mod tests {
                 ..Default::default()
             },
         );
-        let sigma = st.contact(st.tangential_from_normal(f));
+        let sigma = st.contact(st.tangential(f, MeshForce::Transverse));
         let d = r.load_cycles
             / CASE_CARBURISED
                 .contact
@@ -555,7 +576,10 @@ mod tests {
             .map(|t| 3.4e5 * (1.0 + 0.15 * (1.3 * t).sin() + 0.05 * (7.1 * t).sin()))
             .collect();
         let speed = vec![1.8; n];
-        let tooth = paper_1p5mw().into_iter().find(|t| t.name == "s1").unwrap();
+        let tooth = paper_1p5mw("torsional", MeshForce::Transverse)
+            .into_iter()
+            .find(|t| t.name == "s1")
+            .unwrap();
         let r = tooth.rate(&t, &force, &speed).unwrap();
         let (y_f, y_s) = tooth.form_factors().unwrap();
         let st = ToothStress::steel(
@@ -588,11 +612,40 @@ mod tests {
         );
     }
 
+    /// The gearbox6dof FMU's mesh forces are normal to the teeth, the torsional FMU's transverse: the
+    /// same tooth loading reads 1/cos β_b larger from the 6-DOF model on the helical stage (β = 12°,
+    /// β_b = 11.27°) and alike on the spur stages, and both give the same stresses.
+    #[test]
+    fn normal_and_transverse_mesh_forces_rate_alike() {
+        let (w, t_end, f) = (1.8, 60.0, 1.1e5);
+        let torsional = paper_1p5mw("torsional", MeshForce::Transverse);
+        let six_dof = paper_1p5mw("gearbox", MeshForce::Normal);
+        let n = 601;
+        let t: Vec<f64> = (0..n).map(|i| t_end * i as f64 / (n - 1) as f64).collect();
+        for (a, b) in torsional.iter().zip(&six_dof) {
+            assert_eq!(b.force, a.force.replace("torsional.", "gearbox."));
+            let cos_beta_b = a.pair.geometry().base_helix_angle.cos();
+            let ra = a.rate(&t, &vec![f; n], &vec![w; n]).unwrap();
+            let rb = b.rate(&t, &vec![f / cos_beta_b; n], &vec![w; n]).unwrap();
+            for (x, y) in [
+                (ra.max_contact_stress, rb.max_contact_stress),
+                (ra.max_root_stress, rb.max_root_stress),
+            ] {
+                assert!((x - y).abs() <= 1e-12 * x.abs(), "{}: {x} vs {y}", a.name);
+            }
+            let helical = a.pair.helix_angle > 0.0;
+            assert_eq!(helical, (cos_beta_b - 1.0).abs() > 1e-3, "{}", a.name);
+        }
+    }
+
     /// Y_F and Y_S land in ISO 6336-3's usual band (Y_F 1.1–1.4, Y_S 1.9–2.6 at the outer point of
     /// single contact) for every rated root, the rings' from the substitute rack included.
     #[test]
     fn form_factors_in_the_usual_band() {
-        for tooth in paper_1p5mw().iter().filter(|t| t.root) {
+        for tooth in paper_1p5mw("torsional", MeshForce::Transverse)
+            .iter()
+            .filter(|t| t.root)
+        {
             let (y_f, y_s) = tooth.form_factors().unwrap();
             assert!(
                 (1.0..1.5).contains(&y_f) && (1.8..2.7).contains(&y_s),

@@ -5,7 +5,7 @@
 //! tooth (stress bins with their load cycles from the speed, ISO 6336-6 style), and the ISO 281 Miner
 //! damage of a bearing over its load spectrum.
 
-use super::gear::{self, Factors, GearPair, Tooth, ToothStress};
+use super::gear::{self, Factors, GearPair, MeshForce, Tooth, ToothStress};
 use super::limits::limit;
 use super::series::{self, SeriesError};
 use super::tooth_root::{BasicRack, LoadPoint, root_form};
@@ -320,7 +320,7 @@ impl Lifetime {
         let (mut total_h, mut total_f, mut total_cycles, mut shut_h, mut shut_f) = (0.0, 0.0, 0.0, 0.0, 0.0);
         for (name, case, repeat) in self.cases() {
             let w = case.speed("gear")?;
-            let ft: Vec<f64> = case.load.iter().map(|f| st.tangential_from_normal(*f)).collect();
+            let ft: Vec<f64> = case.load.iter().map(|f| st.tangential(*f, spec.force)).collect();
             let sh: Vec<f64> = ft.iter().map(|f| st.contact(*f)).collect();
             let sf: Vec<f64> = ft.iter().map(|f| st.bending(*f)).collect();
             let (dh, n) = stress_damage(&case.t, &sh, w, per_rev, sigma_hlim, gear::contact_cycles_to_failure);
@@ -427,6 +427,8 @@ pub struct GearSpec {
     pub planets: u32,
     pub k_a: f64,
     pub k_gamma: f64,
+    /// What the load channel holds: the torsional FMU's transverse mesh force or the gearbox6dof's normal.
+    pub force: MeshForce,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -1,6 +1,7 @@
 //! `windrive gears`: every gear tooth of a gearbox rated from one series (ISO 6336 stresses, load
 //! cycles from the speeds, two-slope S-N, Miner) through [`crate::analysis::gear_set`].
 
+use crate::analysis::gear::MeshForce;
 use crate::analysis::gear_set::{ToothDamage, channels, gear_table, rate_series};
 use anyhow::Context;
 use std::path::PathBuf;
@@ -14,6 +15,15 @@ pub struct GearsArgs {
     /// and profile shifts are published; the series must come from the torsional FMU with preset P
     #[arg(long, default_value = "P")]
     pub gearbox: String,
+    /// Which FMU's outputs the series holds: torsional (preset P; its mesh forces are transverse,
+    /// torque over base radius) or gearbox6dof (gearbox = paper1p5mw; its mesh forces are normal to the
+    /// teeth, larger by 1/cos β_b on the helical stage)
+    #[arg(long, default_value = "torsional", value_parser = ["torsional", "gearbox6dof"])]
+    pub fmu: String,
+    /// The scene's name of that FMU, the channels' prefix [default: torsional for --fmu torsional,
+    /// gearbox for --fmu gearbox6dof, as the repository's scenes name them]
+    #[arg(long)]
+    pub component: Option<String>,
     /// Seconds at the start left out (the paper discards the first 20 s of its 80 s)
     #[arg(long, default_value_t = 0.0)]
     pub transient: f64,
@@ -26,7 +36,12 @@ pub struct GearsArgs {
 }
 
 pub fn run(args: &GearsArgs) -> anyhow::Result<()> {
-    let teeth = gear_table(&args.gearbox)
+    let (kind, default_component) = match args.fmu.as_str() {
+        "gearbox6dof" => (MeshForce::Normal, "gearbox"),
+        _ => (MeshForce::Transverse, "torsional"),
+    };
+    let component = args.component.as_deref().unwrap_or(default_component);
+    let teeth = gear_table(&args.gearbox, component, kind)
         .with_context(|| format!("--gearbox {:?}: unknown gear table, use P", args.gearbox))?;
     if !(args.transient.is_finite() && args.transient >= 0.0) {
         anyhow::bail!("--transient {}: must be a number ≥ 0", args.transient);

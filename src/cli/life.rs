@@ -1,7 +1,7 @@
 //! `windrive life`: parses the climate, the cases and the component, calls
 //! [`crate::analysis::lifetime`] and prints its lifetime DELs and gear or bearing damage.
 
-use crate::analysis::gear::{GearPair, Tooth};
+use crate::analysis::gear::{GearPair, MeshForce, Tooth};
 use crate::analysis::lifetime::{BearingLife, Case, Climate, GearLife, GearSpec, Lifetime};
 use crate::analysis::limits::LIMITS;
 use crate::analysis::tooth_root::BasicRack;
@@ -70,7 +70,9 @@ pub struct LifeArgs {
     /// Speed channel [rad/s] of the tooth's gear (the carrier's for the ring)
     #[arg(long)]
     pub speed: Option<String>,
-    /// Speed channel subtracted from --speed (the carrier, for sun and planet speeds relative to it)
+    /// Speed channel subtracted from --speed (the carrier, for the sun's speed relative to it). Not for
+    /// planets: the torsional FMU's planet speeds are their absolute spin, opposite to the carrier's, so
+    /// the planet's speed relative to the carrier is the sum of the two (`windrive gears` counts it)
     #[arg(long)]
     pub relative_to: Option<String>,
     /// Load sharing K_γ (IEC 61400-4 mesh load factor: 1.10 for 3 planets, 1.25 for 4, 1.35 for 5)
@@ -98,6 +100,11 @@ pub struct LifeArgs {
     /// With --bearing: a ball bearing (life exponent 3; roller bearings 10/3)
     #[arg(long, requires = "bearing")]
     pub ball: bool,
+    /// With --gear: the channel is the mesh force normal to the teeth (the gearbox6dof FMU's); without,
+    /// the transverse force along the line of action, torque over base radius (the torsional FMU's).
+    /// They differ by cos β_b on helical gears
+    #[arg(long, requires = "gear")]
+    pub normal_force: bool,
     /// Print the results as JSON
     #[arg(long)]
     pub json: bool,
@@ -270,6 +277,11 @@ fn gear_life(args: &LifeArgs, g: &[f64], lifetime: &Lifetime) -> anyhow::Result<
         planets: args.planets,
         k_a: args.k_a,
         k_gamma: args.k_gamma,
+        force: if args.normal_force {
+            MeshForce::Normal
+        } else {
+            MeshForce::Transverse
+        },
     };
     let report = lifetime
         .gear(&spec)

@@ -120,10 +120,12 @@ pub enum Command {
     /// window's damage repeated over 86 400 s). Sun and ring teeth see every planet; planets bend both
     /// ways (Y_M = 0.7) and have a flank against the sun (ps) and one against the ring (pr).
     ///
-    /// Examples:
-    ///   windrive run scenes/p-normal --out p.csv
+    /// Examples (p.csv from `windrive run scenes/p-normal --out p.csv`, g.csv from
+    /// `windrive run scenes/p-normal-6dof --param gearbox.slices=5 --out g.csv`):
     ///   windrive gears p.csv --transient 20
     ///   windrive gears p.csv --transient 20 --json
+    ///   windrive gears g.csv --fmu gearbox6dof --transient 20
+    ///   windrive gears --channels
     #[command(verbatim_doc_comment)]
     Gears(gears::GearsArgs),
     /// Runs an SSP scene (folder, .ssd or .ssp) through the co-simulation master and writes a CSV.

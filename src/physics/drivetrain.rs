@@ -400,9 +400,9 @@ pub fn preset_p() -> Drivetrain {
             let (j_sun, _) = solid_gear(z.0, g.module, 0.0, faces.0);
             let (j_planet, m_planet) = solid_gear(z.1, g.module, 0.0, faces.1);
             let orbit = 0.5 * f64::from(z.0 + z.1) * g.module;
-            let (r_s, r_p) = (g.base_radius(z.0), g.base_radius(z.1));
-            // per mesh along the line of action: carrier torque T = 3 · 2F · (r_s + r_p)
-            let force = torque / (6.0 * (r_s + r_p));
+            let (r_s, r_r) = (g.base_radius(z.0), g.base_radius(z.2));
+            // per mesh along the line of action: carrier torque T = 3 · F · ((r_s + r_p) + (r_r − r_p))
+            let force = torque / (3.0 * (r_s + r_r));
             Stage::Planetary(Planetary {
                 z_sun: z.0,
                 z_planet: z.1,

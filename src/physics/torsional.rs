@@ -364,8 +364,14 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
             Stage::Planetary(p) => {
                 let slot = |base: usize| (n_planetary < 2).then_some(base + 5 * n_planetary);
                 let (r_s, r_p) = (p.geometry.base_radius(p.z_sun), p.geometry.base_radius(p.z_planet));
+                // The carrier's lever arm in each mesh, in base radii: r_s + r_p against the sun and
+                // r_ring − r_p against the ring. They are equal for standard tooth counts
+                // (z_r = z_s + 2 z_p); with profile-shifted counts (the paper's 25/45/116) only these
+                // two keep the meshes on the tooth counts' kinematics, ω_s/ω_c = 1 + z_r/z_s and
+                // ω_p/ω_c = (z_r − z_p)/z_p, the rigid rotation the deflections are measured from.
                 let a = r_s + r_p;
-                let planet_ratio = ratio * f64::from(p.z_sun + p.z_planet) / f64::from(p.z_planet);
+                let a_ring = p.geometry.base_radius(p.z_ring) - r_p;
+                let planet_ratio = ratio * f64::from(p.z_ring - p.z_planet) / f64::from(p.z_planet);
                 bodies.push(FullBody {
                     slot: slot(1),
                     name: format!("carrier {}", s + 1),
@@ -412,7 +418,7 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
                     let rp = elements.len();
                     elements.push(Element {
                         name: format!("ring-planet {}.{}", s + 1, k + 1),
-                        coeffs: vec![(carrier, a), (planet, -r_p)],
+                        coeffs: vec![(carrier, a_ring), (planet, -r_p)],
                         stiffness: k_rp,
                         damping: c_rp * opt.damping_scale,
                         half_backlash,
@@ -435,8 +441,8 @@ fn assemble_full(dt: &Drivetrain, opt: &ModelOptions) -> Assembly {
                         let base = 6 * n_planetary;
                         mesh_slots.push((base + k, rp));
                         mesh_slots.push((base + 3 + k, sp));
-                        // quasi-static: carrier torque T = N · 2F · a  →  F = T / (2 N a)
-                        let f = 1.0 / (2.0 * p.planets as f64 * a);
+                        // quasi-static: carrier torque T = N · F · (a + a_ring)  →  F = T / (N (a + a_ring))
+                        let f = 1.0 / (p.planets as f64 * (a + a_ring));
                         qs.push((base + k, f));
                         qs.push((base + 3 + k, f));
                     }

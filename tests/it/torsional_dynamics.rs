@@ -28,9 +28,12 @@ fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
 
+/// Every preset, the paper's P included: its second stage's 25/45/116 teeth are profile-shifted
+/// (25 + 2·45 ≠ 116), where the ring mesh's carrier arm is r_ring − r_p, not r_s + r_p, and a rotating
+/// planet carries the same force on both flanks only if both meshes follow the tooth counts.
 #[test]
 fn static_torque_split_follows_the_gear_ratios() {
-    for preset in PRESETS {
+    for preset in PRESETS.iter().copied().chain(["P"]) {
         let dt = Drivetrain::preset(preset).unwrap();
         let torque = dt.rated_rotor_torque();
         for fidelity in ["2", "5", "full"] {
@@ -59,19 +62,28 @@ fn static_torque_split_follows_the_gear_ratios() {
                     ratio *= dt.stages[i].ratio();
                 }
             }
-            // every planet carries 1/N of the carrier torque: F = T / (2 N a) on both of its meshes
-            if let Stage::Planetary(p) = &dt.stages[0] {
-                let a = p.geometry.base_radius(p.z_sun) + p.geometry.base_radius(p.z_planet);
-                let expected = torque / (2.0 * p.planets as f64 * a);
+            // every planet carries 1/N of the carrier torque on both of its meshes:
+            // T = N F ((r_s + r_p) + (r_ring − r_p)), so F = T / (N (r_s + r_ring))
+            let planet_meshes = [
+                (vr::MESH_FORCE_RING_PLANET_1, vr::MESH_FORCE_SUN_PLANET_1),
+                (vr::MESH_FORCE_RING_PLANET2_1, vr::MESH_FORCE_SUN_PLANET2_1),
+            ];
+            let mut carrier_torque = torque;
+            for (stage, meshes) in dt.stages.iter().zip(planet_meshes) {
+                let Stage::Planetary(p) = stage else { break };
+                let arms = p.geometry.base_radius(p.z_sun) + p.geometry.base_radius(p.z_ring);
+                let expected = carrier_torque / (p.planets as f64 * arms);
                 for k in 0..3 {
-                    for first in [vr::MESH_FORCE_RING_PLANET_1, vr::MESH_FORCE_SUN_PLANET_1] {
+                    for first in [meshes.0, meshes.1] {
                         let f = s.get_real(first + k).unwrap();
                         assert!(
                             rel(f, expected) < 1e-9,
-                            "{preset} {fidelity} planet {k}: {f} vs {expected}"
+                            "{preset} {fidelity} stage {} planet {k}: {f} vs {expected}",
+                            p.z_sun
                         );
                     }
                 }
+                carrier_torque /= stage.ratio();
             }
         }
     }

@@ -209,7 +209,7 @@ def test_bode_resonance_at_the_first_mode(windrive):
     (["life", "--normal", "{csv}", "--channel", "x", "--cut-in", "30"], ["--cut-in"]),
     (["life", "--normal", "{csv}", "--channel", "x", "--bearing", "1e6"], ["--bearing needs --speed"]),
     (["life", "--normal", "{csv}", "--channel", "x", "--bearing=-5", "--speed", "x"], ["--bearing -5", "positive"]),
-    (["campbell", "--preset", "Z"], ["Z", "A, B, C or D"]),
+    (["campbell", "--preset", "Z"], ["Z", "A, B, C, D or P"]),
     (["campbell", "--harmonics", "0"], ["--harmonics 0"]),
     (["bode", "--generator", "locked", "--input", "generator"], ["locked", "no torque input"]),
     (["bode", "--range", "10,1"], ["--range"]),

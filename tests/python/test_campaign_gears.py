@@ -67,9 +67,13 @@ rotor.wind_speed = [11.5, 18.0]
     "text, message, line",
     [
         (campaign(tables=TWO_GRIDS + '[gears]\ntable = "Q"'), "gears.table: must be one of P, not 'Q'", 14),
-        (campaign(tables=TWO_GRIDS + '[gears]\ntabel = "P"'), "gears.tabel: unknown key (known here: table)", 14),
+        (campaign(tables=TWO_GRIDS + '[gears]\ntabel = "P"'), "gears.tabel: unknown key (known here: table, fmu, component)", 14),
         (campaign(tables=TWO_GRIDS + "[gears]\ntable = 1"), "gears.table: must be a non-empty string", 14),
         (campaign(tables=TWO_GRIDS + "[gears]"), "gears.table: missing (the gear table, one of P)", 13),
+        (campaign(tables=TWO_GRIDS + '[gears]\ntable = "P"\ncomponent = "gear box"'),
+         "gears.component: 'gear box': a scene component's name", 15),
+        (campaign(tables=TWO_GRIDS + '[gears]\ntable = "P"\nfmu = "simpack"'),
+         "gears.fmu: must be one of torsional, gearbox6dof, not 'simpack'", 15),
         (campaign(top='gears = "P"'), "gears: must be a table, not a string", 3),
         (campaign(tables=TWO_GRIDS + "[[grid]]\n"), "grid[3]: no axis", 13),
         (campaign(tables=TWO_GRIDS.replace('["none"]', '"none"')), "grid[2].rotor.turbulence: a grid axis is a", 11),
@@ -93,14 +97,14 @@ def test_gears_is_analysis_not_simulation(tmp_path):
     plain = schema.load(write_campaign(tmp_path, campaign(), "a.toml"))
     rated = schema.load(write_campaign(tmp_path, campaign(tables='[grid]\nrotor.wind_speed = [11.5]\n[gears]\n'
                                                                  'table = "P"'), "b.toml"))  # fmt: skip
-    assert plain.gears is None and rated.gears == "P"
+    assert plain.gears is None and rated.gears == gears.Gears("P", "torsional", "torsional")
     assert "gears" not in plain.analysis_spec() and rated.analysis_spec()["gears"] == "P"
     (a,) = cases.expand(plain, {plain.scene: ("s", "d")}, "w")
     (b,) = cases.expand(rated, {rated.scene: ("s", "d")}, "w")
     assert a.id == b.id and a.analysis_digest != b.analysis_digest
     # the cases record what windrive gears reads, besides the analysed channels
     assert driver.recorded(plain) == ["torsional.lss_torque"]
-    assert driver.recorded(rated) == ["torsional.lss_torque", *gears.CHANNELS["P"]]
+    assert driver.recorded(rated) == ["torsional.lss_torque", *gears.Gears("P").channels()]
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -167,7 +171,7 @@ def test_a_failing_gear_rating_fails_the_case_with_its_stderr(tmp_path, windrive
     (case,) = cases.expand(c, {c.scene: (str(SCENE), "d")}, "w")
     case = dataclasses.replace(case, stop_time=0.5)
     spec = runner.RunSpec(windrive, str(tmp_path / "out"), c.channels, 1.0, False, ("torsional.lss_torque",),
-                          timeout=60.0, gears="P")  # fmt: skip
+                          timeout=60.0, gears=gears.Gears("P"))  # fmt: skip
     r = runner.run_case(case, spec)
     assert r["status"] == "failed" and r["returncode"] == 0, r["error"]
     assert r["error"].startswith("error: ") and 'no column "torsional.mesh_force_sun_planet_1"' in r["error"]
@@ -178,12 +182,13 @@ def test_a_failing_gear_rating_fails_the_case_with_its_stderr(tmp_path, windrive
 def test_the_probe_stops_a_campaign_whose_series_gears_cannot_rate(tmp_path, windrive, monkeypatch):
     """Should gear_set.rs read a channel this package does not record, the scene's 1 ms probe fails
     before any case runs, naming the channel."""
-    monkeypatch.setitem(gears.CHANNELS, "P", gears.CHANNELS["P"][:-1])  # torsional.speed_gear_1 unrecorded
-    record = ["torsional.lss_torque", *gears.CHANNELS["P"]]
-    with pytest.raises(CampaignError, match=r"windrive gears cannot rate its series: .*speed_gear_1"):
-        cases.snapshot_scene(SCENE, windrive, tmp_path, record, gears="P")
+    monkeypatch.setitem(gears._CHANNELS, "P", gears._CHANNELS["P"][:-1])  # the pinion's mesh force unrecorded
+    record = ["torsional.lss_torque", *gears.Gears("P").channels()]
+    with pytest.raises(CampaignError, match=r"windrive gears cannot rate its series: .*mesh_force_gear_pinion_1"):
+        cases.snapshot_scene(SCENE, windrive, tmp_path, record, gears=gears.Gears("P"))
     monkeypatch.undo()
-    ssp, _ = cases.snapshot_scene(SCENE, windrive, tmp_path, ["torsional.lss_torque", *gears.CHANNELS["P"]], "P")
+    record = ["torsional.lss_torque", *gears.Gears("P").channels()]
+    ssp, _ = cases.snapshot_scene(SCENE, windrive, tmp_path, record, gears.Gears("P"))
     assert pathlib.Path(ssp).is_file()
 
 
@@ -232,8 +237,9 @@ def test_gear_columns_are_windrive_gears_on_the_kept_series(real_run, windrive):
     for _, row in t.iterrows():
         series = out / "cases" / row.id / "series.csv"
         header = series.read_text().split("\n", 1)[0].split(",")
-        assert header == ["time", "torsional.lss_torque", *gears.CHANNELS["P"]]  # recorded: no more
-        command = [windrive, "gears", series, "--gearbox", "P", "--transient", "4", "--json"]
+        assert header == ["time", "torsional.lss_torque", *gears.Gears("P").channels()]  # recorded: no more
+        command = [windrive, "gears", series, "--gearbox", "P", "--fmu", "torsional", "--component", "torsional",
+                   "--transient", "4", "--json"]
         theirs = json.loads(subprocess.run(command, capture_output=True, text=True, check=True).stdout)
         assert [tooth["name"] for tooth in theirs] == TEETH
         for tooth in theirs:

@@ -6,7 +6,7 @@ import pytest
 
 
 @pytest.mark.parametrize("args,words", [
-    (["modes", "--preset", "Z"], ["Z", "A, B, C or D"]),
+    (["modes", "--preset", "Z"], ["Z", "A, B, C, D or P"]),
     (["modes", "--fidelity", "7"], ["7", "2, 5 or full"]),
     (["modes", "--generator", "floating"], ["floating", "connected"]),
     (["modes", "--lumping", "lumpy"], ["lumpy", "physical or thesis"]),
@@ -14,7 +14,7 @@ import pytest
     (["pack", "nosuch"], ["nosuch", "torsional"]),
     (["bench", "nosuch"], ["nosuch", "torsional, gearbox, rainflow"]),
     (["aero", "--blade", "/nonexistent/blade"], ["/nonexistent/blade/blade.csv"]),
-    (["aero", "--preset", "Z"], ["Z", "A, B, C or D"]),
+    (["aero", "--preset", "Z"], ["Z", "A, B, C, D or P"]),
     (["step-response", "--fmu", "/nonexistent/x.fmu", "--out", "/tmp/windrive-x.csv"], ["/nonexistent/x.fmu"]),
     (["gearbox", "--bearings", "balls"], ["balls", "linear or lamina"]),
     (["gearbox", "--gearbox", "planetary-spur", "--fit-webs", "1.4"], ["planetary-spur", "carrier_webs"]),
@@ -68,7 +68,7 @@ GRID_STEP = str(ROOT / "scenes" / "d-grid-step")
     (["run", GRID_STEP, "--param", "torsional.damping_scale=soft"], ["damping_scale", "not a number"]),
     (["run", GRID_STEP, "--record", "generator.nosuch"], ["generator.nosuch", "no variable nosuch"]),
     (["pack-scene", GRID_STEP + "/SystemStructure.ssd"], ["SystemStructure.ssd", "scene folder"]),
-    (["shutdown", "--preset", "Z"], ["Z", "C or D"]),
+    (["shutdown", "--preset", "Z"], ["Z", "C, D or P"]),
     (["shutdown", "--preset", "A", "--spring"], ["a-normal-spring", "spring scenes for C and D"]),
     (["shutdown", "--aerodynamics", "vortex"], ["vortex", "bem, analytic or scene"]),
     (["reproduce", "--out", "/proc/nonexistent/x.md"], ["/proc/nonexistent"]),
@@ -106,9 +106,9 @@ def one_fmu_scene(tmp_path, name):
     ("generator", ["kind=dfig", "current_bandwidth=-5"], ["current_bandwidth = -5", "below its minimum 0"]),
     ("generator", ["kind=dfig", "current_bandwidth=0"], ["current_bandwidth = 0", "positive"]),
     ("generator", ["kind=pmg", "poles=7"], ["poles = 7", "even"]),
-    ("rotor", ["mode=playback", "series=c-shutdown-pu.csv", "source_preset=Q"], ["source_preset", "Q", "A, B, C or D"]),
+    ("rotor", ["mode=playback", "series=c-shutdown-pu.csv", "source_preset=Q"], ["source_preset", "Q", "A, B, C, D or P"]),
     ("rotor", ["mode=playback", "series=c-shutdown-pu.csv", "source_preset=C", "source_rotor_diameter=80"], ["source_preset or source_rotor_diameter"]),
-    ("generator", ["preset=Z"], ["preset", "A, B, C or D"]),
+    ("generator", ["preset=Z"], ["preset", "A, B, C, D or P"]),
     ("gearbox6dof", ["gearbox=grc751"], ["gearbox", "grc751", "presets are grc750"]),
     ("gearbox6dof", ["integrator=rk4"], ["integrator", "RK4 is not offered"]),
     ("gearbox6dof", ["mesh_stiffness=wavy"], ["mesh_stiffness", "wavy", "mean or varying"]),
