@@ -199,10 +199,7 @@ def print_tables(life: lt.Lifetime, out=sys.stdout):
     for r in life.rows:
         print(f"{r['channel']:36} {r['m']:>3g} {r['lifetime_del']:>13.5g} {r['damage_sum']:>13.4e}", file=out)
     heads = [f"{r['channel'].split('.')[-1]} m{r['m']:g}" for r in life.rows]
-    print("\nshare of D [%]", file=out)
-    print(f"{'group':24} " + " ".join(f"{h:>16}" for h in heads), file=out)
-    for g in life.groups:
-        print(f"{g:24} " + " ".join(f"{100 * r['share'][g]:>16.2f}" for r in life.rows), file=out)
+    print_shares("share of D [%]", life.groups, heads, life.rows, 16, out)
     if life.ratios:
         print(f"\nDEL ratios at m = {lt.THESIS_M:g} (thesis: measured HSS and LSS torque, §3.4.3)", file=out)
         for q in life.ratios:
@@ -218,10 +215,15 @@ def print_gear_tables(life: lt.Lifetime, out=sys.stdout):
     for r in life.gears:
         print(f"{r['tooth']:8} {r['kind']:6} {r['damage']:>11.4e} {r['life_years']:>13.4g}", file=out)
     heads = [f"{r['tooth']} {r['kind']}" for r in life.gears]
-    print("\nshare of gear damage [%]", file=out)
-    print(f"{'group':24} " + " ".join(f"{h:>10}" for h in heads), file=out)
-    for g in life.groups:
-        print(f"{g:24} " + " ".join(f"{100 * r['share'][g]:>10.2f}" for r in life.gears), file=out)
+    print_shares("share of gear damage [%]", life.groups, heads, life.gears, 10, out)
+
+
+def print_shares(title: str, groups: list[str], heads: list[str], rows: list[dict], width: int, out):
+    """A table of each group's share in %, one column per row of `rows` (their `share` dicts)."""
+    print(f"\n{title}", file=out)
+    print(f"{'group':24} " + " ".join(f"{h:>{width}}" for h in heads), file=out)
+    for g in groups:
+        print(f"{g:24} " + " ".join(f"{100 * r['share'][g]:>{width}.2f}" for r in rows), file=out)
 
 
 def report(given: Path, out_dir: Path | None) -> int:

@@ -281,14 +281,21 @@ fn life_factor(knots: &[(f64, f64)], n: f64) -> f64 {
     knots[knots.len() - 1].1
 }
 
-/// Z_NT for case-carburised steel (ISO 6336-2): 1.6 up to 1e5 load cycles, 1.0 at 5e7, 0.85 at 1e10.
+/// Z_NT knots (load cycles, factor) of case-carburised steel (ISO 6336-2): 1.6 up to 1e5 load cycles,
+/// 1.0 at 5e7, 0.85 at 1e10.
+pub const CONTACT_LIFE_KNOTS: [(f64, f64); 3] = [(1e5, 1.6), (5e7, 1.0), (1e10, 0.85)];
+
+/// Y_NT knots of case-carburised steel (ISO 6336-3): 2.5 up to 1e3, 1.0 at 3e6, 0.85 at 1e10.
+pub const BENDING_LIFE_KNOTS: [(f64, f64); 3] = [(1e3, 2.5), (3e6, 1.0), (1e10, 0.85)];
+
+/// Z_NT for case-carburised steel ([`CONTACT_LIFE_KNOTS`]).
 pub fn contact_life_factor(cycles: f64) -> f64 {
-    life_factor(&[(1e5, 1.6), (5e7, 1.0), (1e10, 0.85)], cycles)
+    life_factor(&CONTACT_LIFE_KNOTS, cycles)
 }
 
-/// Y_NT for case-carburised steel (ISO 6336-3): 2.5 up to 1e3, 1.0 at 3e6, 0.85 at 1e10.
+/// Y_NT for case-carburised steel ([`BENDING_LIFE_KNOTS`]).
 pub fn bending_life_factor(cycles: f64) -> f64 {
-    life_factor(&[(1e3, 2.5), (3e6, 1.0), (1e10, 0.85)], cycles)
+    life_factor(&BENDING_LIFE_KNOTS, cycles)
 }
 
 /// Load cycles to failure where the life factor equals `ratio` = stress / limit stress: the inverse
@@ -309,13 +316,13 @@ fn cycles_at_ratio(knots: &[(f64, f64)], ratio: f64) -> f64 {
 
 /// Contact S-N of case-carburised steel: load cycles to pitting at σ_H = ratio·σ_Hlim (inverse Z_NT).
 pub fn contact_cycles_to_failure(ratio: f64) -> f64 {
-    cycles_at_ratio(&[(1e5, 1.6), (5e7, 1.0), (1e10, 0.85)], ratio)
+    cycles_at_ratio(&CONTACT_LIFE_KNOTS, ratio)
 }
 
 /// Bending S-N of case-carburised steel: load cycles to root breakage at σ_F = ratio·σ_FE·Y_M
 /// (inverse Y_NT).
 pub fn bending_cycles_to_failure(ratio: f64) -> f64 {
-    cycles_at_ratio(&[(1e3, 2.5), (3e6, 1.0), (1e10, 0.85)], ratio)
+    cycles_at_ratio(&BENDING_LIFE_KNOTS, ratio)
 }
 
 /// Which tooth of a planetary or parallel stage: how its load cycles and its bending reversal follow.

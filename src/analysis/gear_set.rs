@@ -4,11 +4,12 @@
 //! (its Eq. 1, n = Σ t_j ω_j / 2π, the LDD with bins as fine as the samples) → Miner's sum over a
 //! two-slope S-N curve per material (its second slope 2m − 1) → damage in the window and per day.
 //!
-//! The gear table of the paper's 1.5 MW gearbox is [`paper_1p5mw`]; its channels are the torsional
-//! FMU's outputs for preset P.
+//! The gear table of the paper's 1.5 MW gearbox is [`paper_1p5mw`]; its channels are the outputs of the
+//! torsional FMU with preset P or of the gearbox6dof FMU with `paper1p5mw`.
 
-use super::gear::{GearPair, MeshForce, Tooth, ToothStress};
+use super::gear::{BENDING_LIFE_KNOTS, CONTACT_LIFE_KNOTS, GearPair, MeshForce, Tooth, ToothStress};
 use super::ldd::sample_revolutions;
+use super::limits::{BENDING_LIMIT_EH_MQ, CONTACT_LIMIT_EH_MQ};
 use super::series::{self, SeriesError};
 use super::tooth_root::{BasicRack, LoadPoint, root_form};
 use serde::Serialize;
@@ -25,6 +26,15 @@ pub struct SnCurve {
 }
 
 impl SnCurve {
+    /// The curve of a life factor's knots (load cycles, factor): static at the first, knee at the second.
+    pub const fn from_life_knots(knots: &[(f64, f64); 3]) -> SnCurve {
+        SnCurve {
+            static_ratio: knots[0].1,
+            static_cycles: knots[0].0,
+            knee_cycles: knots[1].0,
+        }
+    }
+
     /// Slope m above the knee.
     pub fn slope(&self) -> f64 {
         (self.knee_cycles / self.static_cycles).ln() / self.static_ratio.ln()
@@ -59,18 +69,10 @@ pub struct Material {
 /// §5.5); Z_NT 1.6 at 1e5 → 1 at 5e7, Y_NT 2.5 at 1e3 → 1 at 3e6.
 pub const CASE_CARBURISED: Material = Material {
     name: "18CrNiMo7-6 case carburised (Eh, MQ)",
-    contact_limit: 1500e6,
-    bending_limit: 500e6,
-    contact: SnCurve {
-        static_ratio: 1.6,
-        static_cycles: 1e5,
-        knee_cycles: 5e7,
-    },
-    bending: SnCurve {
-        static_ratio: 2.5,
-        static_cycles: 1e3,
-        knee_cycles: 3e6,
-    },
+    contact_limit: CONTACT_LIMIT_EH_MQ,
+    bending_limit: BENDING_LIMIT_EH_MQ,
+    contact: SnCurve::from_life_knots(&CONTACT_LIFE_KNOTS),
+    bending: SnCurve::from_life_knots(&BENDING_LIFE_KNOTS),
 };
 
 /// Through-hardened 34CrNiMo6 (V), MQ at an estimated 315 HV (≈ 300 HB, quenched and tempered ring
@@ -81,11 +83,7 @@ pub const THROUGH_HARDENED: Material = Material {
     name: "34CrNiMo6 through hardened (V, MQ, 315 HV est.)",
     contact_limit: 787e6,
     bending_limit: 321e6,
-    contact: SnCurve {
-        static_ratio: 1.6,
-        static_cycles: 1e5,
-        knee_cycles: 5e7,
-    },
+    contact: SnCurve::from_life_knots(&CONTACT_LIFE_KNOTS),
     bending: SnCurve {
         static_ratio: 2.5,
         static_cycles: 1e4,
@@ -93,8 +91,8 @@ pub const THROUGH_HARDENED: Material = Material {
     },
 };
 
-/// Where a tooth's load cycles come from: `factor` × the revolutions of the `speed` channel (the
-/// carrier's for planetary teeth, whose relative revolutions follow from the tooth counts).
+/// Where a tooth's load cycles come from: `factor` × the revolutions of the `speed` channel (the rotor's,
+/// the factor following from the tooth counts).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Cycles {
     pub speed: String,
@@ -284,9 +282,10 @@ pub fn rate_series(path: &Path, teeth: &[RatedTooth], transient: f64) -> Result<
 
 /// The paper's gearbox (seed 004 Table 4; PARAMETERS.md §8) as the scene's `component` outputs it: the
 /// torsional FMU with preset P (transverse mesh forces) or the gearbox6dof FMU with `paper1p5mw`
-/// (normal mesh forces), both of which name their mesh forces alike. Planet 1's meshes stand for all three (the paper multiplies the sun's and ring's cycles
-/// by 3). The load cycles of every tooth follow from the rotor speed and the tooth counts (the shafts'
-/// twist rates are a few per mille of their speeds and average out).
+/// (normal mesh forces), both of which name their mesh forces alike. Planet 1's meshes stand for all
+/// three (the paper multiplies the sun's and ring's cycles by 3). The load cycles of every tooth follow
+/// from the rotor speed and the tooth counts (the shafts' twist rates are a few per mille of their
+/// speeds and average out).
 /// Each pair's face width is the engaged one, the smaller of its two; the rings are 34CrNiMo6, every
 /// other gear 18CrNiMo7-6. The paper prints the rings' profile shifts as −1.42 and −0.36: the other sign
 /// convention for internal gears. In ours (inv α_wt from x_ring − x_planet) +1.42 and +0.36 put the

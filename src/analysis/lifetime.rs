@@ -6,7 +6,7 @@
 //! damage of a bearing over its load spectrum.
 
 use super::gear::{self, Factors, GearPair, MeshForce, Tooth, ToothStress};
-use super::limits::limit;
+use super::limits::{BENDING_LIMIT_EH_MQ, CONTACT_LIMIT_EH_MQ};
 use super::series::{self, SeriesError};
 use super::tooth_root::{BasicRack, LoadPoint, root_form};
 use super::wind::{WindDistribution, time_factor};
@@ -314,8 +314,8 @@ impl Lifetime {
         };
         let st = ToothStress::steel(pair, factors);
         let per_rev = spec.tooth.load_cycles(1.0, spec.planets);
-        let sigma_hlim = limit("gear flank, σ_Hlim MQ").expect("in the table");
-        let sigma_fe = 2.0 * limit("gear root, σ_Flim MQ").expect("in the table") * spec.tooth.mean_stress_factor();
+        let sigma_hlim = CONTACT_LIMIT_EH_MQ;
+        let sigma_fe = 2.0 * BENDING_LIMIT_EH_MQ * spec.tooth.mean_stress_factor();
         let mut cases = Vec::new();
         let (mut total_h, mut total_f, mut total_cycles, mut shut_h, mut shut_f) = (0.0, 0.0, 0.0, 0.0, 0.0);
         for (name, case, repeat) in self.cases() {

@@ -1,6 +1,11 @@
 //! Allowable stresses the thesis checks against (PARAMETERS.md §6, REFERENCE-DATA §5.5): IEC 61400-4
 //! maximum Hertz pressure of gearbox bearings and ISO 6336-5 limits of case-carburised gears.
 
+/// σ_Hlim of case-carburised 18CrNiMo7-6 (Eh), quality MQ (ISO 6336-5), Pa.
+pub const CONTACT_LIMIT_EH_MQ: f64 = 1.5e9;
+/// σ_Flim of the same steel, Pa (σ_FE = 2 σ_Flim).
+pub const BENDING_LIMIT_EH_MQ: f64 = 0.5e9;
+
 /// (component, limit in Pa, what it limits, source)
 pub const LIMITS: [(&str, f64, &str, &str); 6] = [
     ("planet bearing", 1.5e9, "max Hertz pressure", "IEC 61400-4"),
@@ -14,13 +19,13 @@ pub const LIMITS: [(&str, f64, &str, &str); 6] = [
     ),
     (
         "gear flank, σ_Hlim MQ",
-        1.5e9,
+        CONTACT_LIMIT_EH_MQ,
         "contact endurance limit",
         "ISO 6336-5, 18CrNiMo7-6 Eh",
     ),
     (
         "gear root, σ_Flim MQ",
-        0.5e9,
+        BENDING_LIMIT_EH_MQ,
         "bending endurance limit (σ_FE = 2 σ_Flim)",
         "ISO 6336-5, 18CrNiMo7-6 Eh",
     ),

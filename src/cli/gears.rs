@@ -70,6 +70,14 @@ fn text(rated: &[ToothDamage]) -> String {
         "", "", "", "", "MPa", "MPa", "", "", ""
     ));
     let or_dash = |x: f64, f: &dyn Fn(f64) -> String| if x.is_nan() { "-".to_string() } else { f(x) };
+    // a stress of 0 is one the tooth is not rated for
+    let mpa = |x: f64| {
+        if x > 0.0 {
+            format!("{:.1}", x / 1e6)
+        } else {
+            "-".to_string()
+        }
+    };
     for r in rated {
         s.push_str(&format!(
             "{:<5} {:<42} {:>6} {:>6} {:>10} {:>10} {:>11.4e} {:>12} {:>12}\n",
@@ -77,22 +85,8 @@ fn text(rated: &[ToothDamage]) -> String {
             r.description,
             or_dash(r.y_f, &|x| format!("{x:.3}")),
             or_dash(r.y_s, &|x| format!("{x:.3}")),
-            or_dash(
-                if r.max_contact_stress > 0.0 {
-                    r.max_contact_stress
-                } else {
-                    f64::NAN
-                },
-                &|x| format!("{:.1}", x / 1e6)
-            ),
-            or_dash(
-                if r.max_root_stress > 0.0 {
-                    r.max_root_stress
-                } else {
-                    f64::NAN
-                },
-                &|x| format!("{:.1}", x / 1e6)
-            ),
+            mpa(r.max_contact_stress),
+            mpa(r.max_root_stress),
             r.load_cycles,
             or_dash(r.flank_damage_per_day, &|x| format!("{x:.4e}")),
             or_dash(r.root_damage_per_day, &|x| format!("{x:.4e}")),

@@ -210,6 +210,11 @@ def test_bode_resonance_at_the_first_mode(windrive):
     (["life", "--normal", "{csv}", "--channel", "x", "--bearing", "1e6"], ["--bearing needs --speed"]),
     (["life", "--normal", "{csv}", "--channel", "x", "--bearing=-5", "--speed", "x"], ["--bearing -5", "positive"]),
     (["campbell", "--preset", "Z"], ["Z", "A, B, C, D or P"]),
+    (["gears", "{csv}", "--gearbox", "Q"], ["--gearbox", "Q", "use P"]),
+    (["gears", "{csv}", "--transient=-1"], ["--transient -1"]),
+    (["gears", "{csv}", "--fmu", "simpack"], ["simpack", "gearbox6dof"]),
+    (["gears", "{csv}"], ["x.csv", "torsional.mesh_force_sun_planet_1"]),
+    (["gears", "{csv}", "--fmu", "gearbox6dof"], ["x.csv", "gearbox.mesh_force_sun_planet_1"]),
     (["campbell", "--harmonics", "0"], ["--harmonics 0"]),
     (["bode", "--generator", "locked", "--input", "generator"], ["locked", "no torque input"]),
     (["bode", "--range", "10,1"], ["--range"]),
@@ -223,3 +228,17 @@ def test_bad_analysis_input_is_named(windrive, tmp_path, args, words):
     assert out.returncode != 0
     for w in words:
         assert w in out.stderr, out.stderr
+
+
+def test_gears_names_a_series_too_short_to_rate(windrive, tmp_path):
+    """Every channel there, but nothing after the transient: the file, its length and the transient."""
+    channels = subprocess.run([windrive, "gears", "--channels"], capture_output=True, text=True, check=True)
+    csv = tmp_path / "short.csv"
+    t = np.arange(101) * 0.01
+    write_csv(csv, t, {c: np.ones_like(t) for c in channels.stdout.split()})
+    out = subprocess.run([windrive, "gears", str(csv), "--transient", "5"], capture_output=True, text=True)
+    assert out.returncode != 0
+    for w in ["short.csv", "transient of 5 s", "nothing to rate"]:
+        assert w in out.stderr, out.stderr
+    # and the same series rates when the transient leaves a window
+    assert subprocess.run([windrive, "gears", str(csv), "--transient", "0.5"], capture_output=True).returncode == 0
