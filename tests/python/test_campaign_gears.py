@@ -7,7 +7,6 @@ LocalCluster whose gear columns are `windrive gears` on the kept series. About 1
 import dataclasses
 import json
 import math
-import os
 import pathlib
 import subprocess
 import sys
@@ -18,19 +17,12 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python"))
 
+from campaign_cli import campaign_cli  # noqa: E402
 from windrive_campaign import cases, driver, gears, runner, schema  # noqa: E402
 from windrive_campaign.errors import CampaignError  # noqa: E402
 
 SCENE = ROOT / "scenes" / "p-normal"
 TEETH = ["s1", "p1", "ps1", "pr1", "r1", "s2", "p2", "ps2", "pr2", "r2", "p3", "g3"]
-
-
-def campaign_cli(*args, timeout=120):
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "python")}
-    return subprocess.run(
-        [sys.executable, "-m", "windrive_campaign", *map(str, args)],
-        capture_output=True, text=True, env=env, timeout=timeout,
-    )  # fmt: skip
 
 
 def write_campaign(tmp_path, text, name="c.toml"):

@@ -5,7 +5,6 @@ errors. About 10 s on 2 cores: the one real campaign is two cases of 2 and 4 s."
 
 import json
 import math
-import os
 import pathlib
 import subprocess
 import sys
@@ -18,19 +17,12 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python"))
 
+from campaign_cli import campaign_cli  # noqa: E402
 from windrive_campaign import lifetime as lt  # noqa: E402
 from windrive_campaign.errors import CampaignError  # noqa: E402
 
 TINY_LIFE = ROOT / "campaigns" / "tiny-life.toml"
 LSS = "torsional.lss_torque"
-
-
-def campaign_cli(*args, cwd=None, timeout=120):
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "python")}
-    return subprocess.run(
-        [sys.executable, "-m", "windrive_campaign", *map(str, args)],
-        capture_output=True, text=True, env=env, timeout=timeout, cwd=cwd,
-    )  # fmt: skip
 
 
 # ---------------------------------------------------------------------------------------------------

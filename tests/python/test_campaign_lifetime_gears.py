@@ -5,9 +5,7 @@ without gear columns giving the report it gave before. No simulation: a few seco
 
 import json
 import math
-import os
 import pathlib
-import subprocess
 import sys
 
 import pandas as pd
@@ -18,6 +16,7 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python"))
 
+from campaign_cli import campaign_cli  # noqa: E402
 from windrive_campaign import gear_lifetime as gl  # noqa: E402
 from windrive_campaign import lifetime as lt  # noqa: E402
 from windrive_campaign.errors import CampaignError  # noqa: E402
@@ -27,14 +26,6 @@ META = {"campaign": "geared", "years": 2.0, "feq_hz": 0.5}
 GROUPS = ["DLC 1.2 10 m/s", "DLC 1.2 12 m/s", "shutdown-rated"]
 FILES = ["lifetime.csv", "lifetime.json", "lifetime_ldd.csv", "lifetime.png"]
 GEAR_FILES = ["lifetime_gears.csv", "lifetime_gears.png"]
-
-
-def campaign_cli(*args, timeout=120):
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "python")}
-    return subprocess.run(
-        [sys.executable, "-m", "windrive_campaign", *map(str, args)],
-        capture_output=True, text=True, env=env, timeout=timeout,
-    )  # fmt: skip
 
 
 def gear(s1_flank, s1_root, p1_root, g3_root=0.0):

@@ -5,9 +5,7 @@ simulation: the tables are built here. A few seconds."""
 
 import json
 import math
-import os
 import pathlib
-import subprocess
 import sys
 
 import pandas as pd
@@ -18,17 +16,10 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python"))
 
+from campaign_cli import campaign_cli  # noqa: E402
 from windrive_campaign import paper  # noqa: E402
 from windrive_campaign import paper_data as data  # noqa: E402
 from windrive_campaign.errors import CampaignError  # noqa: E402
-
-
-def campaign_cli(*args, timeout=120):
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "python")}
-    return subprocess.run(
-        [sys.executable, "-m", "windrive_campaign", *map(str, args)],
-        capture_output=True, text=True, env=env, timeout=timeout,
-    )  # fmt: skip
 
 
 # ---------------------------------------------------------------------------------------------------
