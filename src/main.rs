@@ -53,6 +53,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Rainflow(args) => windrive::cli::fatigue::run_rainflow(&args),
         Command::Life(args) => windrive::cli::life::run(&args),
         Command::Gears(args) => windrive::cli::gears::run(&args),
+        Command::Bearings(args) => windrive::cli::bearings::run(&args),
         Command::Bode(args) => windrive::cli::bode::run(&args),
         Command::Campbell(args) => windrive::cli::campbell::run(&args),
         Command::Spectrum(args) => windrive::cli::fatigue::run_spectrum(&args),

@@ -3,6 +3,7 @@
 //! Miner's sum, ISO 281 bearing life, Hertz line contact, operating hours from wind distributions,
 //! spectra and Campbell diagrams. Everything reads plain series; nothing here needs an FMU.
 
+pub mod bearing_set;
 pub mod bode;
 pub mod calibration;
 pub mod campbell;

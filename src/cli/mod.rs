@@ -1,6 +1,7 @@
 //! The `windrive` command line.
 
 pub mod aero;
+pub mod bearings;
 pub mod bench;
 pub mod bode;
 pub mod calibrate;
@@ -128,6 +129,22 @@ pub enum Command {
     ///   windrive gears --channels
     #[command(verbatim_doc_comment)]
     Gears(gears::GearsArgs),
+    /// Every rolling bearing of a gearbox rated from one series of the gearbox6dof FMU, ISO 281's way.
+    ///
+    /// Per bearing with a roller set in the gearbox description: the basic dynamic load rating
+    /// C_r = b_m·f_c·(i·L_we·cos α)^(7/9)·Z^(3/4)·D_we^(29/27), the dynamic equivalent load P = X·F_r + Y·F_a
+    /// of every sample, the revolutions of its rings against each other (a planet bearing's are the
+    /// planet's against its carrier) from the rotor speed and the gearbox's kinematics, and Miner's sum
+    /// of revolutions over L10 = (C/P)^(10/3) million revolutions: in the window, per day, and as the
+    /// window's L10 life in hours. Refuses a series whose generator-to-rotor speed ratio is not the
+    /// gearbox's.
+    ///
+    /// Examples (d.csv from `windrive run scenes/d-shutdown-6dof --out d.csv`):
+    ///   windrive bearings d.csv --transient 2
+    ///   windrive bearings d.csv --json
+    ///   windrive bearings --channels --gearbox grc750
+    #[command(verbatim_doc_comment)]
+    Bearings(bearings::BearingsArgs),
     /// Runs an SSP scene (folder, .ssd or .ssp) through the co-simulation master and writes a CSV.
     ///
     /// Loads every component's FMU (ours or another tool's), checks the system (names, types,

@@ -101,6 +101,19 @@ impl Gearbox {
         (total > 0.0).then(|| forces.len() as f64 * forces.iter().fold(0.0f64, |m, &x| m.max(x)) / total)
     }
 
+    /// How fast each bearing's races turn against each other per unit input speed, |ω_body − ω_other|
+    /// / ω_input, from the rigid-body kinematics (a planet bearing's is the planet's spin relative to its
+    /// carrier); None when the chain is not free to turn.
+    pub fn bearing_speed_ratios(&self) -> Option<Vec<f64>> {
+        let rigid = self.rigid.as_ref()?;
+        Some(
+            self.bearings
+                .iter()
+                .map(|b| self.springs[b.springs[5]].row.dot(rigid).abs())
+                .collect(),
+        )
+    }
+
     /// Speed of a body's spin, signed so the input turns positive (rad/s).
     pub fn speed(&self, body: usize, v: &[f64]) -> f64 {
         let sign = match (&self.rigid, self.bodies[body].first) {

@@ -83,13 +83,15 @@ impl Spring {
     }
 }
 
-/// A named bearing: springs x, y, axial, tilt x, tilt y, rotation (indices into `springs`), and
-/// its roller set (index into `rollers`) when the lamina model carries it.
+/// A named bearing: springs x, y, axial, tilt x, tilt y, rotation (indices into `springs`), its
+/// roller set (index into `rollers`) when the lamina model carries it, and the roller geometry the
+/// description gives whichever model carries it (its ISO 281 load rating needs it).
 #[derive(Debug, Clone, PartialEq)]
 pub struct BearingSprings {
     pub name: String,
     pub springs: [usize; 6],
     pub rollers: Option<usize>,
+    pub geometry: Option<desc::Rollers>,
 }
 
 /// A shaft's torsion spring, with the sign that makes its torque positive in normal operation.
@@ -260,8 +262,9 @@ impl Builder<'_> {
 
     /// A bearing of body b at axial position e to `other` (a body in the same frame, at `pin` from
     /// the other body's centre) or to the housing (None). `error` displaces the pin (m, frame axes).
-    /// With `rollers`, a roller set carries the radial and tilt directions (and the axial one at a
-    /// contact angle); the linear springs of those directions stay for modal analysis only.
+    /// `rollers` is the described roller set; with the lamina model it carries the radial and tilt
+    /// directions (and the axial one at a contact angle), the linear springs of those directions
+    /// staying for modal analysis only.
     #[allow(clippy::too_many_arguments)]
     fn bearing(
         &mut self,
@@ -317,7 +320,9 @@ impl Builder<'_> {
             let offset = if dir < 2 { error[dir] } else { 0.0 };
             idx[dir] = self.spring(row, k[dir], c[dir], offset);
         }
-        let rollers = rollers.map(|r| {
+        let geometry = rollers.copied();
+        let lamina = self.d.model.bearings == BearingModel::Lamina;
+        let rollers = rollers.filter(|_| lamina).map(|r| {
             let angled = r.contact_angle_deg != 0.0;
             for dir in [UX, UY, UZ, TX, TY] {
                 if dir != UZ || angled {
@@ -333,6 +338,7 @@ impl Builder<'_> {
             name,
             springs: idx,
             rollers,
+            geometry,
         });
     }
 
@@ -411,11 +417,7 @@ impl Builder<'_> {
                 }
                 _ => (b, other),
             };
-            let rollers = br
-                .rollers
-                .as_ref()
-                .filter(|_| self.d.model.bearings == BearingModel::Lamina);
-            self.bearing(name, b, other, br.position, &br.stiffness(), error, rollers);
+            self.bearing(name, b, other, br.position, &br.stiffness(), error, br.rollers.as_ref());
         }
     }
 }

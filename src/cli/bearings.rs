@@ -1,0 +1,108 @@
+//! `windrive bearings`: every rolling bearing of a gearbox rated from one series of the `gearbox6dof`
+//! FMU (ISO 281 rating from the roller sets, equivalent load, revolutions from the kinematics, Miner)
+//! through [`crate::analysis::bearing_set`].
+
+use crate::analysis::bearing_set::{BearingDamage, bearing_table, channels, rate_series};
+use crate::physics::gearbox::Gearbox;
+use crate::physics::gearbox::description::Description;
+use anyhow::Context;
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct BearingsArgs {
+    /// The series: a CSV of `windrive run` with the gearbox6dof FMU's bearing loads and speeds
+    #[arg(required_unless_present = "channels")]
+    pub series: Option<PathBuf>,
+    /// The gearbox the series ran: a gearbox6dof preset (grc750, c2mw, paper1p5mw, nrel5mw,
+    /// planetary-spur) or a description file. Its roller sets give each bearing's rating; bearings
+    /// without one are not rated
+    #[arg(long, default_value = "grc750")]
+    pub gearbox: String,
+    /// The scene's name of the gearbox6dof FMU, the channels' prefix
+    #[arg(long, default_value = "gearbox")]
+    pub component: String,
+    /// Seconds at the start left out
+    #[arg(long, default_value_t = 0.0)]
+    pub transient: f64,
+    /// Print the results as JSON (one object per rated bearing)
+    #[arg(long)]
+    pub json: bool,
+    /// Print the channels the rating reads (for `windrive run --record`), one per line, and stop
+    #[arg(long)]
+    pub channels: bool,
+}
+
+pub fn run(args: &BearingsArgs) -> anyhow::Result<()> {
+    let description = Description::load(&args.gearbox).map_err(|e| anyhow::anyhow!("--gearbox: {e}"))?;
+    let bearings = bearing_table(&description, &args.component).context("--gearbox")?;
+    if bearings.is_empty() {
+        anyhow::bail!(
+            "--gearbox {}: no bearing has a roller set (`rollers = {{ count, diameter_mm, length_mm, \
+             pitch_diameter_mm }}`), so none has an ISO 281 rating",
+            args.gearbox
+        );
+    }
+    if !(args.transient.is_finite() && args.transient >= 0.0) {
+        anyhow::bail!("--transient {}: must be a number ≥ 0", args.transient);
+    }
+    let generator_speed = format!("{}.generator_speed", args.component);
+    if args.channels {
+        let mut names = channels(&bearings);
+        names.push(&generator_speed);
+        println!("{}", names.join("\n"));
+        return Ok(());
+    }
+    let ratio = Gearbox::new(&description)
+        .map_err(|e| anyhow::anyhow!("--gearbox {}: {e}", args.gearbox))?
+        .gear_ratio;
+    let series = args.series.as_ref().expect("clap requires it without --channels");
+    let rated = rate_series(
+        series,
+        &bearings,
+        args.transient,
+        Some((&generator_speed, &args.gearbox, ratio)),
+    )?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&rated)?);
+    } else {
+        print!("{}", text(&rated));
+    }
+    Ok(())
+}
+
+fn text(rated: &[BearingDamage]) -> String {
+    let mut s = format!(
+        "{:<14} {:<12} {:>3} {:>6} {:>8} {:>8} {:>9} {:>9} {:>11} {:>11} {:>11}\n",
+        "bearing", "type", "Z", "α", "C_r", "n/n_rot", "P_eq", "P_max", "revolutions", "D/day", "L10h"
+    );
+    s.push_str(&format!(
+        "{:<14} {:<12} {:>3} {:>6} {:>8} {:>8} {:>9} {:>9} {:>11} {:>11} {:>11}\n",
+        "", "", "", "deg", "kN", "", "kN", "kN", "", "", "h"
+    ));
+    for r in rated {
+        let kind = serde_json::to_value(r.kind)
+            .ok()
+            .and_then(|v| v.as_str().map(str::to_string))
+            .unwrap_or_default();
+        let rows = if r.rows > 1 {
+            format!("{}×", r.rows)
+        } else {
+            String::new()
+        };
+        s.push_str(&format!(
+            "{:<14} {:<12} {:>3} {:>6.1} {:>8.0} {:>8.3} {:>9.1} {:>9.1} {:>11.4e} {:>11.4e} {:>11.4e}\n",
+            r.name,
+            format!("{rows}{kind}"),
+            r.rollers,
+            r.contact_angle_deg,
+            r.dynamic_load_rating / 1e3,
+            r.speed_ratio,
+            r.equivalent_load / 1e3,
+            r.max_equivalent_load / 1e3,
+            r.revolutions,
+            r.damage_per_day,
+            r.life_hours,
+        ));
+    }
+    s
+}
