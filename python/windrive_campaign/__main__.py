@@ -157,11 +157,7 @@ def _windrive(given: str | None) -> str:
 
 def _list_cases(campaign, windrive: str) -> int:
     with tempfile.TemporaryDirectory() as tmp:
-        record = driver.recorded(campaign)
-        scenes = {
-            s: cases_mod.snapshot_scene(s, windrive, Path(tmp), record, campaign.gears)
-            for s in cases_mod.scene_paths(campaign)
-        }
+        scenes = driver.snapshot_scenes(campaign, windrive, Path(tmp))
         found = cases_mod.expand(campaign, scenes, cases_mod.windrive_digest(windrive))
     hours = sum(k.hours for k in found if not math.isnan(k.hours))
     print(f"{'id':16}  {'name':32}  {'weight':>14}  parameters")

@@ -29,6 +29,7 @@ import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
+from . import bearings as bearings_mod
 from . import climate as climate_mod
 from . import gears as gears_mod
 from .errors import CampaignError
@@ -82,26 +83,33 @@ def file_digest(path: Path) -> str:
 
 
 def snapshot_scene(
-    scene: Path, windrive: str, out_dir: Path, record: list[str], gears: gears_mod.Gears | None = None
+    scene: Path,
+    windrive: str,
+    out_dir: Path,
+    record: list[str],
+    gears: gears_mod.Gears | None = None,
+    bearings: bearings_mod.Bearings | None = None,
 ) -> tuple[str, str]:
     """The scene as an immutable .ssp under out_dir/scenes/ and its digest. The scene is first run for
     one millisecond, recording the campaign's channels: windrive brings its own FMUs in a folder's
     resources/ up to date (and packs them on a fresh clone), and a misspelt channel is one error now
-    instead of one per case. With `gears`, `windrive gears` rates that probe too, so recorded channels
-    that no longer match what it reads stop the campaign here rather than fail every case. A folder is
-    then zipped with fixed timestamps and sorted names: the same files give the same bytes."""
+    instead of one per case. With `gears` or `bearings`, `windrive gears` or `windrive bearings` rates
+    that probe too, so recorded channels that no longer match what it reads, or a scene that runs
+    another gearbox (windrive bearings checks the speed ratio), stop the campaign here rather than fail
+    every case. A folder is then zipped with fixed timestamps and sorted names: the same files give the
+    same bytes."""
     with tempfile.TemporaryDirectory() as tmp:
-        probe = [windrive, "run", str(scene), "--stop-time", "0.001", "--out", f"{tmp}/probe.csv", "--quiet"]
+        series = f"{tmp}/probe.csv"
+        probe = [windrive, "run", str(scene), "--stop-time", "0.001", "--out", series, "--quiet"]
         r = subprocess.run(probe + ["--record", ",".join(record)], capture_output=True, text=True)
         if r.returncode != 0:
             raise CampaignError(f"{scene}: the scene does not run: {r.stderr.strip() or r.returncode}")
         if gears is not None:
-            rate = gears_mod.command(windrive, f"{tmp}/probe.csv", gears, 0.0)
-            r = subprocess.run(rate, capture_output=True, text=True)
-            if r.returncode != 0:
-                raise CampaignError(f"{scene}: [gears] table = {gears.table!r}, component = {gears.component!r}: "
-                                    "windrive gears cannot rate its series: "
-                                    f"{r.stderr.strip() or r.returncode}")  # fmt: skip
+            _rate_probe(scene, gears_mod.command(windrive, series, gears, 0.0),
+                        f"[gears] table = {gears.table!r}, component = {gears.component!r}")  # fmt: skip
+        if bearings is not None:
+            _rate_probe(scene, bearings_mod.command(windrive, series, bearings, 0.0),
+                        f"[bearings] gearbox = {bearings.gearbox!r}, component = {bearings.component!r}")  # fmt: skip
     if scene.is_file():
         return str(scene), file_digest(scene)
     buf = io.BytesIO()
@@ -120,6 +128,13 @@ def snapshot_scene(
         tmp.write_bytes(data)
         tmp.replace(target)
     return str(target), digest
+
+
+def _rate_probe(scene: Path, command: list[str], section: str):
+    r = subprocess.run(command, capture_output=True, text=True)
+    if r.returncode != 0:
+        raise CampaignError(f"{scene}: {section}: windrive {command[1]} cannot rate its series: "
+                            f"{r.stderr.strip() or r.returncode}")  # fmt: skip
 
 
 def windrive_digest(windrive: str) -> str:

@@ -14,7 +14,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from . import analysis, gears
+from . import analysis, bearings
 from . import cases as cases_mod
 from . import cluster as cluster_mod
 from . import store
@@ -71,17 +71,33 @@ def prepare(c: Campaign, opts: Options) -> tuple[list[cases_mod.Case], str]:
     """The cases and the windrive copy they run (cases.snapshot_windrive)."""
     opts.out.mkdir(parents=True, exist_ok=True)
     store.write_atomic(opts.out / "campaign.toml", c.path.read_bytes())
-    scenes = {
-        p: cases_mod.snapshot_scene(p, opts.windrive, opts.out, recorded(c), c.gears) for p in cases_mod.scene_paths(c)
-    }
+    scenes = snapshot_scenes(c, opts.windrive, opts.out)
     windrive, digest = cases_mod.snapshot_windrive(opts.windrive, opts.out)
     return cases_mod.expand(c, scenes, digest), windrive
 
 
-def recorded(c: Campaign) -> list[str]:
+def snapshot_scenes(c: Campaign, windrive: str, out: Path) -> dict[Path, tuple[str, str]]:
+    """Every scene of the campaign snapshot (cases.snapshot_scene), its probe rated as the cases will be."""
+    record = recorded(c, windrive)
+    return {
+        p: cases_mod.snapshot_scene(p, windrive, out, record, c.gears, c.bearings) for p in cases_mod.scene_paths(c)
+    }
+
+
+def recorded(c: Campaign, windrive: str | None = None) -> list[str]:
     """The channels each case records: the analysed ones, their LDD speeds, what `windrive gears` reads
-    with [gears], and `record`."""
-    rated = c.gears.channels() if c.gears is not None else ()
+    with [gears], what `windrive bearings` reads with [bearings] (asked of `windrive`, which a campaign
+    with [bearings] needs here), and `record`."""
+    rated = list(c.gears.channels()) if c.gears is not None else []
+    if c.bearings is not None:
+        if windrive is None:
+            raise ValueError("recorded: a campaign with [bearings] needs the windrive binary to name its channels")
+        try:
+            rated += c.bearings.channels(windrive)
+        except bearings.BearingsError as e:
+            b = c.bearings
+            raise CampaignError(f"{c.path}: [bearings] gearbox = {b.gearbox!r}, component = {b.component!r}: "
+                                f"windrive bearings cannot rate it: {e}") from None  # fmt: skip
     return list(dict.fromkeys([*analysis.needed_columns(c.channels), *rated, *c.record]))
 
 
@@ -102,9 +118,10 @@ def run(c: Campaign, opts: Options, stream=sys.stderr) -> int:
         channels=c.channels,
         feq=c.feq,
         keep_series=c.keep_series,
-        record=tuple(recorded(c)),
+        record=tuple(recorded(c, opts.windrive)),
         timeout=c.timeout,
         gears=c.gears,
+        bearings=c.bearings,
     )
     interrupted = False
     cost = None

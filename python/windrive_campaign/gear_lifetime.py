@@ -1,13 +1,6 @@
-"""Lifetime Miner damage of every gear tooth from a campaign with `[gears]` (gears.py), weighted like the
-DEL damage sums in lifetime.py:
-
-- a case's damage in its analysed window is D_i = <tooth>.<flank|root>_day × T_i / 86 400, undoing
-  `windrive gears`' per-day scaling (the window's damage × 86 400 / T_i, T_i its analysed seconds, the
-  same window the campaign's `analysed_s` measures: both keep t ≥ transient);
-- the lifetime damage D_life = Σ_i w_i · D_i with lifetime.py's weights w_i (a DLC 1.2 case its climate
-  hours in windows, an event its count), so a DLC 1.2 case adds hours_i / 24 × its damage per day;
-- a group's share of D_life, the groups those of the DEL shares;
-- the life in years, years / D_life (inf when D_life = 0).
+"""Lifetime Miner damage of every gear tooth from a campaign with `[gears]` (gears.py): each tooth's
+flank and root damage per day, `gear.<tooth>.flank_day` and `.root_day`, summed over the design life by
+miner_lifetime.py (weights, group shares and life as for the DEL damage sums in lifetime.py).
 
 The damage is the paper's (nominal ISO 6336 stresses without load factors, a two-slope S-N curve), so
 it ranks load cases and teeth; it is not a certified gear rating.
@@ -15,14 +8,12 @@ it ranks load cases and teeth; it is not a certified gear rating.
 
 from __future__ import annotations
 
-import math
 import re
 
 import pandas as pd
 
-from .errors import CampaignError
+from . import miner_lifetime
 
-SECONDS_PER_DAY = 86400.0
 DAMAGE_COLUMN = re.compile(r"^gear\.(?P<tooth>[^.]+)\.(?P<kind>flank|root)_day$")
 KINDS = ("flank", "root")
 
@@ -34,42 +25,8 @@ def damage_columns(columns) -> list[tuple[str, str, str]]:
     return sorted(found, key=lambda f: (order.index(f[0]), KINDS.index(f[1])))
 
 
-def window_damage(ok: pd.DataFrame, column: str) -> pd.Series:
-    """Each case's Miner damage in its analysed window, from its damage per day."""
-    return ok[column] * ok.analysed_s / SECONDS_PER_DAY
-
-
-def life_years(years: float, damage: float) -> float:
-    return years / damage if damage > 0 else math.inf
-
-
 def lifetime(ok: pd.DataFrame, years: float, groups: list[str], campaign: str) -> list[dict]:
-    """One row per rated tooth and kind: tooth, kind, damage (D_life), life_years, share{group}.
-
-    `ok` holds the finished, weighted cases with lifetime.compute's columns `w` (weight) and `label`
-    (share group). A column NaN in every case is a flank or root windrive does not rate (p1's flank):
-    no row. NaN in only some cases would make a sum silently short, so it is an error."""
-    rows = []
-    for tooth, kind, column in damage_columns(ok.columns):
-        missing = ok[column].isna()
-        if missing.all():
-            continue
-        if missing.any():
-            names = ", ".join(ok.name[missing].head(5))
-            raise CampaignError(f"campaign {campaign}: column {column} is NaN in {int(missing.sum())} finished "
-                                f"case(s) ({names}) but rated in the others: run them again")  # fmt: skip
-        rows.append(_row(ok, tooth, kind, column, years, groups))
-    return rows
-
-
-def _row(ok: pd.DataFrame, tooth: str, kind: str, column: str, years: float, groups: list[str]) -> dict:
-    per_case = ok.w * window_damage(ok, column)
-    total = float(per_case.sum())
-    by_group = per_case.groupby(ok.label).sum()
-    return {
-        "tooth": tooth,
-        "kind": kind,
-        "damage": total,
-        "life_years": life_years(years, total),
-        "share": {g: float(by_group.get(g, 0.0)) / total if total > 0 else math.nan for g in groups},
-    }
+    """One row per rated tooth and kind: tooth, kind, damage (D_life), life_years, share{group}
+    (miner_lifetime.lifetime; a flank or root windrive does not rate, p1's flank, has no row)."""
+    found = [({"tooth": tooth, "kind": kind}, column) for tooth, kind, column in damage_columns(ok.columns)]
+    return miner_lifetime.lifetime(ok, found, years, groups, campaign)

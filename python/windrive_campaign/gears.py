@@ -10,10 +10,9 @@ root is `p1`, its flanks `ps1` and `pr1`).
 
 from __future__ import annotations
 
-import json
-import math
-import subprocess
 from dataclasses import dataclass
+
+from . import rating
 
 # The channels `windrive gears --gearbox <table> --component <component>` reads, less the component's
 # name, which the cases must record (a campaign records only what it analyses). They mirror the table's
@@ -59,8 +58,6 @@ COLUMNS = {
     "cycles": "load_cycles",
 }
 
-ERROR_CHARS = 4000  # of windrive's stderr kept, as for a failed run
-
 
 class GearsError(Exception):
     """`windrive gears` failed on the series; the message is its stderr."""
@@ -73,25 +70,6 @@ def command(windrive: str, series: str, gears: Gears, transient: float) -> list[
     ]  # fmt: skip
 
 
-def columns(rated: list[dict]) -> dict[str, float]:
-    """`gear.<tooth>.<column>` of every rated tooth; JSON's null (not rated) as NaN."""
-    out = {}
-    for tooth in rated:
-        for column, field in COLUMNS.items():
-            value = tooth[field]
-            out[f"gear.{tooth['name']}.{column}"] = math.nan if value is None else float(value)
-    return out
-
-
 def rate(windrive: str, series: str, gears: Gears, transient: float, timeout: float) -> dict[str, float]:
     """The table's columns for one series; GearsError with windrive's stderr when it fails."""
-    try:
-        r = subprocess.run(command(windrive, series, gears, transient), capture_output=True, text=True, timeout=timeout)
-    except subprocess.TimeoutExpired:
-        raise GearsError(f"windrive gears gave no result within the timeout of {timeout} s") from None
-    if r.returncode != 0:
-        raise GearsError((r.stderr.strip() or f"windrive gears exited with {r.returncode}")[-ERROR_CHARS:])
-    try:
-        return columns(json.loads(r.stdout))
-    except (ValueError, KeyError, TypeError) as e:
-        raise GearsError(f"windrive gears: unexpected output ({type(e).__name__}: {e}): {r.stdout[:200]!r}") from None
+    return rating.rate(command(windrive, series, gears, transient), "gear", COLUMNS, timeout, GearsError)

@@ -12,8 +12,8 @@ life` (src/analysis/lifetime.rs), so the two agree on the cases it can compute (
 - the lifetime LDD: Σ_i w_i · (seconds, revolutions) per load bin.
 
 D is a damage sum in load^m × cycles, not a Miner damage: no S-N curve is attached to a channel here.
-With `[gears]`, the teeth's Miner damage over the design life uses the same weights and groups
-(gear_lifetime.py).
+With `[gears]` and `[bearings]`, the teeth's and the bearings' Miner damage over the design life uses
+the same weights and groups (gear_lifetime.py, bearing_lifetime.py, both through miner_lifetime.py).
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from . import gear_lifetime
+from . import bearing_lifetime, gear_lifetime
 from .climate import HOURS_PER_YEAR
 from .errors import CampaignError
 
@@ -54,6 +54,7 @@ class Lifetime:
     events: float = 0.0
     left_out: dict[str, list[str]] = field(default_factory=dict)  # status -> case names not counted
     gears: list[dict] = field(default_factory=list)  # per tooth and flank/root: damage, life_years, share{group}
+    bearings: list[dict] = field(default_factory=list)  # per bearing: C_r, damage, life_years, share{group}
 
 
 def read_metadata(schema_metadata: dict | None) -> dict:
@@ -139,6 +140,7 @@ def compute(t: pd.DataFrame, meta: dict) -> Lifetime:
             life.ldd[channel] = lifetime_ldd(ok, channel, bins)
     life.ratios = thesis_ratios(ok, slopes(t.columns), feq)
     life.gears = gear_lifetime.lifetime(ok, years, groups, life.campaign)
+    life.bearings = bearing_lifetime.lifetime(ok, years, groups, life.campaign)
     return life
 
 

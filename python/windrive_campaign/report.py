@@ -1,8 +1,9 @@
 """`scripts/campaign report`: a finished campaign's lifetime figures (lifetime.py) as lifetime.csv,
 lifetime.json, lifetime_ldd.csv, a bar chart of each group's share of the damage (lifetime.png) and a
 printed table; with `[gears]` also the teeth's lifetime damage (gear_lifetime.py) as lifetime_gears.csv,
-a section of lifetime.json, lifetime_gears.png and a printed table. Cases that are not finished are left
-out and counted, never guessed."""
+a section of lifetime.json, lifetime_gears.png and a printed table, and with `[bearings]` the bearings'
+(bearing_lifetime.py) as lifetime_bearings.csv, a section, lifetime_bearings.png and a table. Cases that
+are not finished are left out and counted, never guessed."""
 
 from __future__ import annotations
 
@@ -27,6 +28,9 @@ TABLE_COLUMNS = ("name", "group", "status", "wind_speed", "hours", "events", "an
 GEAR_METHOD = ("Miner's sum per tooth flank (pitting) and root (bending) over the design life: nominal ISO 6336 "
                "stresses without load factors, two-slope S-N curve, as the paper (windrive gears)")  # fmt: skip
 GEAR_KIND_TITLES = {"flank": "flank (pitting)", "root": "root (bending)"}
+# the bearing section's (docs/CAMPAIGNS.md, Lifetime report)
+BEARING_METHOD = ("ISO 281 basic rating life L10 (C_r from the roller geometry, P = X·F_r + Y·F_a, Miner over "
+                  "revolutions); no a_ISO life modification")  # fmt: skip
 
 
 def locate_table(given: Path) -> Path:
@@ -83,13 +87,14 @@ def write_ldd_csv(life: lt.Lifetime, path: Path):
                 w.writerow([ch, i, repr(e[i]), repr(e[i + 1]), repr(s), repr(s / 3600.0), repr(n)])
 
 
-def write_gears_csv(life: lt.Lifetime, path: Path):
+def write_miner_csv(rows: list[dict], labels: tuple[str, ...], groups: list[str], path: Path):
+    """The rows of miner_lifetime.lifetime (teeth, bearings): their `labels`, damage, life and shares."""
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["tooth", "kind", "damage", "life_years", *(f"share:{g}" for g in life.groups)])
-        for r in life.gears:
-            w.writerow([r["tooth"], r["kind"], repr(r["damage"]), repr(r["life_years"]),
-                        *(repr(r["share"][g]) for g in life.groups)])  # fmt: skip
+        w.writerow([*labels, "damage", "life_years", *(f"share:{g}" for g in groups)])
+        for r in rows:
+            w.writerow([*(r[k] for k in labels), repr(r["damage"]), repr(r["life_years"]),
+                        *(repr(r["share"][g]) for g in groups)])  # fmt: skip
 
 
 def as_json(life: lt.Lifetime) -> dict:
@@ -109,13 +114,15 @@ def as_json(life: lt.Lifetime) -> dict:
         "thesis_ratios": life.ratios,
     }
     if life.gears:  # only then: a campaign without [gears] keeps the JSON it had
-        d["gears"] = {"method": GEAR_METHOD, "lifetime": [_gear_json(r) for r in life.gears]}
+        d["gears"] = {"method": GEAR_METHOD, "lifetime": [_miner_json(r) for r in life.gears]}
+    if life.bearings:  # likewise for [bearings]
+        d["bearings"] = {"method": BEARING_METHOD, "lifetime": [_miner_json(r) for r in life.bearings]}
     return d
 
 
-def _gear_json(row: dict) -> dict:
-    """A tooth's row with null for a damage-free tooth's infinite life and undefined shares, as JSON
-    has neither (paper_summary.json does the same)."""
+def _miner_json(row: dict) -> dict:
+    """A tooth's or bearing's row with null for a damage-free part's infinite life and undefined shares,
+    as JSON has neither (paper_summary.json does the same)."""
     return {**row, "life_years": _finite(row["life_years"]), "share": {g: _finite(s) for g, s in row["share"].items()}}
 
 
@@ -161,20 +168,60 @@ def gear_chart(life: lt.Lifetime, path: Path):
     kinds = [k for k in gl.KINDS if any(r["kind"] == k for r in life.gears)]
     teeth = max(sum(r["kind"] == k for r in life.gears) for k in kinds)
     fig, axes = plt.subplots(len(kinds), 1, figsize=(max(6.0, 0.8 * teeth + 3.5), 3.4 * len(kinds)), squeeze=False)
-    colours = plt.get_cmap("tab10" if len(life.groups) <= 10 else "tab20")
+    colours = _group_colours(plt, life.groups)
     for ax, kind in zip(axes[:, 0], kinds):
         rows = [r for r in life.gears if r["kind"] == kind]
-        _stacked_shares(ax, rows, life.groups, colours)
-        ax.set_title(f"{GEAR_KIND_TITLES[kind]}: each group's share of the {life.years:g}-year Miner damage",
-                     fontsize=10)  # fmt: skip
-        ax.set_ylabel("share of D [%]")
-        ax.set_ylim(0, 125)  # room for the labels above the bars
-        ax.set_xticks(range(len(rows)), [r["tooth"] for r in rows], fontsize=8)
-    axes[0, 0].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    fig.suptitle(f"campaign {life.campaign}: gear damage (nominal ISO 6336, two-slope S-N)", fontsize=11)
+        heading = f"{GEAR_KIND_TITLES[kind]}: each group's share of the {life.years:g}-year Miner damage"
+        _share_panel(ax, rows, [r["tooth"] for r in rows], life.groups, colours, heading)
+    title = f"campaign {life.campaign}: gear damage (nominal ISO 6336, two-slope S-N)"
+    _save_with_legend(plt, fig, axes[0, 0], title, path)
+
+
+def bearing_chart(life: lt.Lifetime, path: Path):
+    """Per bearing, its lifetime damage (top) and a bar stacked from each group's share of it (bottom,
+    as gear_chart). The damage goes on a log axis when it spans more than two decades, as it does from
+    a planet bearing to a carrier bearing: on a linear one the small ones would vanish."""
+    import matplotlib
+
+    matplotlib.use("Agg")  # files only, as bar_chart
+    import matplotlib.pyplot as plt
+
+    rows = life.bearings
+    names = [r["bearing"] for r in rows]
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(max(6.0, 0.7 * len(rows) + 3.5), 7.0))
+    top.bar(range(len(rows)), [r["damage"] for r in rows], 0.7, color="0.45")
+    positive = [r["damage"] for r in rows if r["damage"] > 0]
+    if positive and max(positive) > 100 * min(positive):
+        top.set_yscale("log")
+    top.set_title(f"Miner damage over {life.years:g} years", fontsize=10)
+    top.set_ylabel("D_life")
+    top.set_xticks(range(len(rows)), names, fontsize=8, rotation=30, ha="right")
+    colours = _group_colours(plt, life.groups)
+    _share_panel(bottom, rows, names, life.groups, colours, "each group's share of the damage")
+    bottom.tick_params(axis="x", labelrotation=30)
+    title = f"campaign {life.campaign}: bearing damage (ISO 281 L10, no a_ISO)"
+    _save_with_legend(plt, fig, bottom, title, path)
+
+
+def _group_colours(plt, groups: list[str]):
+    return plt.get_cmap("tab10" if len(groups) <= 10 else "tab20")
+
+
+def _save_with_legend(plt, fig, ax, title: str, path: Path):
+    """The groups' legend beside `ax`, outside the axes, the title, the file."""
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    fig.suptitle(title, fontsize=11)
     fig.tight_layout()
-    fig.savefig(path, dpi=110, bbox_inches="tight")  # the legend sits outside the axes
+    fig.savefig(path, dpi=110, bbox_inches="tight")  # the legend sits outside the axes: bbox takes it in
     plt.close(fig)
+
+
+def _share_panel(ax, rows: list[dict], names: list[str], groups: list[str], colours, title: str):
+    _stacked_shares(ax, rows, groups, colours)
+    ax.set_title(title, fontsize=10)
+    ax.set_ylabel("share of D [%]")
+    ax.set_ylim(0, 125)  # room for the labels above the bars
+    ax.set_xticks(range(len(rows)), names, fontsize=8)
 
 
 def _stacked_shares(ax, rows: list[dict], groups: list[str], colours):
@@ -207,6 +254,8 @@ def print_tables(life: lt.Lifetime, out=sys.stdout):
                   f"ours {q['ours']:.2f}, thesis {q['thesis']:.2f}", file=out)  # fmt: skip
     if life.gears:
         print_gear_tables(life, out)
+    if life.bearings:
+        print_bearing_tables(life, out)
 
 
 def print_gear_tables(life: lt.Lifetime, out=sys.stdout):
@@ -216,6 +265,18 @@ def print_gear_tables(life: lt.Lifetime, out=sys.stdout):
         print(f"{r['tooth']:8} {r['kind']:6} {r['damage']:>11.4e} {r['life_years']:>13.4g}", file=out)
     heads = [f"{r['tooth']} {r['kind']}" for r in life.gears]
     print_shares("share of gear damage [%]", life.groups, heads, life.gears, 10, out)
+
+
+def print_bearing_tables(life: lt.Lifetime, out=sys.stdout):
+    print(f"\nbearing damage over {life.years:g} years (Miner over L10; ISO 281 basic rating life, no a_ISO)",
+          file=out)  # fmt: skip
+    print(f"{'bearing':14} {'C [kN]':>8} {'damage D':>11} {'life [years]':>13}", file=out)
+    for r in life.bearings:
+        print(f"{r['bearing']:14} {r['dynamic_load_rating'] / 1e3:>8.0f} {r['damage']:>11.4e} "
+              f"{r['life_years']:>13.4g}", file=out)  # fmt: skip
+    heads = [r["bearing"] for r in life.bearings]
+    width = max([10, *(len(h) + 1 for h in heads)])  # wide enough for names such as planet_1_uw
+    print_shares("share of bearing damage [%]", life.groups, heads, life.bearings, width, out)
 
 
 def print_shares(title: str, groups: list[str], heads: list[str], rows: list[dict], width: int, out):
@@ -241,9 +302,14 @@ def report(given: Path, out_dir: Path | None) -> int:
         bar_chart(life, out_dir / "lifetime.png")
         written.append("lifetime.png")
     if life.gears:
-        write_gears_csv(life, out_dir / "lifetime_gears.csv")
+        write_miner_csv(life.gears, ("tooth", "kind"), life.groups, out_dir / "lifetime_gears.csv")
         gear_chart(life, out_dir / "lifetime_gears.png")
         written += ["lifetime_gears.csv", "lifetime_gears.png"]
+    if life.bearings:
+        write_miner_csv(life.bearings, ("bearing", "dynamic_load_rating"), life.groups,
+                        out_dir / "lifetime_bearings.csv")  # fmt: skip
+        bearing_chart(life, out_dir / "lifetime_bearings.png")
+        written += ["lifetime_bearings.csv", "lifetime_bearings.png"]
     print_tables(life)
     print(f"\nwritten: {out_dir}/{', '.join(written)}")
     return _warn_left_out(life)

@@ -1,9 +1,9 @@
 """One case on a worker: `windrive run` as a subprocess, the analysis of its series, the result file.
 
 Runs inside a dask worker process (one thread each: the work is the subprocess). Never raises for a
-case's own failure: a non-zero exit, a timeout, a series the analysis cannot read or `windrive gears`
-failing on it ([gears]) become a result with status `failed` or `timeout` and the error text, so one bad
-case does not stop the campaign.
+case's own failure: a non-zero exit, a timeout, a series the analysis cannot read, `windrive gears`
+([gears]) or `windrive bearings` ([bearings]) failing on it become a result with status `failed` or
+`timeout` and the error text, so one bad case does not stop the campaign.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ import traceback
 from dataclasses import dataclass
 from pathlib import Path
 
-from . import analysis, gears, store
+from . import analysis, bearings, gears, store
 from .cases import Case
 from .schema import Channel
 
@@ -42,6 +42,7 @@ class RunSpec:
     record: tuple[str, ...]  # every channel recorded (driver.recorded)
     timeout: float
     gears: gears.Gears | None = None  # what `windrive gears` rates each series with, if anything
+    bearings: bearings.Bearings | None = None  # what `windrive bearings` rates each series with, if anything
 
 
 # loaded here, not in the forked child: dlopen between fork and exec of a threaded process can deadlock
@@ -101,17 +102,19 @@ def run_case(case: Case, spec: RunSpec) -> dict:
             result["error"] = f"windrive run gave no result within the timeout of {spec.timeout} s"
         result["run_s"] = time.perf_counter() - t0
         if result["status"] == "ok":
-            t1 = time.perf_counter()  # the gear rating counts as analysis: it is work on the finished series
+            t1 = time.perf_counter()  # the ratings count as analysis: they are work on the finished series
             try:
                 series = analysis.read_series(str(csv), analysis.needed_columns(spec.channels))
                 stats = analysis.analyse(series, spec.channels, spec.feq, case.transient)
                 if spec.gears is not None:
                     stats.update(gears.rate(spec.windrive, str(csv), spec.gears, case.transient, spec.timeout))
+                if spec.bearings is not None:
+                    stats.update(bearings.rate(spec.windrive, str(csv), spec.bearings, case.transient, spec.timeout))
                 result["stats"] = stats
             except analysis.AnalysisError as e:
                 result["status"] = "failed"
                 result["error"] = f"analysis: {e}"
-            except gears.GearsError as e:
+            except (gears.GearsError, bearings.BearingsError) as e:
                 result["status"] = "failed"
                 result["error"] = str(e)
             result["analysis_s"] = time.perf_counter() - t1

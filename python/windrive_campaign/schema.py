@@ -17,6 +17,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
+from . import bearings as bearings_mod
 from . import gears as gears_mod
 from .errors import CampaignError
 
@@ -107,6 +108,7 @@ class Campaign:
     events: tuple[Event, ...]
     slurm: Slurm | None
     gears: gears_mod.Gears | None = None  # [gears]: what `windrive gears` rates each case with
+    bearings: bearings_mod.Bearings | None = None  # [bearings]: what `windrive bearings` rates each case with
 
     def analysis_spec(self) -> dict:
         """What the analysis of a series depends on (not the simulation): a result whose analysis
@@ -115,6 +117,8 @@ class Campaign:
         if self.gears is not None:  # only when rated: the digests of campaigns without [gears] stay as they were
             g = self.gears
             spec["gears"] = g.table if g == gears_mod.Gears(g.table) else asdict(g)
+        if self.bearings is not None:  # likewise: campaigns without [bearings] keep their digests
+            spec["bearings"] = asdict(self.bearings)
         return spec
 
     def analysis_digest(self) -> str:
@@ -291,7 +295,7 @@ class _Reader:
     def campaign(self, doc: dict) -> Campaign:
         top = (
             "name", "scene", "stop_time", "transient", "step", "timeout", "keep_series", "record", "feq",
-            "params", "channel", "climate", "dlc12", "grid", "event", "slurm", "gears",
+            "params", "channel", "climate", "dlc12", "grid", "event", "slurm", "gears", "bearings",
         )  # fmt: skip
         self.check_keys(doc, (), top)
         root = ()
@@ -333,6 +337,7 @@ class _Reader:
             events=events,
             slurm=self.slurm(doc),
             gears=self.gears(doc),
+            bearings=self.bearings(doc),
         )
 
     def channels(self, doc: dict) -> tuple[Channel, ...]:
@@ -398,10 +403,31 @@ class _Reader:
         if table is None:
             self.fail(key + ("table",), f"missing (the gear table, one of {', '.join(gears_mod.TABLES)})")
         fmu = self.string(t, key, "fmu", choices=tuple(gears_mod.FMUS)) or gears_mod.DEFAULT_FMU
-        component = self.string(t, key, "component")
-        if component is not None and not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", component):
-            self.fail(key + ("component",), f"{component!r}: a scene component's name ([A-Za-z_][A-Za-z0-9_]*)")
-        return gears_mod.Gears(table, fmu, component or gears_mod.FMUS[fmu])
+        return gears_mod.Gears(table, fmu, self.component(t, key, "component", gears_mod.FMUS[fmu]))
+
+    def bearings(self, doc: dict) -> bearings_mod.Bearings | None:
+        t = self.table(doc, (), "bearings")
+        if t is None:
+            return None
+        key = ("bearings",)
+        self.check_keys(t, key, ("gearbox", "component"))
+        gearbox = self.string(t, key, "gearbox", default=bearings_mod.DEFAULT_GEARBOX)
+        # a description file, like a scene, is relative to the campaign file: the workers' working
+        # directory is not the user's. A preset name is passed as it is and checked by windrive itself
+        # (driver.recorded asks it for the channels before any case runs).
+        if "/" in gearbox or gearbox.endswith(".toml"):
+            path = (self.base / gearbox).resolve()
+            if not path.is_file():
+                self.fail(key + ("gearbox",), f"{path}: no such gearbox description file")
+            gearbox = str(path)
+        return bearings_mod.Bearings(gearbox, self.component(t, key, "component", bearings_mod.DEFAULT_COMPONENT))
+
+    def component(self, doc: dict, key: tuple, name: str, default: str) -> str:
+        """A scene component's name, the prefix of the channels a rating reads."""
+        component = self.string(doc, key, name, default=default)
+        if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", component):
+            self.fail(key + (name,), f"{component!r}: a scene component's name ([A-Za-z_][A-Za-z0-9_]*)")
+        return component
 
     def climate(self, doc: dict) -> Climate | None:
         t = self.table(doc, (), "climate")

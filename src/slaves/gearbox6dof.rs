@@ -161,11 +161,16 @@ impl Params {
         })
     }
 
-    /// The loaded static equilibrium at the initial speed, the chain turning rigidly.
-    fn initial_state(&self, b: &Built) -> SlaveResult<DynState> {
+    /// The loaded static equilibrium at the initial speed, the chain turning rigidly, carrying
+    /// `input_torque` with `initial_torque_from_input`, else `initial_rotor_torque`.
+    fn initial_state(&self, b: &Built, input_torque: f64) -> SlaveResult<DynState> {
         let m = &b.model;
         let rated_speed = b.description.rated_rotor_speed_rpm.unwrap_or(0.0) * std::f64::consts::TAU / 60.0;
-        let t = self.initial_rotor_torque;
+        let t = if self.initial_torque_from_input {
+            input_torque
+        } else {
+            self.initial_rotor_torque
+        };
         let u = [t, t / m.gear_ratio, 0.0];
         let (q, v) = equilibrium(m, &u, self.initial_speed_ratio * rated_speed)
             .map_err(|e| err(format!("initial equilibrium of gearbox {:?}: {e}", m.name)))?;
@@ -188,6 +193,9 @@ pub struct Gearbox6dofSlave {
     /// Loads of the current state (a master reads a hundred outputs per step).
     #[serde(skip)]
     loads: Option<Loads>,
+    /// Once stepped, the state is the simulation's: an input no longer rebuilds it.
+    #[serde(default)]
+    stepped: bool,
 }
 
 fn implicit_driver() -> Driver {
@@ -206,16 +214,21 @@ impl Gearbox6dofSlave {
             // the initial equilibrium carries the rotor's moments and thrust as the inputs have them
             self.apply_rotor_loads();
             let built = self.built.as_ref().unwrap();
-            self.state = Some(self.params.initial_state(built)?);
+            self.state = Some(self.params.initial_state(built, self.inputs.rotor_torque.value())?);
             self.loads = None;
         }
         let built = self.built.as_ref().unwrap();
         Ok((built, self.state.as_mut().unwrap()))
     }
 
+    /// With `initial_torque_from_input`, an input set before the first step rebuilds the initial
+    /// equilibrium (the master propagates the rotor's initial torque in initialization mode).
     fn changed(&mut self, what: Changed) {
         if what == Changed::Parameter {
             self.built = None;
+            self.state = None;
+        }
+        if what == Changed::Input && self.params.initial_torque_from_input && !self.stepped {
             self.state = None;
         }
         self.loads = None;
@@ -282,6 +295,7 @@ impl Slave for Gearbox6dofSlave {
             built: self.built.clone(),
             driver: implicit_driver(),
             loads: None,
+            stepped: self.stepped,
         }
     }
 
@@ -295,6 +309,7 @@ impl Slave for Gearbox6dofSlave {
         into.state.clone_from(&self.state);
         super::share_build(&mut into.built, &self.built);
         into.loads = None;
+        into.stepped = self.stepped;
     }
 
     /// Keeps this instance's integrator while the model is the snapshot's own (the same build).
@@ -318,6 +333,7 @@ impl Slave for Gearbox6dofSlave {
             built: None,
             driver: implicit_driver(),
             loads: None,
+            stepped: false,
         }
     }
 
@@ -396,10 +412,17 @@ impl Slave for Gearbox6dofSlave {
     }
 
     fn get_boolean(&mut self, r: u32) -> SlaveResult<bool> {
+        if let Some(v) = xml::get_boolean(&self.params, &self.inputs, r) {
+            return Ok(v);
+        }
         match r {
             vr::BRAKE_LOCKED => Ok(self.ensure()?.1.locked),
             _ => Err(xml::no_getter(VarType::Boolean, r)),
         }
+    }
+
+    fn set_boolean(&mut self, r: u32, value: bool, log: &mut dyn Log) -> SlaveResult<()> {
+        xml::set_boolean(&mut self.params, &mut self.inputs, r, value, log).map(|what| self.changed(what))
     }
 
     fn get_string(&mut self, r: u32) -> SlaveResult<String> {
@@ -429,6 +452,7 @@ impl Slave for Gearbox6dofSlave {
 
     fn do_step(&mut self, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
         self.ensure()?;
+        self.stepped = true;
         self.loads = None;
         self.apply_rotor_loads();
         let built = self.built.take().unwrap();

@@ -170,3 +170,33 @@ fn input_polynomials_follow_their_derivatives_and_a_new_value_clears_them() {
     r.set_real(vr, 1.0, &mut NoLog).unwrap();
     assert_eq!(r.inputs.rotor_speed.0, [1.0, 0.0, 0.0]);
 }
+
+/// `initial_torque_from_input`: the initial equilibrium carries the rotor_torque input as it stands
+/// before the first step (re-read each time the importer sets it), then the state is the simulation's.
+/// Without it, `initial_rotor_torque` alone. The LSS torque of a static equilibrium is the torque it
+/// carries; 1 % allows the bearing and mesh compliance's small share of the moment balance.
+#[test]
+fn gearbox_initial_equilibrium_follows_the_input_until_the_first_step() {
+    use windrive::models::gearbox6dof::vr;
+    let lss = |g: &mut Gearbox6dofSlave| g.get_real(vr::LSS_TORQUE).unwrap();
+    let close = |a: f64, b: f64| (a / b - 1.0).abs() < 0.01;
+    let mut g = Gearbox6dofSlave::instantiate(None);
+    g.set_real(vr::ROTOR_TORQUE, 1e5, &mut NoLog).unwrap();
+    g.initialize(0.0, &mut NoLog).unwrap();
+    let rated = g.get_real(vr::INITIAL_ROTOR_TORQUE).unwrap();
+    assert!(close(lss(&mut g), rated), "{} vs {rated}", lss(&mut g));
+
+    let mut g = Gearbox6dofSlave::instantiate(None);
+    g.set_boolean(vr::INITIAL_TORQUE_FROM_INPUT, true, &mut NoLog).unwrap();
+    assert!(g.get_boolean(vr::INITIAL_TORQUE_FROM_INPUT).unwrap());
+    g.set_real(vr::ROTOR_TORQUE, 1e5, &mut NoLog).unwrap();
+    g.initialize(0.0, &mut NoLog).unwrap();
+    assert!(close(lss(&mut g), 1e5), "{}", lss(&mut g));
+    g.set_real(vr::ROTOR_TORQUE, 5e4, &mut NoLog).unwrap();
+    assert!(close(lss(&mut g), 5e4), "{}", lss(&mut g));
+    let ratio = g.get_real(vr::GEAR_RATIO).unwrap();
+    g.set_real(vr::GENERATOR_TORQUE, 5e4 / ratio, &mut NoLog).unwrap();
+    g.do_step(0.0, 1e-3, &mut NoLog).unwrap();
+    g.set_real(vr::ROTOR_TORQUE, 0.0, &mut NoLog).unwrap();
+    assert!(close(lss(&mut g), 5e4), "after the first step: {}", lss(&mut g));
+}

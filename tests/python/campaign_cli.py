@@ -16,3 +16,22 @@ def campaign_cli(*args, cwd=None, timeout=120):
         [sys.executable, "-m", "windrive_campaign", *map(str, args)],
         capture_output=True, text=True, env=env, timeout=timeout, cwd=cwd,
     )  # fmt: skip
+
+
+def write_campaign(tmp_path, text, name="c.toml"):
+    """A campaign file in the test's folder."""
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+def run_campaign(tmp, text, name):
+    """Writes campaign `name` into folder `tmp`, runs it on 2 workers into tmp/out, and returns that
+    folder and its Parquet table (the run must succeed)."""
+    import pandas as pd
+
+    path = write_campaign(tmp, text, f"{name}.toml")
+    out = tmp / "out"
+    r = campaign_cli("run", path, "--out", out, "--workers", 2)
+    assert r.returncode == 0, r.stderr
+    return out, pd.read_parquet(out / f"{name}.parquet")

@@ -23,6 +23,7 @@ import scipy.stats
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python"))
 
+from campaign_cli import write_campaign  # noqa: E402
 from windrive_campaign import analysis, cases, climate, cluster, schema  # noqa: E402
 from windrive_campaign.errors import CampaignError  # noqa: E402
 
@@ -42,12 +43,6 @@ def campaign_cli(*args, check_rc=None, timeout=120):
     if check_rc is not None:
         assert r.returncode == check_rc, r.stderr
     return r
-
-
-def write_campaign(tmp_path, text, name="c.toml"):
-    p = tmp_path / name
-    p.write_text(text)
-    return p
 
 
 def minimal(top="", tables="", grid='torsional.fidelity = ["2"]'):

@@ -17,18 +17,12 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python"))
 
-from campaign_cli import campaign_cli  # noqa: E402
+from campaign_cli import campaign_cli, run_campaign, write_campaign  # noqa: E402
 from windrive_campaign import cases, driver, gears, runner, schema  # noqa: E402
 from windrive_campaign.errors import CampaignError  # noqa: E402
 
 SCENE = ROOT / "scenes" / "p-normal"
 TEETH = ["s1", "p1", "ps1", "pr1", "r1", "s2", "p2", "ps2", "pr2", "r2", "p3", "g3"]
-
-
-def write_campaign(tmp_path, text, name="c.toml"):
-    p = tmp_path / name
-    p.write_text(text)
-    return p
 
 
 def campaign(top="", tables='[grid]\nrotor.wind_speed = [11.5]'):
@@ -213,12 +207,7 @@ rotor.wind_speed = [11.5]
 
 @pytest.fixture(scope="module")
 def real_run(tmp_path_factory):
-    tmp = tmp_path_factory.mktemp("gears")
-    path = write_campaign(tmp, REAL, "gears.toml")
-    out = tmp / "out"
-    r = campaign_cli("run", path, "--out", out, "--workers", 2)
-    assert r.returncode == 0, r.stderr
-    return out, pd.read_parquet(out / "gears.parquet")
+    return run_campaign(tmp_path_factory.mktemp("gears"), REAL, "gears")
 
 
 def test_gear_columns_are_windrive_gears_on_the_kept_series(real_run, windrive):

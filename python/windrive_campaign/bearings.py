@@ -1,0 +1,62 @@
+"""`[bearings]`: every rolling bearing of the case's gearbox6dof gearbox rated by `windrive bearings` on
+the case's series (src/cli/bearings.rs, src/analysis/bearing_set.rs): ISO 281's basic dynamic load rating
+C_r from each roller set, the equivalent load P = X·F_r + Y·F_a per sample, the rings' revolutions from
+the gearbox's kinematics and Miner's sum of revolutions over L10 per day.
+
+As with `[gears]`, the rating stays in Rust, run as a second subprocess on the series the case just
+wrote, so the campaign's figures are exactly what `windrive bearings` prints for that series (tested to
+1e-12). Each bearing with a roller set becomes five columns of the table, `bearing.<name>.<column>`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from . import rating
+
+DEFAULT_GEARBOX = "grc750"
+DEFAULT_COMPONENT = "gearbox"
+CHANNELS_TIMEOUT_S = 60.0  # `windrive bearings --channels` reads a description: milliseconds
+
+
+class BearingsError(Exception):
+    """`windrive bearings` failed; the message is its stderr."""
+
+
+@dataclass(frozen=True)
+class Bearings:
+    """[bearings]: the gearbox description the scene's gearbox6dof FMU runs (a preset or a description
+    file) and the FMU's name in the scene, the prefix of the channels."""
+
+    gearbox: str = DEFAULT_GEARBOX
+    component: str = DEFAULT_COMPONENT
+
+    def channels(self, windrive: str) -> tuple[str, ...]:
+        """What `windrive bearings` reads, asked of the binary rather than copied here: which bearings
+        have a roller set is the description's business, and a copy would go stale with it. A
+        gearbox with no roller set fails here, before any case runs, with windrive's message."""
+        cmd = [windrive, "bearings", "--channels", "--gearbox", self.gearbox, "--component", self.component]
+        return tuple(rating.output(cmd, CHANNELS_TIMEOUT_S, BearingsError).split())
+
+
+# table column suffix -> the field of `windrive bearings --json`. The window's L10h is left out: it is
+# 24 / day hours, and infinite (JSON null) for a bearing that did not turn.
+COLUMNS = {
+    "day": "damage_per_day",
+    "p_eq": "equivalent_load",
+    "p_max": "max_equivalent_load",
+    "revolutions": "revolutions",
+    "c": "dynamic_load_rating",
+}
+
+
+def command(windrive: str, series: str, bearings: Bearings, transient: float) -> list[str]:
+    return [
+        windrive, "bearings", series, "--gearbox", bearings.gearbox, "--component", bearings.component,
+        "--transient", repr(transient), "--json",
+    ]  # fmt: skip
+
+
+def rate(windrive: str, series: str, bearings: Bearings, transient: float, timeout: float) -> dict[str, float]:
+    """The table's columns for one series; BearingsError with windrive's stderr when it fails."""
+    return rating.rate(command(windrive, series, bearings, transient), "bearing", COLUMNS, timeout, BearingsError)
