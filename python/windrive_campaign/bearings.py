@@ -5,7 +5,7 @@ the gearbox's kinematics and Miner's sum of revolutions over L10 per day.
 
 As with `[gears]`, the rating stays in Rust, run as a second subprocess on the series the case just
 wrote, so the campaign's figures are exactly what `windrive bearings` prints for that series (tested to
-1e-12). Each bearing with a roller set becomes five columns of the table, `bearing.<name>.<column>`.
+1e-12). Each bearing with a roller set becomes six columns of the table, `bearing.<name>.<column>`.
 """
 
 from __future__ import annotations
@@ -47,6 +47,7 @@ COLUMNS = {
     "p_max": "max_equivalent_load",
     "revolutions": "revolutions",
     "c": "dynamic_load_rating",
+    "thesis_day": "thesis_damage_per_day",  # the thesis's count (rainflow cycles of P), for comparison
 }
 
 

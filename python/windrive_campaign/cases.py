@@ -105,11 +105,9 @@ def snapshot_scene(
         if r.returncode != 0:
             raise CampaignError(f"{scene}: the scene does not run: {r.stderr.strip() or r.returncode}")
         if gears is not None:
-            _rate_probe(scene, gears_mod.command(windrive, series, gears, 0.0),
-                        f"[gears] table = {gears.table!r}, component = {gears.component!r}")  # fmt: skip
+            _rate_probe(scene, gears_mod.command(windrive, series, gears, 0.0), section(gears))
         if bearings is not None:
-            _rate_probe(scene, bearings_mod.command(windrive, series, bearings, 0.0),
-                        f"[bearings] gearbox = {bearings.gearbox!r}, component = {bearings.component!r}")  # fmt: skip
+            _rate_probe(scene, bearings_mod.command(windrive, series, bearings, 0.0), section(bearings))
     if scene.is_file():
         return str(scene), file_digest(scene)
     buf = io.BytesIO()
@@ -128,6 +126,13 @@ def snapshot_scene(
         tmp.write_bytes(data)
         tmp.replace(target)
     return str(target), digest
+
+
+def section(rated: gears_mod.Gears | bearings_mod.Bearings) -> str:
+    """A rating section as an error names it: `[gears] table = 'P', fmu = 'torsional', component = …`."""
+    if isinstance(rated, gears_mod.Gears):
+        return f"[gears] table = {rated.table!r}, fmu = {rated.fmu!r}, component = {rated.component!r}"
+    return f"[bearings] gearbox = {rated.gearbox!r}, component = {rated.component!r}"
 
 
 def _rate_probe(scene: Path, command: list[str], section: str):

@@ -14,7 +14,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from . import analysis, bearings
+from . import analysis, bearings, gears
 from . import cases as cases_mod
 from . import cluster as cluster_mod
 from . import store
@@ -86,18 +86,20 @@ def snapshot_scenes(c: Campaign, windrive: str, out: Path) -> dict[Path, tuple[s
 
 def recorded(c: Campaign, windrive: str | None = None) -> list[str]:
     """The channels each case records: the analysed ones, their LDD speeds, what `windrive gears` reads
-    with [gears], what `windrive bearings` reads with [bearings] (asked of `windrive`, which a campaign
-    with [bearings] needs here), and `record`."""
-    rated = list(c.gears.channels()) if c.gears is not None else []
-    if c.bearings is not None:
+    with [gears], what `windrive bearings` reads with [bearings] (both asked of `windrive`, which a
+    campaign with either needs here), and `record`. A table or gearbox windrive refuses stops the
+    campaign here, before any case runs, with windrive's message."""
+    rated: list[str] = []
+    for tool, section in (("gears", c.gears), ("bearings", c.bearings)):
+        if section is None:
+            continue
         if windrive is None:
-            raise ValueError("recorded: a campaign with [bearings] needs the windrive binary to name its channels")
+            raise ValueError(f"recorded: a campaign with [{tool}] needs the windrive binary to name its channels")
         try:
-            rated += c.bearings.channels(windrive)
-        except bearings.BearingsError as e:
-            b = c.bearings
-            raise CampaignError(f"{c.path}: [bearings] gearbox = {b.gearbox!r}, component = {b.component!r}: "
-                                f"windrive bearings cannot rate it: {e}") from None  # fmt: skip
+            rated += section.channels(windrive)
+        except (gears.GearsError, bearings.BearingsError) as e:
+            raise CampaignError(f"{c.path}: {cases_mod.section(section)}: windrive {tool} cannot rate it: "
+                                f"{e}") from None  # fmt: skip
     return list(dict.fromkeys([*analysis.needed_columns(c.channels), *rated, *c.record]))
 
 

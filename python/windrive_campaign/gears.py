@@ -3,9 +3,11 @@
 cycles from the speeds, a two-slope S-N curve and Miner's sum per day, as the paper does it (seed 004).
 
 The rating stays in Rust, run as a second subprocess on the series the case just wrote, so the campaign's
-figures are exactly what `windrive gears` prints for that series (tested to 1e-12). Each tooth becomes
-five columns of the table, `gear.<tooth>.<column>`, NaN where windrive rates no such thing (a planet's
-root is `p1`, its flanks `ps1` and `pr1`).
+figures are exactly what `windrive gears` prints for that series (tested to 1e-12). The gear table is P
+(the paper's, hand-built) or any gearbox6dof description (a preset or a file), whose planetary stage k
+has the teeth s<k>, p<k>, ps<k>, pr<k>, r<k> and parallel stage k p<k>, g<k>. Each tooth becomes five
+columns of the table, `gear.<tooth>.<column>`, NaN where windrive rates no such thing (a planet's root is
+`p1`, its flanks `ps1` and `pr1`).
 """
 
 from __future__ import annotations
@@ -14,39 +16,36 @@ from dataclasses import dataclass
 
 from . import rating
 
-# The channels `windrive gears --gearbox <table> --component <component>` reads, less the component's
-# name, which the cases must record (a campaign records only what it analyses). They mirror the table's
-# force and speed channels in gear_set.rs (paper_1p5mw; `windrive gears --channels` prints them); a
-# mismatch is caught before any case runs, because the driver rates the scene's probe series
-# (cases.snapshot_scene).
-_CHANNELS: dict[str, tuple[str, ...]] = {
-    "P": (
-        "mesh_force_sun_planet_1",
-        "rotor_speed",
-        "mesh_force_ring_planet_1",
-        "mesh_force_sun_planet2_1",
-        "mesh_force_ring_planet2_1",
-        "mesh_force_gear_pinion_1",
-    ),
-}
-TABLES = tuple(_CHANNELS)
 # each FMU whose outputs windrive gears reads (its --fmu), with the name the repository's scenes give it
 FMUS = {"torsional": "torsional", "gearbox6dof": "gearbox"}
 DEFAULT_FMU = "torsional"
+CHANNELS_TIMEOUT_S = 60.0  # `windrive gears --channels` builds a gear table: milliseconds
+
+
+class GearsError(Exception):
+    """`windrive gears` failed; the message is its stderr."""
 
 
 @dataclass(frozen=True)
 class Gears:
-    """[gears]: the gear table, the FMU whose mesh forces the series holds (the torsional FMU with
-    preset P gives transverse forces, the gearbox6dof FMU with the paper's gearbox normal ones) and its
-    name in the scene."""
+    """[gears]: the gear table (P, the paper's hand-built one, or a gearbox6dof description: a preset
+    name or a description file), the FMU whose mesh forces the series holds (the torsional FMU with
+    preset P gives transverse forces, the gearbox6dof FMU normal ones) and its name in the scene."""
 
     table: str
     fmu: str = DEFAULT_FMU
     component: str = FMUS[DEFAULT_FMU]
 
-    def channels(self) -> tuple[str, ...]:
-        return tuple(f"{self.component}.{c}" for c in _CHANNELS[self.table])
+    def options(self) -> list[str]:
+        """The table, FMU and component as `windrive gears` takes them."""
+        return ["--gearbox", self.table, "--fmu", self.fmu, "--component", self.component]
+
+    def channels(self, windrive: str) -> tuple[str, ...]:
+        """What `windrive gears` reads (the mesh forces and the rotor speed), asked of the binary rather
+        than copied here: which meshes a table has is the description's business, and a copy would go
+        stale with it. A table windrive refuses fails here, before any case runs, with its message."""
+        cmd = [windrive, "gears", "--channels", *self.options()]
+        return tuple(rating.output(cmd, CHANNELS_TIMEOUT_S, GearsError).split())
 
 
 # table column suffix -> the field of `windrive gears --json`
@@ -59,15 +58,8 @@ COLUMNS = {
 }
 
 
-class GearsError(Exception):
-    """`windrive gears` failed on the series; the message is its stderr."""
-
-
 def command(windrive: str, series: str, gears: Gears, transient: float) -> list[str]:
-    return [
-        windrive, "gears", series, "--gearbox", gears.table, "--fmu", gears.fmu, "--component", gears.component,
-        "--transient", repr(transient), "--json",
-    ]  # fmt: skip
+    return [windrive, "gears", series, *gears.options(), "--transient", repr(transient), "--json"]
 
 
 def rate(windrive: str, series: str, gears: Gears, transient: float, timeout: float) -> dict[str, float]:

@@ -30,7 +30,10 @@ GEAR_METHOD = ("Miner's sum per tooth flank (pitting) and root (bending) over th
 GEAR_KIND_TITLES = {"flank": "flank (pitting)", "root": "root (bending)"}
 # the bearing section's (docs/CAMPAIGNS.md, Lifetime report)
 BEARING_METHOD = ("ISO 281 basic rating life L10 (C_r from the roller geometry, P = X·F_r + Y·F_a, Miner over "
-                  "revolutions); no a_ISO life modification")  # fmt: skip
+                  "revolutions); no a_ISO life modification. thesis_damage: the thesis's count for comparison "
+                  "(rainflow cycles of P as load cycles over the same law, its ch. 5.4)")  # fmt: skip
+# the bearing figures written after the life in lifetime_bearings.csv
+BEARING_EXTRA = ("events_share", "thesis_damage", "thesis_events_share")
 
 
 def locate_table(given: Path) -> Path:
@@ -87,14 +90,16 @@ def write_ldd_csv(life: lt.Lifetime, path: Path):
                 w.writerow([ch, i, repr(e[i]), repr(e[i + 1]), repr(s), repr(s / 3600.0), repr(n)])
 
 
-def write_miner_csv(rows: list[dict], labels: tuple[str, ...], groups: list[str], path: Path):
-    """The rows of miner_lifetime.lifetime (teeth, bearings): their `labels`, damage, life and shares."""
+def write_miner_csv(rows: list[dict], labels: tuple[str, ...], groups: list[str], path: Path,
+                    extra: tuple[str, ...] = ()):  # fmt: skip
+    """The rows of miner_lifetime.lifetime (teeth, bearings): their `labels`, damage, life, the `extra`
+    figures and the shares."""
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow([*labels, "damage", "life_years", *(f"share:{g}" for g in groups)])
+        w.writerow([*labels, "damage", "life_years", *extra, *(f"share:{g}" for g in groups)])
         for r in rows:
             w.writerow([*(r[k] for k in labels), repr(r["damage"]), repr(r["life_years"]),
-                        *(repr(r["share"][g]) for g in groups)])  # fmt: skip
+                        *(repr(r[k]) for k in extra), *(repr(r["share"][g]) for g in groups)])  # fmt: skip
 
 
 def as_json(life: lt.Lifetime) -> dict:
@@ -123,7 +128,8 @@ def as_json(life: lt.Lifetime) -> dict:
 def _miner_json(row: dict) -> dict:
     """A tooth's or bearing's row with null for a damage-free part's infinite life and undefined shares,
     as JSON has neither (paper_summary.json does the same)."""
-    return {**row, "life_years": _finite(row["life_years"]), "share": {g: _finite(s) for g, s in row["share"].items()}}
+    finite = {k: _finite(v) for k, v in row.items() if isinstance(v, float)}
+    return {**row, **finite, "share": {g: _finite(s) for g, s in row["share"].items()}}
 
 
 def _finite(x: float) -> float | None:
@@ -270,10 +276,12 @@ def print_gear_tables(life: lt.Lifetime, out=sys.stdout):
 def print_bearing_tables(life: lt.Lifetime, out=sys.stdout):
     print(f"\nbearing damage over {life.years:g} years (Miner over L10; ISO 281 basic rating life, no a_ISO)",
           file=out)  # fmt: skip
-    print(f"{'bearing':14} {'C [kN]':>8} {'damage D':>11} {'life [years]':>13}", file=out)
+    print(f"{'bearing':14} {'C [kN]':>8} {'damage D':>11} {'life [years]':>13} {'events [%]':>11}   "
+          f"{'thesis count: D':>15} {'events [%]':>11}", file=out)  # fmt: skip
     for r in life.bearings:
         print(f"{r['bearing']:14} {r['dynamic_load_rating'] / 1e3:>8.0f} {r['damage']:>11.4e} "
-              f"{r['life_years']:>13.4g}", file=out)  # fmt: skip
+              f"{r['life_years']:>13.4g} {100 * r['events_share']:>11.2f}   {r['thesis_damage']:>15.4e} "
+              f"{100 * r['thesis_events_share']:>11.2f}", file=out)  # fmt: skip
     heads = [r["bearing"] for r in life.bearings]
     width = max([10, *(len(h) + 1 for h in heads)])  # wide enough for names such as planet_1_uw
     print_shares("share of bearing damage [%]", life.groups, heads, life.bearings, width, out)
@@ -307,7 +315,7 @@ def report(given: Path, out_dir: Path | None) -> int:
         written += ["lifetime_gears.csv", "lifetime_gears.png"]
     if life.bearings:
         write_miner_csv(life.bearings, ("bearing", "dynamic_load_rating"), life.groups,
-                        out_dir / "lifetime_bearings.csv")  # fmt: skip
+                        out_dir / "lifetime_bearings.csv", BEARING_EXTRA)  # fmt: skip
         bearing_chart(life, out_dir / "lifetime_bearings.png")
         written += ["lifetime_bearings.csv", "lifetime_bearings.png"]
     print_tables(life)

@@ -399,9 +399,9 @@ class _Reader:
             return None
         key = ("gears",)
         self.check_keys(t, key, ("table", "fmu", "component"))
-        table = self.string(t, key, "table", choices=gears_mod.TABLES)
+        table = self.description(t, key, "table")
         if table is None:
-            self.fail(key + ("table",), f"missing (the gear table, one of {', '.join(gears_mod.TABLES)})")
+            self.fail(key + ("table",), "missing (the gear table: P, a gearbox6dof preset or a description file)")
         fmu = self.string(t, key, "fmu", choices=tuple(gears_mod.FMUS)) or gears_mod.DEFAULT_FMU
         return gears_mod.Gears(table, fmu, self.component(t, key, "component", gears_mod.FMUS[fmu]))
 
@@ -411,16 +411,21 @@ class _Reader:
             return None
         key = ("bearings",)
         self.check_keys(t, key, ("gearbox", "component"))
-        gearbox = self.string(t, key, "gearbox", default=bearings_mod.DEFAULT_GEARBOX)
-        # a description file, like a scene, is relative to the campaign file: the workers' working
-        # directory is not the user's. A preset name is passed as it is and checked by windrive itself
-        # (driver.recorded asks it for the channels before any case runs).
-        if "/" in gearbox or gearbox.endswith(".toml"):
-            path = (self.base / gearbox).resolve()
-            if not path.is_file():
-                self.fail(key + ("gearbox",), f"{path}: no such gearbox description file")
-            gearbox = str(path)
+        gearbox = self.description(t, key, "gearbox", default=bearings_mod.DEFAULT_GEARBOX)
         return bearings_mod.Bearings(gearbox, self.component(t, key, "component", bearings_mod.DEFAULT_COMPONENT))
+
+    def description(self, doc: dict, key: tuple, name: str, default: str | None = None) -> str | None:
+        """A gearbox as windrive's --gearbox takes it: a name (a preset, or [gears]' P) as it is, or a
+        description file, a value with a `/` or ending in `.toml`, which like a scene is relative to the
+        campaign file (the workers' working directory is not the user's) and must exist. A name is
+        checked by windrive itself: driver.recorded asks it for the channels before any case runs."""
+        v = self.string(doc, key, name, default=default)
+        if v is None or not ("/" in v or v.endswith(".toml")):
+            return v
+        path = (self.base / v).resolve()
+        if not path.is_file():
+            self.fail(key + (name,), f"{path}: no such gearbox description file")
+        return str(path)
 
     def component(self, doc: dict, key: tuple, name: str, default: str) -> str:
         """A scene component's name, the prefix of the channels a rating reads."""

@@ -12,6 +12,7 @@ use super::ldd::sample_revolutions;
 use super::limits::{BENDING_LIMIT_EH_MQ, CONTACT_LIMIT_EH_MQ};
 use super::series::{self, SeriesError};
 use super::tooth_root::{BasicRack, LoadPoint, root_form};
+use crate::physics::gearbox::description::{Description, Stage, Toothing};
 use serde::Serialize;
 use std::path::Path;
 
@@ -103,8 +104,8 @@ pub struct Cycles {
 #[derive(Debug, Clone, PartialEq)]
 pub struct RatedTooth {
     /// Short name as the paper's figures write it (s1, p1, r1, …; ps1/pr1 for a planet's two flanks).
-    pub name: &'static str,
-    pub description: &'static str,
+    pub name: String,
+    pub description: String,
     /// Mesh force along the line of action, N, and which one it is (transverse or normal).
     pub force: String,
     pub force_kind: MeshForce,
@@ -122,8 +123,8 @@ pub struct RatedTooth {
 /// A tooth's result over one series.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ToothDamage {
-    pub name: &'static str,
-    pub description: &'static str,
+    pub name: String,
+    pub description: String,
     pub y_f: f64,
     pub y_s: f64,
     /// Largest contact and root stress in the window, Pa (0 where not rated).
@@ -145,7 +146,7 @@ pub enum GearSetError {
     #[error("{path}: {seconds} s after the transient of {transient} s; nothing to rate")]
     TooShort { path: String, seconds: f64, transient: f64 },
     #[error("tooth {name}: {message}")]
-    RootForm { name: &'static str, message: String },
+    RootForm { name: String, message: String },
 }
 
 /// Teeth of internal gears: ISO 6336-3 rates them with a substitute rack. Here the rack is an external
@@ -171,7 +172,7 @@ impl RatedTooth {
         let r =
             root_form(&pair, self.member, &BasicRack::ISO_53_A, LoadPoint::SinglePairContact).map_err(|message| {
                 GearSetError::RootForm {
-                    name: self.name,
+                    name: self.name.clone(),
                     message,
                 }
             })?;
@@ -229,8 +230,8 @@ impl RatedTooth {
             if self.root { df } else { f64::NAN },
         );
         Ok(ToothDamage {
-            name: self.name,
-            description: self.description,
+            name: self.name.clone(),
+            description: self.description.clone(),
             y_f,
             y_s,
             max_contact_stress: max_h,
@@ -346,8 +347,8 @@ pub fn paper_1p5mw(component: &str, force_kind: MeshForce) -> Vec<RatedTooth> {
         };
         let n = 3;
         let rated = |k: usize, force: &String, p: GearPair, member, tooth, material, factor, flank, root| RatedTooth {
-            name: NAMES[i][k],
-            description: DESCRIPTIONS[i][k],
+            name: NAMES[i][k].into(),
+            description: DESCRIPTIONS[i][k].into(),
             force: force.clone(),
             force_kind,
             pair: p,
@@ -424,8 +425,8 @@ pub fn paper_1p5mw(component: &str, force_kind: MeshForce) -> Vec<RatedTooth> {
         ("g3", "3rd stage gear", 2, carrier_speed),
     ] {
         teeth.push(RatedTooth {
-            name,
-            description,
+            name: name.into(),
+            description: description.into(),
             force: force.clone(),
             force_kind,
             pair: parallel,
@@ -443,13 +444,190 @@ pub fn paper_1p5mw(component: &str, force_kind: MeshForce) -> Vec<RatedTooth> {
     teeth
 }
 
-/// Gear tables by name, reading the channels of the scene's `component`, whose mesh forces are of
-/// `force_kind`: the presets whose every gear dimension is published.
-pub fn gear_table(name: &str, component: &str, force_kind: MeshForce) -> Option<Vec<RatedTooth>> {
-    match name.trim().to_ascii_uppercase().as_str() {
-        "P" => Some(paper_1p5mw(component, force_kind)),
-        _ => None,
+/// "1st", "2nd", "3rd", "4th", … for a stage number.
+fn ordinal(n: usize) -> String {
+    let suffix = match (n % 10, n % 100) {
+        (1, 11) | (2, 12) | (3, 13) => "th",
+        (1, _) => "st",
+        (2, _) => "nd",
+        (3, _) => "rd",
+        _ => "th",
+    };
+    format!("{n}{suffix}")
+}
+
+/// Every gear tooth of a gearbox description (the gearbox6dof FMU's), its stages in order, the names as
+/// the paper's: a planetary stage k gives s`k`, p`k` (root), ps`k` and pr`k` (the planet's flanks against
+/// sun and ring) and r`k`, a parallel stage k gives p`k` (pinion) and g`k`. Mesh forces are the first
+/// planet's of each planetary stage (`mesh_force_sun_planet{2}_1`, as the model names its meshes), and
+/// `mesh_force_gear_pinion_j` of the j-th parallel stage; load cycles follow from the rotor speed and the
+/// tooth counts, each stage driven by the one before (a planetary stage by its carrier, its sun the
+/// output; a parallel stage by its gear). One face width per stage, the description's. A description
+/// names no materials: every gear is rated as case-carburised 18CrNiMo7-6 and every ring as
+/// through-hardened 34CrNiMo6, the paper's choice and an estimate for any other gearbox. The
+/// description writes a ring's profile shift as the paper prints it (x_ring < 0 for a shift that widens
+/// the ring's tooth space); this module's internal pairs take the other sign.
+pub fn description_table(d: &Description, component: &str, force_kind: MeshForce) -> Vec<RatedTooth> {
+    let channel = |name: &str| format!("{component}.{name}");
+    let rotor_speed = channel("rotor_speed");
+    let pair = |t: &Toothing, z1, z2, internal, shift1, shift2| GearPair {
+        z1,
+        z2,
+        internal,
+        module: t.module_mm * 1e-3,
+        pressure_angle: t.pressure_angle_deg.to_radians(),
+        helix_angle: t.helix_angle_deg.to_radians(),
+        face_width: t.face_width_mm * 1e-3,
+        shift1,
+        shift2,
+        tip_diameters: None,
+    };
+    let mut teeth = Vec::new();
+    // the stage's input (carrier or gear) speed over the rotor speed
+    let mut input_speed = 1.0;
+    let (mut planetary, mut parallel) = (0, 0);
+    for (i, stage) in d.stages.iter().enumerate() {
+        let (k, ordinal) = (i + 1, ordinal(i + 1));
+        let tooth = |name: String, description: String, force: &String, pair, member, tooth, material, factor: f64| {
+            RatedTooth {
+                name,
+                description: format!("{ordinal} stage {description}"),
+                force: force.clone(),
+                force_kind,
+                pair,
+                member,
+                tooth,
+                material,
+                cycles: Cycles {
+                    speed: rotor_speed.clone(),
+                    factor: factor * input_speed,
+                },
+                flank: true,
+                root: true,
+            }
+        };
+        match stage {
+            Stage::Planetary(p) => {
+                planetary += 1;
+                let suffix = if planetary == 1 {
+                    String::new()
+                } else {
+                    planetary.to_string()
+                };
+                let (zs, zp, zr) = (p.teeth.sun, p.teeth.planet, p.teeth.ring);
+                let x = &p.profile_shift;
+                let sun_planet = pair(&p.toothing, zs, zp, false, x.sun, x.planet);
+                let planet_ring = pair(&p.toothing, zp, zr, true, x.planet, -x.ring);
+                let sp = channel(&format!("mesh_force_sun_planet{suffix}_1"));
+                let rp = channel(&format!("mesh_force_ring_planet{suffix}_1"));
+                let n = p.planets as u32;
+                // revolutions relative to the carrier per carrier revolution: sun z_r/z_s, planet z_r/z_p
+                let relative = |z: u32| f64::from(zr) / f64::from(z);
+                let planet_cycles = Tooth::Planet.load_cycles(relative(zp), n);
+                teeth.push(tooth(
+                    format!("s{k}"),
+                    "sun".into(),
+                    &sp,
+                    sun_planet,
+                    1,
+                    Tooth::Sun,
+                    CASE_CARBURISED,
+                    Tooth::Sun.load_cycles(relative(zs), n),
+                ));
+                teeth.push(RatedTooth {
+                    flank: false,
+                    ..tooth(
+                        format!("p{k}"),
+                        "planet (root, both flanks)".into(),
+                        &sp,
+                        sun_planet,
+                        2,
+                        Tooth::Planet,
+                        CASE_CARBURISED,
+                        planet_cycles,
+                    )
+                });
+                teeth.push(RatedTooth {
+                    root: false,
+                    ..tooth(
+                        format!("ps{k}"),
+                        "planet flank against the sun".into(),
+                        &sp,
+                        sun_planet,
+                        2,
+                        Tooth::Planet,
+                        CASE_CARBURISED,
+                        planet_cycles,
+                    )
+                });
+                teeth.push(RatedTooth {
+                    root: false,
+                    ..tooth(
+                        format!("pr{k}"),
+                        "planet flank against the ring".into(),
+                        &rp,
+                        planet_ring,
+                        1,
+                        Tooth::Planet,
+                        CASE_CARBURISED,
+                        planet_cycles,
+                    )
+                });
+                teeth.push(tooth(
+                    format!("r{k}"),
+                    "ring".into(),
+                    &rp,
+                    planet_ring,
+                    2,
+                    Tooth::Ring,
+                    THROUGH_HARDENED,
+                    Tooth::Ring.load_cycles(1.0, n),
+                ));
+                input_speed *= 1.0 + relative(zs);
+            }
+            Stage::Parallel(q) => {
+                parallel += 1;
+                let (zg, zp) = (q.teeth.gear, q.teeth.pinion);
+                let x = &q.profile_shift;
+                let mesh = pair(&q.toothing, zp, zg, false, x.pinion, x.gear);
+                let force = channel(&format!("mesh_force_gear_pinion_{parallel}"));
+                let ratio = f64::from(zg) / f64::from(zp);
+                teeth.push(tooth(
+                    format!("p{k}"),
+                    "pinion".into(),
+                    &force,
+                    mesh,
+                    1,
+                    Tooth::Parallel,
+                    CASE_CARBURISED,
+                    ratio,
+                ));
+                teeth.push(tooth(
+                    format!("g{k}"),
+                    "gear".into(),
+                    &force,
+                    mesh,
+                    2,
+                    Tooth::Parallel,
+                    CASE_CARBURISED,
+                    1.0,
+                ));
+                input_speed *= ratio;
+            }
+        }
     }
+    teeth
+}
+
+/// Gear tables by name, reading the channels of the scene's `component`, whose mesh forces are of
+/// `force_kind`: P, the paper's gearbox as its Table 4 gives it (a face width per mesh), or the table of
+/// a gearbox6dof description, a preset name or a file ([`description_table`]).
+pub fn gear_table(name: &str, component: &str, force_kind: MeshForce) -> Result<Vec<RatedTooth>, String> {
+    if name.trim().eq_ignore_ascii_case("P") {
+        return Ok(paper_1p5mw(component, force_kind));
+    }
+    let d = Description::load(name).map_err(|e| e.to_string())?;
+    Ok(description_table(&d, component, force_kind))
 }
 
 #[cfg(test)]
@@ -652,5 +830,64 @@ mod tests {
                 tooth.name
             );
         }
+    }
+
+    /// The paper's gearbox from its gearbox6dof description rates as the hand-built table P does: the
+    /// same teeth, roles, materials, mesh-force channels and load cycles, and the rings' profile shifts
+    /// turned into this module's sign; only the sun–planet face widths differ (the description keeps
+    /// one per stage, the smaller: 370 and 170 mm against Table 4's 380 and 180).
+    #[test]
+    fn the_papers_description_gives_table_p() {
+        let d = Description::load("paper1p5mw").unwrap();
+        let ours = description_table(&d, "gearbox", MeshForce::Normal);
+        let paper = paper_1p5mw("gearbox", MeshForce::Normal);
+        assert_eq!(ours.len(), paper.len());
+        for (a, b) in ours.iter().zip(&paper) {
+            assert_eq!((&a.name, &a.description, &a.force), (&b.name, &b.description, &b.force));
+            assert_eq!(
+                (a.member, a.tooth, a.flank, a.root),
+                (b.member, b.tooth, b.flank, b.root),
+                "{}",
+                a.name
+            );
+            assert_eq!(a.material, b.material, "{}", a.name);
+            assert!((a.cycles.factor / b.cycles.factor - 1.0).abs() < 1e-12, "{}", a.name);
+            let narrower = if a.pair.internal || a.tooth == Tooth::Parallel {
+                0.0
+            } else {
+                0.01
+            };
+            assert!(
+                (a.pair.face_width - (b.pair.face_width - narrower)).abs() < 1e-12,
+                "{}",
+                a.name
+            );
+            let same_face = GearPair {
+                face_width: a.pair.face_width,
+                ..b.pair
+            };
+            assert_eq!(same_face, a.pair, "{}", a.name);
+        }
+    }
+
+    /// The GRC's teeth turn as its model's kinematics say: the HSS pinion at the gear ratio, the
+    /// intermediate gear with the sun (1 + z_r/z_s), the sun's teeth meshing 3 planets per revolution
+    /// relative to the carrier.
+    #[test]
+    fn grc_teeth_turn_with_the_model() {
+        let d = Description::load("grc750").unwrap();
+        let teeth = description_table(&d, "gearbox", MeshForce::Normal);
+        let factor = |n: &str| teeth.iter().find(|t| t.name == n).unwrap().cycles.factor;
+        let model = crate::physics::gearbox::Gearbox::new(&d).unwrap();
+        assert!(
+            (factor("p3") / model.gear_ratio - 1.0).abs() < 1e-12,
+            "{}",
+            factor("p3")
+        );
+        assert!((factor("g2") - (1.0 + 99.0 / 21.0)).abs() < 1e-12);
+        assert!((factor("s1") - 3.0 * 99.0 / 21.0).abs() < 1e-12);
+        assert_eq!(teeth.len(), 9);
+        assert_eq!(teeth[0].description, "1st stage sun");
+        assert_eq!(teeth[8].force, "gearbox.mesh_force_gear_pinion_2");
     }
 }

@@ -72,12 +72,12 @@ pub fn run(args: &BearingsArgs) -> anyhow::Result<()> {
 
 fn text(rated: &[BearingDamage]) -> String {
     let mut s = format!(
-        "{:<14} {:<12} {:>3} {:>6} {:>8} {:>8} {:>9} {:>9} {:>11} {:>11} {:>11}\n",
-        "bearing", "type", "Z", "α", "C_r", "n/n_rot", "P_eq", "P_max", "revolutions", "D/day", "L10h"
+        "{:<14} {:<12} {:>3} {:>6} {:>8} {:>8} {:>9} {:>9} {:>11} {:>11} {:>11} {:>11}\n",
+        "bearing", "type", "Z", "α", "C_r", "n/n_rot", "P_eq", "P_max", "revolutions", "D/day", "L10h", "thesis/day"
     );
     s.push_str(&format!(
-        "{:<14} {:<12} {:>3} {:>6} {:>8} {:>8} {:>9} {:>9} {:>11} {:>11} {:>11}\n",
-        "", "", "", "deg", "kN", "", "kN", "kN", "", "", "h"
+        "{:<14} {:<12} {:>3} {:>6} {:>8} {:>8} {:>9} {:>9} {:>11} {:>11} {:>11} {:>11}\n",
+        "", "", "", "deg", "kN", "", "kN", "kN", "", "", "h", ""
     ));
     for r in rated {
         let kind = serde_json::to_value(r.kind)
@@ -90,7 +90,7 @@ fn text(rated: &[BearingDamage]) -> String {
             String::new()
         };
         s.push_str(&format!(
-            "{:<14} {:<12} {:>3} {:>6.1} {:>8.0} {:>8.3} {:>9.1} {:>9.1} {:>11.4e} {:>11.4e} {:>11.4e}\n",
+            "{:<14} {:<12} {:>3} {:>6.1} {:>8.0} {:>8.3} {:>9.1} {:>9.1} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e}\n",
             r.name,
             format!("{rows}{kind}"),
             r.rollers,
@@ -102,6 +102,7 @@ fn text(rated: &[BearingDamage]) -> String {
             r.revolutions,
             r.damage_per_day,
             r.life_hours,
+            r.thesis_damage_per_day,
         ));
     }
     s

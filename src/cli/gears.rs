@@ -3,7 +3,6 @@
 
 use crate::analysis::gear::MeshForce;
 use crate::analysis::gear_set::{ToothDamage, channels, gear_table, rate_series};
-use anyhow::Context;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -11,8 +10,10 @@ pub struct GearsArgs {
     /// The series: a CSV of `windrive run` with the torsional FMU's mesh forces and speeds
     #[arg(required_unless_present = "channels")]
     pub series: Option<PathBuf>,
-    /// Gear table: P, the paper's 1.5 MW gearbox (seed 004 Table 4), the only preset whose face widths
-    /// and profile shifts are published; the series must come from the torsional FMU with preset P
+    /// Gear table: P, the paper's 1.5 MW gearbox (seed 004 Table 4, a face width per mesh), or a
+    /// gearbox6dof description, a preset (grc750, paper1p5mw, c2mw, nrel5mw, planetary-spur) or a file:
+    /// its teeth, modules, helix angles, profile shifts and face widths, every gear case-carburised
+    /// 18CrNiMo7-6 and every ring through-hardened 34CrNiMo6 (estimates: a description names no material)
     #[arg(long, default_value = "P")]
     pub gearbox: String,
     /// Which FMU's outputs the series holds: torsional (preset P; its mesh forces are transverse,
@@ -41,8 +42,12 @@ pub fn run(args: &GearsArgs) -> anyhow::Result<()> {
         _ => (MeshForce::Transverse, "torsional"),
     };
     let component = args.component.as_deref().unwrap_or(default_component);
-    let teeth = gear_table(&args.gearbox, component, kind)
-        .with_context(|| format!("--gearbox {:?}: unknown gear table, use P", args.gearbox))?;
+    let teeth = gear_table(&args.gearbox, component, kind).map_err(|e| {
+        anyhow::anyhow!(
+            "--gearbox {:?}: use P (the paper's gear table) or a gearbox6dof description: {e}",
+            args.gearbox
+        )
+    })?;
     if !(args.transient.is_finite() && args.transient >= 0.0) {
         anyhow::bail!("--transient {}: must be a number ≥ 0", args.transient);
     }

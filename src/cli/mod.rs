@@ -136,8 +136,10 @@ pub enum Command {
     /// of every sample, the revolutions of its rings against each other (a planet bearing's are the
     /// planet's against its carrier) from the rotor speed and the gearbox's kinematics, and Miner's sum
     /// of revolutions over L10 = (C/P)^(10/3) million revolutions: in the window, per day, and as the
-    /// window's L10 life in hours. Refuses a series whose generator-to-rotor speed ratio is not the
-    /// gearbox's.
+    /// window's L10 life in hours. Beside it, for comparison only, the thesis's count (ch. 5.4): rainflow
+    /// cycles of P as load cycles over the same law (thesis/day), which makes a shutdown's few large
+    /// swings count far more than hours of turning. Refuses a series whose generator-to-rotor speed ratio
+    /// is not the gearbox's.
     ///
     /// Examples (d.csv from `windrive run scenes/d-shutdown-6dof --out d.csv`):
     ///   windrive bearings d.csv --transient 2

@@ -215,6 +215,7 @@ def test_bode_resonance_at_the_first_mode(windrive):
     (["gears", "{csv}", "--fmu", "simpack"], ["simpack", "gearbox6dof"]),
     (["gears", "{csv}"], ["x.csv", "torsional.mesh_force_sun_planet_1"]),
     (["gears", "{csv}", "--fmu", "gearbox6dof"], ["x.csv", "gearbox.mesh_force_sun_planet_1"]),
+    (["gears", "{csv}", "--gearbox", "{tmp}/none.toml"], ["none.toml", "use P", "grc750"]),
     (["campbell", "--harmonics", "0"], ["--harmonics 0"]),
     (["bode", "--generator", "locked", "--input", "generator"], ["locked", "no torque input"]),
     (["bode", "--range", "10,1"], ["--range"]),

@@ -93,6 +93,7 @@ def test_constant_loads_rate_as_iso_281_by_hand(windrive, tmp_path, axial):
         assert r["equivalent_load"] == pytest.approx(p, rel=1e-9), name
         assert r["damage"] == pytest.approx(damage, rel=4e-3), name
         assert r["damage_per_day"] == pytest.approx(damage * 86400 / seconds, rel=4e-3), name
+        assert r["thesis_damage"] == 0, name  # a constant load has no load cycles
     # the tapered pair's axial load shows only beyond e = 1.5 tan 13° = 0.35
     assert (rated["hss_b"]["equivalent_load"] > radial) == (axial > 0.35 * radial)
 
@@ -131,3 +132,28 @@ def test_bad_bearing_input_is_named(windrive, tmp_path, args, words):
     assert out.returncode != 0
     for w in words:
         assert w in out.stderr, out.stderr
+
+
+def test_the_thesis_count_is_rainflow_cycles_of_the_load(windrive, tmp_path):
+    """thesis_damage = Σ n_i / (10⁶ (C/ΔP_i)^(10/3)) over the `rainflow` package's cycles of P (here the
+    radial load of a cylindrical bearing): the thesis's count, checked to 1e-9."""
+    import rainflow
+
+    bearings, hss = grc_bearings()
+    t = np.arange(0, 10 + 1e-9, 0.01)
+    rng = np.random.default_rng(3)
+    radial = 100e3 + 40e3 * np.sin(2 * np.pi * 0.7 * t) + 10e3 * rng.normal(size=t.size)
+    columns = {}
+    for name in bearings:
+        columns[f"gearbox.{name}_radial_load"] = radial
+        columns[f"gearbox.{name}_axial_load"] = np.zeros_like(t)
+    columns["gearbox.rotor_speed"] = np.full_like(t, 2.0)
+    columns["gearbox.generator_speed"] = np.full_like(t, 2.0 * hss)
+    path = tmp_path / "v.csv"
+    write_csv(path, t, columns)
+    out = subprocess.run([windrive, "bearings", str(path), "--json"], capture_output=True, text=True, check=True)
+    r = next(b for b in json.loads(out.stdout) if b["name"] == "planet_1_uw")
+    c = r["dynamic_load_rating"]
+    expected = sum(n / (1e6 * (c / rng_) ** (10 / 3)) for rng_, n in rainflow.count_cycles(radial) if rng_ > 0)
+    assert r["thesis_damage"] == pytest.approx(expected, rel=1e-9)
+    assert r["thesis_damage_per_day"] == pytest.approx(expected * 8640, rel=1e-9)

@@ -92,7 +92,7 @@ def test_bearings_is_analysis_not_simulation(tmp_path, windrive):
                                       "both.toml"))  # fmt: skip
     assert both.gears == gears.Gears("P", "gearbox6dof", "gearbox") and both.bearings == rated.bearings
     recorded = driver.recorded(both, windrive)
-    assert recorded == list(dict.fromkeys([TORQUE, *both.gears.channels(), *channels]))
+    assert recorded == list(dict.fromkeys([TORQUE, *both.gears.channels(windrive), *channels]))
 
 
 def test_a_description_file_is_relative_to_the_campaign_file(tmp_path, windrive):
@@ -221,8 +221,8 @@ def test_the_lifetime_report_is_the_weighted_sum_of_the_table(real_run, tmp_path
     assert dlc.group == "dlc12" and event.group == "event" and event.events == 1000
     table = pd.read_csv(tmp_path / "lifetime_bearings.csv")
     groups = ["DLC 1.2 14 m/s", "shutdown-rated"]
-    assert list(table.columns) == ["bearing", "dynamic_load_rating", "damage", "life_years",
-                                   *(f"share:{g}" for g in groups)]  # fmt: skip
+    assert list(table.columns) == ["bearing", "dynamic_load_rating", "damage", "life_years", "events_share",
+                                   "thesis_damage", "thesis_events_share", *(f"share:{g}" for g in groups)]  # fmt: skip
     assert list(table.bearing) == GRC
     for _, b in table.iterrows():
         parts = {
@@ -237,6 +237,14 @@ def test_the_lifetime_report_is_the_weighted_sum_of_the_table(real_run, tmp_path
         for g in groups:
             assert b[f"share:{g}"] == pytest.approx(parts[g] / damage, rel=1e-12), (b.bearing, g)
         assert sum(b[f"share:{g}"] for g in groups) == pytest.approx(1.0, rel=1e-12)
+        assert b.events_share == pytest.approx(parts[groups[1]] / damage, rel=1e-12)
+        # the thesis's count, summed alike from its own column
+        thesis = {
+            groups[0]: dlc.hours / 24 * dlc[f"bearing.{b.bearing}.thesis_day"],
+            groups[1]: event.events * event[f"bearing.{b.bearing}.thesis_day"] * event.analysed_s / 86400,
+        }
+        assert b.thesis_damage == pytest.approx(sum(thesis.values()), rel=1e-12), b.bearing
+        assert b.thesis_events_share == pytest.approx(thesis[groups[1]] / sum(thesis.values()), rel=1e-12)
 
     section = json.loads((tmp_path / "lifetime.json").read_text(), parse_constant=pytest.fail)["bearings"]
     assert section["method"].startswith("ISO 281 basic rating life L10") and "no a_ISO" in section["method"]
@@ -246,5 +254,5 @@ def test_the_lifetime_report_is_the_weighted_sum_of_the_table(real_run, tmp_path
     assert "bearing damage over 20 years" in r.stdout and "share of bearing damage [%]" in r.stdout
     hss_c = table.iloc[-1]
     assert (f"hss_c          {hss_c.dynamic_load_rating / 1e3:>8.0f} {hss_c.damage:>11.4e} "
-            f"{hss_c.life_years:>13.4g}") in r.stdout  # fmt: skip
+            f"{hss_c.life_years:>13.4g} {100 * hss_c.events_share:>11.2f}   {hss_c.thesis_damage:>15.4e}") in r.stdout  # fmt: skip
     assert r.stdout.rstrip().endswith("lifetime_bearings.csv, lifetime_bearings.png")

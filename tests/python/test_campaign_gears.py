@@ -1,8 +1,10 @@
 """Gear damage in campaigns ([gears], python/windrive_campaign/gears.py) and several grids ([[grid]]):
-the campaign file's errors, the union of grids and its case names and ids, a failing `windrive gears`
-recorded as a failed case, the probe that stops a campaign whose series it cannot rate, and a real
-campaign of scenes/p-normal (a turbulent and a steady case, 12 s, 4 s discarded) on a 2-worker
-LocalCluster whose gear columns are `windrive gears` on the kept series. About 15 s on 2 cores."""
+the campaign file's errors, the gear table (P, a gearbox6dof preset or a description file) and the
+channels windrive says it reads, a table windrive refuses stopped before any case runs, the union of
+grids and its case names and ids, a failing `windrive gears` recorded as a failed case, the probe that
+stops a campaign whose series it cannot rate, and a real campaign of scenes/p-normal (a turbulent and a
+steady case, 12 s, 4 s discarded) on a 2-worker LocalCluster whose gear columns are `windrive gears` on
+the kept series. About 15 s on 2 cores."""
 
 import dataclasses
 import json
@@ -52,10 +54,11 @@ rotor.wind_speed = [11.5, 18.0]
 @pytest.mark.parametrize(
     "text, message, line",
     [
-        (campaign(tables=TWO_GRIDS + '[gears]\ntable = "Q"'), "gears.table: must be one of P, not 'Q'", 14),
+        (campaign(tables=TWO_GRIDS + '[gears]\ntable = "no/such.toml"'), "gears.table: ", 14),
         (campaign(tables=TWO_GRIDS + '[gears]\ntabel = "P"'), "gears.tabel: unknown key (known here: table, fmu, component)", 14),
         (campaign(tables=TWO_GRIDS + "[gears]\ntable = 1"), "gears.table: must be a non-empty string", 14),
-        (campaign(tables=TWO_GRIDS + "[gears]"), "gears.table: missing (the gear table, one of P)", 13),
+        (campaign(tables=TWO_GRIDS + "[gears]"),
+         "gears.table: missing (the gear table: P, a gearbox6dof preset or a description file)", 13),
         (campaign(tables=TWO_GRIDS + '[gears]\ntable = "P"\ncomponent = "gear box"'),
          "gears.component: 'gear box': a scene component's name", 15),
         (campaign(tables=TWO_GRIDS + '[gears]\ntable = "P"\nfmu = "simpack"'),
@@ -74,23 +77,73 @@ def test_schema_errors_name_file_key_and_line(tmp_path, text, message, line):
         schema.load(path)
     assert message in str(e.value)
     assert str(e.value).startswith(f"{path}:{line}:"), str(e.value)
+    if "no/such.toml" in text:  # a description file is relative to the campaign file, as for [bearings]
+        assert f"{tmp_path / 'no' / 'such.toml'}: no such gearbox description file" in str(e.value)
 
 
-def test_gears_is_analysis_not_simulation(tmp_path):
+def listed(windrive, *options):
+    """What `windrive gears --channels` prints with `options`."""
+    r = subprocess.run([windrive, "gears", "--channels", *options], capture_output=True, text=True, check=True)
+    return r.stdout.split()
+
+
+def test_gears_is_analysis_not_simulation(tmp_path, windrive):
     """[gears] changes what a case's series is analysed for, not the series: the analysis digest changes
     (finished cases are rated on the next run), the ids do not. Without it the digest is the one of
-    campaigns written before [gears] existed."""
+    campaigns written before [gears] existed, and table P's the one it had when P was the only table."""
     plain = schema.load(write_campaign(tmp_path, campaign(), "a.toml"))
     rated = schema.load(write_campaign(tmp_path, campaign(tables='[grid]\nrotor.wind_speed = [11.5]\n[gears]\n'
                                                                  'table = "P"'), "b.toml"))  # fmt: skip
     assert plain.gears is None and rated.gears == gears.Gears("P", "torsional", "torsional")
     assert "gears" not in plain.analysis_spec() and rated.analysis_spec()["gears"] == "P"
+    assert rated.analysis_digest() == "b1739a688554d2c0"  # as before any table but P existed
     (a,) = cases.expand(plain, {plain.scene: ("s", "d")}, "w")
     (b,) = cases.expand(rated, {rated.scene: ("s", "d")}, "w")
     assert a.id == b.id and a.analysis_digest != b.analysis_digest
-    # the cases record what windrive gears reads, besides the analysed channels
+    # the cases record what windrive gears says it reads, besides the analysed channels
     assert driver.recorded(plain) == ["torsional.lss_torque"]
-    assert driver.recorded(rated) == ["torsional.lss_torque", *gears.Gears("P").channels()]
+    channels = listed(windrive, "--gearbox", "P")
+    assert channels[-1] == "torsional.mesh_force_gear_pinion_1" and len(channels) == 6
+    assert driver.recorded(rated, windrive) == ["torsional.lss_torque", *channels]
+
+
+def test_a_gearbox6dof_preset_is_a_gear_table(tmp_path, windrive):
+    """Any gearbox6dof description is a table: its channels are those windrive prints for it (GRC 750:
+    one planetary and two parallel stages), named after the gearbox6dof FMU."""
+    c = schema.load(write_campaign(tmp_path, campaign(tables='[grid]\nrotor.wind_speed = [11.5]\n[gears]\n'
+                                                             'table = "grc750"\nfmu = "gearbox6dof"')))  # fmt: skip
+    assert c.gears == gears.Gears("grc750", "gearbox6dof", "gearbox")
+    assert c.analysis_spec()["gears"] == {"table": "grc750", "fmu": "gearbox6dof", "component": "gearbox"}
+    channels = listed(windrive, "--gearbox", "grc750", "--fmu", "gearbox6dof", "--component", "gearbox")
+    assert "gearbox.mesh_force_gear_pinion_2" in channels and "gearbox.mesh_force_sun_planet2_1" not in channels
+    assert c.gears.channels(windrive) == tuple(channels)
+    assert driver.recorded(c, windrive) == ["torsional.lss_torque", *channels]
+
+
+def test_a_description_file_is_relative_to_the_campaign_file(tmp_path, windrive):
+    """As for [bearings]: a value with a `/` or ending in .toml is a file, found from the campaign file's
+    folder and passed to windrive as an absolute path; it reads it as the preset it was copied from."""
+    (tmp_path / "desc").mkdir()
+    (tmp_path / "desc" / "grc.toml").write_text((ROOT / "fmus/gearbox6dof/resources/grc750.toml").read_text())
+    (tmp_path / "campaigns").mkdir()
+    section = '[grid]\nrotor.wind_speed = [11.5]\n[gears]\ntable = "../desc/grc.toml"\nfmu = "gearbox6dof"'
+    path = write_campaign(tmp_path / "campaigns", campaign(tables=section))
+    c = schema.load(path)
+    assert c.gears.table == str(tmp_path / "desc" / "grc.toml")
+    assert c.gears.channels(windrive) == gears.Gears("grc750", "gearbox6dof", "gearbox").channels(windrive)
+
+
+def test_a_table_windrive_refuses_stops_the_campaign_before_any_case(tmp_path):
+    """No list of tables in Python: windrive's own message, from asking it for the channels, before the
+    scene's probe or any case runs."""
+    path = write_campaign(tmp_path, campaign(tables='[grid]\nrotor.wind_speed = [11.5]\n[gears]\ntable = "Q"'))
+    out = tmp_path / "out"
+    r = campaign_cli("run", path, "--out", out, "--workers", 1)
+    assert r.returncode == 2, r.stderr
+    assert r.stderr.startswith(f"error: {path}: [gears] table = 'Q', fmu = 'torsional', component = 'torsional': "
+                               "windrive gears cannot rate it: error: --gearbox \"Q\": use P")  # fmt: skip
+    assert "presets are" in r.stderr and "Traceback" not in r.stderr
+    assert not (out / "cases").exists() and not (out / "scenes").exists()
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -165,15 +218,14 @@ def test_a_failing_gear_rating_fails_the_case_with_its_stderr(tmp_path, windrive
     assert json.loads((tmp_path / "out" / "cases" / f"{case.id}.json").read_text())["status"] == "failed"
 
 
-def test_the_probe_stops_a_campaign_whose_series_gears_cannot_rate(tmp_path, windrive, monkeypatch):
-    """Should gear_set.rs read a channel this package does not record, the scene's 1 ms probe fails
-    before any case runs, naming the channel."""
-    monkeypatch.setitem(gears._CHANNELS, "P", gears._CHANNELS["P"][:-1])  # the pinion's mesh force unrecorded
-    record = ["torsional.lss_torque", *gears.Gears("P").channels()]
+def test_the_probe_stops_a_campaign_whose_series_gears_cannot_rate(tmp_path, windrive):
+    """Should the cases not record a channel windrive gears reads, the scene's 1 ms probe fails before
+    any case runs, naming the channel."""
+    channels = gears.Gears("P").channels(windrive)
+    record = ["torsional.lss_torque", *channels[:-1]]  # the pinion's mesh force unrecorded
     with pytest.raises(CampaignError, match=r"windrive gears cannot rate its series: .*mesh_force_gear_pinion_1"):
         cases.snapshot_scene(SCENE, windrive, tmp_path, record, gears=gears.Gears("P"))
-    monkeypatch.undo()
-    record = ["torsional.lss_torque", *gears.Gears("P").channels()]
+    record = ["torsional.lss_torque", *channels]
     ssp, _ = cases.snapshot_scene(SCENE, windrive, tmp_path, record, gears.Gears("P"))
     assert pathlib.Path(ssp).is_file()
 
@@ -218,7 +270,7 @@ def test_gear_columns_are_windrive_gears_on_the_kept_series(real_run, windrive):
     for _, row in t.iterrows():
         series = out / "cases" / row.id / "series.csv"
         header = series.read_text().split("\n", 1)[0].split(",")
-        assert header == ["time", "torsional.lss_torque", *gears.Gears("P").channels()]  # recorded: no more
+        assert header == ["time", "torsional.lss_torque", *gears.Gears("P").channels(windrive)]  # no more
         command = [windrive, "gears", series, "--gearbox", "P", "--fmu", "torsional", "--component", "torsional",
                    "--transient", "4", "--json"]
         theirs = json.loads(subprocess.run(command, capture_output=True, text=True, check=True).stdout)
