@@ -233,6 +233,67 @@ impl RatedBearing {
     }
 }
 
+/// Refuses a series whose generator turns at another ratio to its rotor than `gearbox`'s (`expected`)
+/// by more than 5 %: rated with another gearbox's rollers and kinematics, its damage would be wrong.
+fn same_gearbox(
+    path: &Path,
+    rotor: &[f64],
+    generator: &[f64],
+    gearbox: &str,
+    expected: f64,
+) -> Result<(), BearingSetError> {
+    let sum = |c: &[f64]| c.iter().map(|x| x.abs()).sum::<f64>();
+    let (rotor, generator) = (sum(rotor), sum(generator));
+    // a stopped series says nothing about its gearbox
+    if rotor > 0.0 && generator > 0.0 {
+        let measured = generator / rotor;
+        if (measured / expected - 1.0).abs() > 0.05 {
+            return Err(BearingSetError::WrongGearbox {
+                path: path.display().to_string(),
+                gearbox: gearbox.to_string(),
+                measured,
+                expected,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// One bearing's series: time (s), dynamic equivalent load P (N), its rings' relative speed (rad/s).
+pub struct BearingSeries {
+    pub t: Vec<f64>,
+    pub load: Vec<f64>,
+    pub speed: Vec<f64>,
+}
+
+impl RatedBearing {
+    /// The bearing's series in `path`: time, its dynamic equivalent load P per sample (N) and its rings'
+    /// speed against each other (rad/s), checked as [`rate_series`] checks (`generator_speed` the
+    /// channel, `gearbox` its name, `expected` its ratio). What `windrive life --bearing-of` scales to a
+    /// lifetime.
+    pub fn load_and_speed(
+        &self,
+        path: &Path,
+        (generator_speed, gearbox, expected): (&str, &str, f64),
+    ) -> Result<BearingSeries, BearingSetError> {
+        let names = [
+            self.radial.as_str(),
+            self.axial.as_str(),
+            self.speed.as_str(),
+            generator_speed,
+        ];
+        let (t, columns) = series::read_channels(path, &names)?;
+        same_gearbox(path, &columns[2], &columns[3], gearbox, expected)?;
+        let load = columns[0]
+            .iter()
+            .zip(&columns[1])
+            .map(|(&r, &a)| equivalent_load(&self.rollers, r, a))
+            .collect();
+        let speed = columns[2].iter().map(|w| w * self.speed_ratio).collect();
+        Ok(BearingSeries { t, load, speed })
+    }
+}
+
 /// The channels `bearings` read, each once, in order of first use.
 pub fn channels(bearings: &[RatedBearing]) -> Vec<&str> {
     let mut names: Vec<&str> = Vec::new();
@@ -273,20 +334,7 @@ pub fn rate_series(
     }
     let column = |name: &str| &columns[names.iter().position(|n| *n == name).expect("listed above")][first..];
     if let (Some((generator_speed, gearbox, expected)), Some(b)) = (check, bearings.first()) {
-        let sum = |c: &[f64]| c.iter().map(|x| x.abs()).sum::<f64>();
-        let (rotor, generator) = (sum(column(&b.speed)), sum(column(generator_speed)));
-        // a stopped series says nothing about its gearbox
-        if rotor > 0.0 && generator > 0.0 {
-            let measured = generator / rotor;
-            if (measured / expected - 1.0).abs() > 0.05 {
-                return Err(BearingSetError::WrongGearbox {
-                    path: path.display().to_string(),
-                    gearbox: gearbox.to_string(),
-                    measured,
-                    expected,
-                });
-            }
-        }
+        same_gearbox(path, column(&b.speed), column(generator_speed), gearbox, expected)?;
     }
     Ok(bearings
         .iter()

@@ -109,6 +109,11 @@ impl Case {
             Some(carrier) => w.iter().zip(&carrier).map(|(a, b)| a - b).collect(),
             None => w,
         });
+        Case::new(path, t, load, speed)
+    }
+
+    /// A case from series already read from `path` (named in errors): time, load and speed (rad/s).
+    pub fn new(path: &Path, t: Vec<f64>, load: Vec<f64>, speed: Option<Vec<f64>>) -> Result<Case, LifeError> {
         let seconds = t[t.len() - 1] - t[0];
         if seconds <= 0.0 {
             return Err(LifeError::NoDuration {
@@ -401,7 +406,7 @@ pub struct BearingCase {
 pub struct BearingLife {
     #[serde(skip)]
     pub roller: bool,
-    #[serde(skip)]
+    /// The basic dynamic load rating C, N.
     pub capacity: f64,
     pub cases: Vec<BearingCase>,
     pub revolutions: f64,

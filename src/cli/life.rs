@@ -1,11 +1,14 @@
 //! `windrive life`: parses the climate, the cases and the component, calls
 //! [`crate::analysis::lifetime`] and prints its lifetime DELs and gear or bearing damage.
 
+use crate::analysis::bearing_set::{RatedBearing, bearing_table};
 use crate::analysis::gear::{GearPair, MeshForce, Tooth};
 use crate::analysis::lifetime::{BearingLife, Case, Climate, GearLife, GearSpec, Lifetime};
 use crate::analysis::limits::LIMITS;
 use crate::analysis::tooth_root::BasicRack;
 use crate::analysis::wind::WindDistribution;
+use crate::physics::gearbox::Gearbox;
+use crate::physics::gearbox::description::Description;
 use anyhow::{Context, bail};
 use std::path::PathBuf;
 
@@ -18,8 +21,8 @@ pub struct LifeArgs {
     #[arg(long)]
     pub shutdown: Option<PathBuf>,
     /// Load channel, e.g. torsional.mesh_force_sun_planet_1 or torsional.hss_torque
-    #[arg(long)]
-    pub channel: String,
+    #[arg(long, required_unless_present = "bearing_of")]
+    pub channel: Option<String>,
     /// Rayleigh climate with this mean wind speed [m/s] (thesis Table 7.1: 10.0)
     #[arg(long, default_value_t = 10.0)]
     pub mean_wind: f64,
@@ -100,6 +103,17 @@ pub struct LifeArgs {
     /// With --bearing: a ball bearing (life exponent 3; roller bearings 10/3)
     #[arg(long, requires = "bearing")]
     pub ball: bool,
+    /// A bearing of a gearbox6dof series by name (planet_1_uw, hss_a, …; `windrive bearings` lists
+    /// them): C from its roller set, P = X·F_r + Y·F_a from its radial and axial load, its rings'
+    /// revolutions from the rotor speed and the gearbox's kinematics; the DELs are P's
+    #[arg(long, conflicts_with_all = ["channel", "bearing", "gear", "speed"])]
+    pub bearing_of: Option<String>,
+    /// With --bearing-of: the gearbox6dof description the series ran (a preset or a file)
+    #[arg(long, default_value = "grc750", requires = "bearing_of")]
+    pub gearbox: String,
+    /// With --bearing-of: the scene's name of the gearbox6dof FMU
+    #[arg(long, default_value = "gearbox", requires = "bearing_of")]
+    pub component: String,
     /// With --gear: the channel is the mesh force normal to the teeth (the gearbox6dof FMU's); without,
     /// the transverse force along the line of action, torque over base radius (the torsional FMU's).
     /// They differ by cos β_b on helical gears
@@ -131,13 +145,32 @@ pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
     if args.bearing.is_some() && args.speed.is_none() {
         bail!("--bearing needs --speed: the bearing's life is counted in its revolutions");
     }
-    let read = |path: &PathBuf| Case::read(path, &args.channel, args.speed.as_deref(), args.relative_to.as_deref());
+    let rated = args
+        .bearing_of
+        .as_deref()
+        .map(|name| named_bearing(args, name))
+        .transpose()?;
+    let read = |path: &PathBuf| -> anyhow::Result<Case> {
+        Ok(match (&rated, &args.channel) {
+            (Some((b, check)), _) => {
+                let s = b.load_and_speed(path, (&check.0, &args.gearbox, check.1))?;
+                Case::new(path, s.t, s.load, Some(s.speed))?
+            }
+            (None, Some(channel)) => Case::read(path, channel, args.speed.as_deref(), args.relative_to.as_deref())?,
+            (None, None) => unreachable!("clap requires --channel without --bearing-of"),
+        })
+    };
     let normal = read(&args.normal)?;
     let shutdown = args.shutdown.as_ref().map(read).transpose()?;
+    let channel = match (&rated, &args.channel) {
+        (Some((b, _)), _) => format!("{} equivalent load P", b.radial.trim_end_matches("_radial_load")),
+        (None, Some(c)) => c.clone(),
+        (None, None) => unreachable!("clap requires --channel without --bearing-of"),
+    };
     let lifetime = Lifetime::new(normal, shutdown, &climate, args.years, args.shutdowns_per_year).context(options)?;
     let dels = lifetime.dels(&args.m, args.feq).context("--m, --feq")?;
-    let bearing = args
-        .bearing
+    let capacity = args.bearing.or(rated.as_ref().map(|(b, _)| b.rating));
+    let bearing = capacity
         .map(|c| {
             lifetime
                 .bearing(c, !args.ball)
@@ -160,7 +193,7 @@ pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
     }
     println!(
         "{} over {} years: {operating_hours:.0} h in operation ({:.1} % of {life_hours:.0} h, {:?}, {}–{} m/s{}), {:.0} shutdowns",
-        args.channel,
+        channel,
         args.years,
         100.0 * operating_hours / life_hours,
         climate.wind,
@@ -193,6 +226,25 @@ pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
         println!("  {component:<24} {:>7.0} MPa  {what} ({source})", value / 1e6);
     }
     Ok(())
+}
+
+/// The bearing `name` of `--gearbox` with its roller set, and the generator-speed channel and gear
+/// ratio its series is checked against.
+fn named_bearing(args: &LifeArgs, name: &str) -> anyhow::Result<(RatedBearing, (String, f64))> {
+    let description = Description::load(&args.gearbox).map_err(|e| anyhow::anyhow!("--gearbox: {e}"))?;
+    let table = bearing_table(&description, &args.component).context("--gearbox")?;
+    let names = || table.iter().map(|b| b.name.as_str()).collect::<Vec<_>>().join(", ");
+    let Some(b) = table.iter().find(|b| b.name == name) else {
+        bail!(
+            "--bearing-of {name}: gearbox {} has no such bearing with a roller set; it has {}",
+            args.gearbox,
+            names()
+        );
+    };
+    let ratio = Gearbox::new(&description)
+        .map_err(|e| anyhow::anyhow!("--gearbox {}: {e}", args.gearbox))?
+        .gear_ratio;
+    Ok((b.clone(), (format!("{}.generator_speed", args.component), ratio)))
 }
 
 fn bearing_text(years: f64, b: &BearingLife) -> String {

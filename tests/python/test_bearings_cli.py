@@ -157,3 +157,44 @@ def test_the_thesis_count_is_rainflow_cycles_of_the_load(windrive, tmp_path):
     expected = sum(n / (1e6 * (c / rng_) ** (10 / 3)) for rng_, n in rainflow.count_cycles(radial) if rng_ > 0)
     assert r["thesis_damage"] == pytest.approx(expected, rel=1e-9)
     assert r["thesis_damage_per_day"] == pytest.approx(expected * 8640, rel=1e-9)
+
+
+def test_life_of_a_named_bearing_is_life_of_its_load_and_ring_speed(windrive, tmp_path):
+    """`windrive life --bearing-of planet_2_uw` = `windrive life --bearing C --channel P --speed ω_rings`
+    on the same series with P and the rings' speed written out by hand (P = F_r for the cylindrical
+    bearing, ω_rings = ω_rotor · z_r/z_p): the lifetime's scaling is shared, the naming is what is new."""
+    bearings, hss = grc_bearings()
+    rollers, ratio = bearings["planet_2_uw"]
+    t = np.arange(0, 10 + 1e-9, 0.01)
+    radial = 150e3 + 30e3 * np.sin(2 * np.pi * 0.5 * t)
+    rotor = 2.0 + 0.1 * np.sin(2 * np.pi * 0.2 * t)
+    columns = {}
+    for name in bearings:
+        columns[f"gearbox.{name}_radial_load"] = radial
+        columns[f"gearbox.{name}_axial_load"] = 0.2 * radial
+    columns["gearbox.rotor_speed"] = rotor
+    columns["gearbox.generator_speed"] = rotor * hss
+    columns["p"] = radial
+    columns["w"] = rotor * ratio
+    path = tmp_path / "n.csv"
+    write_csv(path, t, columns)
+    named = json.loads(subprocess.run([windrive, "life", "--normal", str(path), "--shutdown", str(path),
+                                       "--bearing-of", "planet_2_uw", "--json"],
+                                      capture_output=True, text=True, check=True).stdout)["bearing"]  # fmt: skip
+    c = named["capacity"]
+    assert c == pytest.approx(iso_281_rating(rollers), rel=1e-3)
+    by_hand = json.loads(subprocess.run([windrive, "life", "--normal", str(path), "--shutdown", str(path),
+                                         "--bearing", repr(c), "--channel", "p", "--speed", "w", "--json"],
+                                        capture_output=True, text=True, check=True).stdout)["bearing"]  # fmt: skip
+    for key in ["damage", "revolutions", "equivalent_load", "shutdown_share", "l10_years"]:
+        assert named[key] == pytest.approx(by_hand[key], rel=1e-12), key
+
+    # another gearbox's series is refused, an unknown name lists the bearings there are
+    columns["gearbox.generator_speed"] = rotor * 100.0
+    write_csv(path, t, columns)
+    out = subprocess.run([windrive, "life", "--normal", str(path), "--bearing-of", "planet_2_uw"],
+                         capture_output=True, text=True)  # fmt: skip
+    assert out.returncode != 0 and "not from this gearbox" in out.stderr, out.stderr
+    out = subprocess.run([windrive, "life", "--normal", str(path), "--bearing-of", "planet_9"],
+                         capture_output=True, text=True)  # fmt: skip
+    assert out.returncode != 0 and "planet_9" in out.stderr and "hss_c" in out.stderr, out.stderr
