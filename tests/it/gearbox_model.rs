@@ -441,3 +441,77 @@ fn varying_mesh_stiffness_excites_the_mesh_frequency() {
     assert!((f / expected - 1.0).abs() < 0.02, "{f} vs {expected}");
     assert!((mean / constant - 1.0).abs() < 0.02, "{mean} vs {constant}");
 }
+
+/// A main shaft given as a Timoshenko beam (`shaft.beam`) adds exactly the element's stiffness between
+/// where it leaves the rotor and enters the carrier: no force for a rigid motion of the pair (their
+/// centres `from_m + length − to_m` apart), and held at the rotor, the carrier's entry point resisting a
+/// transverse push with 12EI/((1 + Φ)L³) (Φ = 12EI/(κGAL²)) and a stretch with EA/L, by hand.
+#[test]
+fn a_beam_main_shaft_is_a_timoshenko_element() {
+    use windrive::physics::gearbox::description::Beam;
+    let beam = Beam {
+        length_m: 1.1,
+        outer_diameter_mm: 420.0,
+        inner_diameter_mm: 120.0,
+        from_m: 1.6,
+        to_m: -0.4,
+        youngs_modulus: 2.1e11,
+        shear_modulus: 8.1e10,
+    };
+    let build = |beam: Option<Beam>| {
+        let mut d = Description::load("grc750").unwrap();
+        d.model.bearings = BearingModel::Linear;
+        let rotor = d.rotor.as_mut().unwrap();
+        let shaft = rotor.shaft.as_mut().unwrap();
+        (shaft.radial, shaft.axial, shaft.tilting, shaft.beam) = (0.0, 0.0, 0.0, beam);
+        Gearbox::new(&d).unwrap()
+    };
+    let stiffness = |g: &Gearbox| {
+        let n = g.dofs();
+        let mut k = nalgebra::DMatrix::<f64>::zeros(n, n);
+        for s in &g.springs {
+            windrive::physics::gearbox::row::add_outer(&mut k, s.stiffness, &s.row, &s.row);
+        }
+        k
+    };
+    let (with, without) = (build(Some(beam)), build(None));
+    let k = stiffness(&with) - stiffness(&without);
+    let n = with.dofs();
+    let (rotor, carrier) = (with.body("rotor").unwrap(), with.body("carrier_1").unwrap());
+    let dof = |b: usize, i: usize| with.dof(b, i).unwrap();
+    const UX: usize = 0;
+    const UZ: usize = 2;
+    const TY: usize = 4;
+    // a rigid rotation θ about y of the pair: the carrier's centre lies D downwind of the rotor's
+    let distance = beam.from_m + beam.length_m - beam.to_m;
+    let mut q = nalgebra::DVector::<f64>::zeros(n);
+    q[dof(rotor, TY)] = 1e-3;
+    q[dof(carrier, TY)] = 1e-3;
+    q[dof(carrier, UX)] = 1e-3 * distance;
+    q[dof(rotor, UX)] = 0.0;
+    let scale = k.abs().max();
+    assert!(
+        (&k * &q).abs().max() < 1e-9 * scale * 1e-3,
+        "a rigid rotation strains the shaft"
+    );
+    // the carrier pushed sideways at its entry point (u_x + θ_y·to_m = 1, θ_y = 0), the rotor held
+    let (e, g) = (beam.youngs_modulus, beam.shear_modulus);
+    let (od, id) = (0.42f64, 0.12f64);
+    let area = std::f64::consts::PI / 4.0 * (od * od - id * id);
+    let i = std::f64::consts::PI / 64.0 * (od.powi(4) - id.powi(4));
+    let nu = e / (2.0 * g) - 1.0;
+    let m2 = (1.0 + (id / od).powi(2)).powi(2);
+    let kappa = 6.0 * (1.0 + nu) * m2 / ((7.0 + 6.0 * nu) * m2 + (20.0 + 12.0 * nu) * (id / od).powi(2));
+    let l = beam.length_m;
+    let phi = 12.0 * e * i / (kappa * g * area * l * l);
+    let transverse = 12.0 * e * i / ((1.0 + phi) * l.powi(3));
+    let got = k[(dof(carrier, UX), dof(carrier, UX))];
+    assert!((got / transverse - 1.0).abs() < 1e-9, "{got} vs {transverse}");
+    let got = k[(dof(carrier, UZ), dof(carrier, UZ))];
+    assert!((got / (e * area / l) - 1.0).abs() < 1e-9, "{got} vs {}", e * area / l);
+    // and the gearbox with it still carries its rated torque statically
+    let t = with.rated_rotor_torque.unwrap();
+    let mut u = [0.0; 3];
+    (u[INPUT_ROTOR_TORQUE], u[INPUT_GENERATOR_TORQUE]) = (t, t / with.gear_ratio);
+    equilibrium(&with, &u, 2.0).unwrap();
+}

@@ -280,6 +280,38 @@ pub struct Shaft {
     pub axial: f64,
     #[serde(default)]
     pub tilting: f64,
+    /// A flexible shaft instead of `radial`, `axial` and `tilting`: a Timoshenko beam (bending with
+    /// shear in both planes, axial stretch) from geometry; torsion stays `torsional`.
+    #[serde(default)]
+    pub beam: Option<Beam>,
+}
+
+/// A shaft's geometry and steel for its Timoshenko beam (`shaft = { torsional, beam = { … } }`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Beam {
+    /// Free length between where it leaves the upstream body and enters the downstream one, m.
+    pub length_m: f64,
+    pub outer_diameter_mm: f64,
+    #[serde(default)]
+    pub inner_diameter_mm: f64,
+    /// Where it leaves the upstream body and enters the downstream one, m along the axis from each
+    /// body's centre (positive downwind).
+    #[serde(default)]
+    pub from_m: f64,
+    #[serde(default)]
+    pub to_m: f64,
+    #[serde(default = "default_youngs_modulus")]
+    pub youngs_modulus: f64,
+    #[serde(default = "default_shear_modulus")]
+    pub shear_modulus: f64,
+}
+
+fn default_youngs_modulus() -> f64 {
+    2.1e11
+}
+fn default_shear_modulus() -> f64 {
+    8.1e10
 }
 
 /// `[[stage]]` followed by `[stage.planetary]` or `[stage.parallel]` (externally tagged, so serde
@@ -694,6 +726,35 @@ fn check_body(b: &Body, at: &str) -> Result<(), String> {
         if let Some(c) = s.torsional_damping {
             positive_or_zero(&format!("{at}.shaft.torsional_damping"), c)?;
         }
+        if let Some(beam) = &s.beam {
+            check_beam(beam, s, &format!("{at}.shaft"))?;
+        }
+    }
+    Ok(())
+}
+
+fn check_beam(beam: &Beam, s: &Shaft, at: &str) -> Result<(), String> {
+    if s.radial > 0.0 || s.axial > 0.0 || s.tilting > 0.0 {
+        return Err(format!(
+            "{at}: give a beam or radial/axial/tilting stiffness, not both (the beam's come from its geometry)"
+        ));
+    }
+    for (f, v) in [
+        ("length_m", beam.length_m),
+        ("outer_diameter_mm", beam.outer_diameter_mm),
+        ("youngs_modulus", beam.youngs_modulus),
+        ("shear_modulus", beam.shear_modulus),
+    ] {
+        positive(&format!("{at}.beam.{f}"), v)?;
+    }
+    if !(beam.inner_diameter_mm >= 0.0 && beam.inner_diameter_mm < beam.outer_diameter_mm) {
+        return Err(format!(
+            "{at}.beam.inner_diameter_mm = {}: 0 or more and below outer_diameter_mm = {}",
+            beam.inner_diameter_mm, beam.outer_diameter_mm
+        ));
+    }
+    if !(beam.from_m.is_finite() && beam.to_m.is_finite()) {
+        return Err(format!("{at}.beam: from_m and to_m must be numbers"));
     }
     Ok(())
 }

@@ -14,6 +14,7 @@
 //! is what the description format allows; bodies in different frames are joined only by splines
 //! (torque and axial force), so no row depends on the angle between two frames.
 
+use super::beam;
 use super::bearing::{Mounting, RollerBearing};
 use super::contact::GearContact;
 use super::description::{self as desc, BearingModel, Description, ForceLaw, MeshStiffnessModel};
@@ -585,6 +586,7 @@ impl Gearbox {
                             radial: w.radial,
                             axial: w.radial,
                             tilting: w.tilting,
+                            beam: None,
                         };
                         b.webs.push(b.shafts.len());
                         b.shafts.push((carrier, plate, webs, format!("carrier_webs{suffix}")));
@@ -1110,6 +1112,58 @@ fn rigid_mode(b: &Builder, input: usize) -> Option<Vec<f64>> {
 }
 
 /// Shaft springs (with damping from the shaft ratio and the inertia on either side) and the mass matrix.
+/// A flexible shaft from body `u` (leaving it at `beam.from_m` along the axis) to body `d` (entering at
+/// `beam.to_m`): a Timoshenko element's bending in the x–z plane (w = u_x, φ = θ_y) and the y–z plane
+/// (w = u_y, φ = −θ_x, as du_y/dz = −θ_x), and its axial stretch, as springs on the ends' rows.
+fn beam_springs(b: &mut Builder, u: usize, d: usize, beam: &desc::Beam, tau: f64) {
+    let (e, g) = (beam.youngs_modulus, beam.shear_modulus);
+    let (area, second_moment, kappa) = beam::hollow_section(
+        beam.outer_diameter_mm * 1e-3,
+        beam.inner_diameter_mm * 1e-3,
+        e / (2.0 * g) - 1.0,
+    );
+    let k = beam::bending_stiffness(e * second_moment, kappa * g * area, beam.length_m);
+    let ends = [(u, beam.from_m), (d, beam.to_m)];
+    let translation = |b: &Builder, (body, z): (usize, f64), n: [f64; 3]| {
+        let mut row = Row::default();
+        b.point(&mut row, body, [0.0, 0.0, z], n, 1.0);
+        row
+    };
+    let tilt = |b: &Builder, body: usize, dof: usize, sign: f64| {
+        let mut row = Row::default();
+        if let Some(f) = b.bodies[body].first {
+            row.add(f + dof, sign);
+        }
+        row
+    };
+    for (n, dof, sign) in [([1.0, 0.0, 0.0], TY, 1.0), ([0.0, 1.0, 0.0], TX, -1.0)] {
+        let rows = [
+            translation(b, ends[0], n),
+            tilt(b, u, dof, sign),
+            translation(b, ends[1], n),
+            tilt(b, d, dof, sign),
+        ];
+        for (stiffness, v) in beam::springs(&k) {
+            let mut row = Row::default();
+            for (r, c) in rows.iter().zip(v) {
+                for (&i, x) in r.idx.iter().zip(&r.val) {
+                    row.add(i, c * x);
+                }
+            }
+            row.compact();
+            b.spring(row, stiffness, stiffness * tau, 0.0);
+        }
+    }
+    let axial = e * area / beam.length_m;
+    let mut row = translation(b, ends[0], [0.0, 0.0, 1.0]);
+    let downstream = translation(b, ends[1], [0.0, 0.0, 1.0]);
+    for (&i, x) in downstream.idx.iter().zip(&downstream.val) {
+        row.add(i, -x);
+    }
+    row.compact();
+    b.spring(row, axial, axial * tau, 0.0);
+}
+
 fn finish(b: &mut Builder, rigid: &Option<Vec<f64>>) -> Result<(Vec<ShaftSpring>, DMatrix<f64>), String> {
     let n = b.dofs;
     let mut shafts = Vec::new();
@@ -1122,7 +1176,7 @@ fn finish(b: &mut Builder, rigid: &Option<Vec<f64>>) -> Result<(Vec<ShaftSpring>
     let shaft_list = b.shafts.clone();
     for (index, (u, d, spec, name)) in shaft_list.into_iter().enumerate() {
         let same_frame = b.bodies[u].frame == b.bodies[d].frame;
-        if !same_frame && (spec.radial > 0.0 || spec.tilting > 0.0) {
+        if !same_frame && (spec.radial > 0.0 || spec.tilting > 0.0 || spec.beam.is_some()) {
             return Err(format!(
                 "shaft {name} ({} → {}): radial or tilting stiffness joins bodies in different rotating frames; \
                  only a spline (torsional, axial) can join them",
@@ -1159,6 +1213,9 @@ fn finish(b: &mut Builder, rigid: &Option<Vec<f64>>) -> Result<(Vec<ShaftSpring>
             });
         }
         let tau = b.d.model.bearing_damping_time;
+        if let Some(beam) = &spec.beam {
+            beam_springs(b, u, d, beam, tau);
+        }
         for (k, stiffness) in [
             (UX, spec.radial),
             (UY, spec.radial),
