@@ -107,3 +107,16 @@ def test_a_main_shaft_moment_loads_the_main_bearing(gearbox):
     still, tilted = run(0.0), run(5e5)
     assert abs(tilted["main_radial_load"][-1] - still["main_radial_load"][-1]) > 1e5
     assert tilted["mesh_force_gear_pinion_2"][-1] == pytest.approx(still["mesh_force_gear_pinion_2"][-1], rel=0.01)
+
+
+def test_fmpy_starts_balanced_at_its_input_torque(gearbox):
+    """With initial_torque_from_input, the equilibrium carries the rotor torque fmpy sets before the first
+    step (here half the rated torque, initial_rotor_torque left at rated): the LSS torque starts at it and
+    stays there (0.1 %, the rated start would swing it by half the rated torque)."""
+    half = 0.5 * T_ROTOR
+    inputs = np.array([(0.0, half, half / RATIO)],
+                      dtype=[("time", float), ("rotor_torque", float), ("generator_torque", float)])
+    r = simulate_fmu(gearbox, stop_time=0.2, output_interval=1e-3, input=inputs, output=["lss_torque"],
+                     start_values={"initial_torque_from_input": True})
+    assert r["lss_torque"][0] == pytest.approx(half, rel=1e-3)
+    assert np.abs(r["lss_torque"] / half - 1).max() < 1e-3
