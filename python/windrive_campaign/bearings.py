@@ -16,7 +16,6 @@ from . import rating
 
 DEFAULT_GEARBOX = "grc750"
 DEFAULT_COMPONENT = "gearbox"
-CHANNELS_TIMEOUT_S = 60.0  # `windrive bearings --channels` reads a description: milliseconds
 
 
 class BearingsError(Exception):
@@ -32,11 +31,10 @@ class Bearings:
     component: str = DEFAULT_COMPONENT
 
     def channels(self, windrive: str) -> tuple[str, ...]:
-        """What `windrive bearings` reads, asked of the binary rather than copied here: which bearings
-        have a roller set is the description's business, and a copy would go stale with it. A
-        gearbox with no roller set fails here, before any case runs, with windrive's message."""
+        """What `windrive bearings` reads: every roller set's loads, the rotor and generator speeds
+        (rating.channels; a gearbox without roller sets fails here)."""
         cmd = [windrive, "bearings", "--channels", "--gearbox", self.gearbox, "--component", self.component]
-        return tuple(rating.output(cmd, CHANNELS_TIMEOUT_S, BearingsError).split())
+        return rating.channels(cmd, BearingsError)
 
 
 # table column suffix -> the field of `windrive bearings --json`. The window's L10h is left out: it is

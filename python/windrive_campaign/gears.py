@@ -19,7 +19,6 @@ from . import rating
 # each FMU whose outputs windrive gears reads (its --fmu), with the name the repository's scenes give it
 FMUS = {"torsional": "torsional", "gearbox6dof": "gearbox"}
 DEFAULT_FMU = "torsional"
-CHANNELS_TIMEOUT_S = 60.0  # `windrive gears --channels` builds a gear table: milliseconds
 
 
 class GearsError(Exception):
@@ -41,11 +40,8 @@ class Gears:
         return ["--gearbox", self.table, "--fmu", self.fmu, "--component", self.component]
 
     def channels(self, windrive: str) -> tuple[str, ...]:
-        """What `windrive gears` reads (the mesh forces and the rotor speed), asked of the binary rather
-        than copied here: which meshes a table has is the description's business, and a copy would go
-        stale with it. A table windrive refuses fails here, before any case runs, with its message."""
-        cmd = [windrive, "gears", "--channels", *self.options()]
-        return tuple(rating.output(cmd, CHANNELS_TIMEOUT_S, GearsError).split())
+        """What `windrive gears` reads: the mesh forces and the rotor speed (rating.channels)."""
+        return rating.channels([windrive, "gears", "--channels", *self.options()], GearsError)
 
 
 # table column suffix -> the field of `windrive gears --json`

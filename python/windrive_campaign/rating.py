@@ -11,6 +11,7 @@ import math
 import subprocess
 
 ERROR_CHARS = 4000  # of windrive's stderr kept, as for a failed run
+CHANNELS_TIMEOUT_S = 60.0  # `windrive <tool> --channels` reads a description: milliseconds
 
 
 def columns(rated: list[dict], prefix: str, fields: dict[str, str]) -> dict[str, float]:
@@ -35,6 +36,13 @@ def output(command: list[str], timeout: float, error: type[Exception]) -> str:
     if r.returncode != 0:
         raise error((r.stderr.strip() or f"{tool} exited with {r.returncode}")[-ERROR_CHARS:])
     return r.stdout
+
+
+def channels(command: list[str], error: type[Exception]) -> tuple[str, ...]:
+    """The channels `command` (`windrive <tool> --channels …`) prints, one per line: asked of the binary
+    rather than copied into Python, where a copy would go stale with the descriptions. A table or
+    gearbox windrive refuses fails here, before any case runs, with its message."""
+    return tuple(output(command, CHANNELS_TIMEOUT_S, error).split())
 
 
 def rate(

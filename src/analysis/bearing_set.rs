@@ -141,8 +141,6 @@ pub struct BearingDamage {
 pub enum BearingSetError {
     #[error(transparent)]
     Series(#[from] SeriesError),
-    #[error("{path}: {seconds} s after the transient of {transient} s; nothing to rate")]
-    TooShort { path: String, seconds: f64, transient: f64 },
     #[error("gearbox {0}: {1}")]
     Gearbox(String, String),
     #[error(
@@ -320,25 +318,14 @@ pub fn rate_series(
     if let Some((generator_speed, _, _)) = check {
         names.push(generator_speed);
     }
-    let (t, columns) = series::read_channels(path, &names)?;
-    let first = t.partition_point(|&ti| ti < transient);
-    let seconds = t
-        .last()
-        .map_or(0.0, |last| last - t.get(first).copied().unwrap_or(*last));
-    if t.len() < first + 2 || seconds <= 0.0 {
-        return Err(BearingSetError::TooShort {
-            path: path.display().to_string(),
-            seconds,
-            transient,
-        });
-    }
-    let column = |name: &str| &columns[names.iter().position(|n| *n == name).expect("listed above")][first..];
+    let (t, columns) = series::read_after(path, &names, transient)?;
+    let column = |name: &str| &columns[names.iter().position(|n| *n == name).expect("listed above")];
     if let (Some((generator_speed, gearbox, expected)), Some(b)) = (check, bearings.first()) {
         same_gearbox(path, column(&b.speed), column(generator_speed), gearbox, expected)?;
     }
     Ok(bearings
         .iter()
-        .map(|b| b.rate(&t[first..], column(&b.radial), column(&b.axial), column(&b.speed)))
+        .map(|b| b.rate(&t, column(&b.radial), column(&b.axial), column(&b.speed)))
         .collect())
 }
 

@@ -143,8 +143,6 @@ pub struct ToothDamage {
 pub enum GearSetError {
     #[error(transparent)]
     Series(#[from] SeriesError),
-    #[error("{path}: {seconds} s after the transient of {transient} s; nothing to rate")]
-    TooShort { path: String, seconds: f64, transient: f64 },
     #[error("tooth {name}: {message}")]
     RootForm { name: String, message: String },
 }
@@ -262,22 +260,11 @@ pub fn channels(teeth: &[RatedTooth]) -> Vec<&str> {
 /// once.
 pub fn rate_series(path: &Path, teeth: &[RatedTooth], transient: f64) -> Result<Vec<ToothDamage>, GearSetError> {
     let names = channels(teeth);
-    let (t, columns) = series::read_channels(path, &names)?;
-    let first = t.partition_point(|&ti| ti < transient);
-    let seconds = t
-        .last()
-        .map_or(0.0, |last| last - t.get(first).copied().unwrap_or(*last));
-    if t.len() < first + 2 || seconds <= 0.0 {
-        return Err(GearSetError::TooShort {
-            path: path.display().to_string(),
-            seconds,
-            transient,
-        });
-    }
-    let column = |name: &str| &columns[names.iter().position(|n| *n == name).expect("listed above")][first..];
+    let (t, columns) = series::read_after(path, &names, transient)?;
+    let column = |name: &str| &columns[names.iter().position(|n| *n == name).expect("listed above")];
     teeth
         .iter()
-        .map(|tooth| tooth.rate(&t[first..], column(&tooth.force), column(&tooth.cycles.speed)))
+        .map(|tooth| tooth.rate(&t, column(&tooth.force), column(&tooth.cycles.speed)))
         .collect()
 }
 
@@ -534,45 +521,27 @@ pub fn description_table(d: &Description, component: &str, force_kind: MeshForce
                     CASE_CARBURISED,
                     Tooth::Sun.load_cycles(relative(zs), n),
                 ));
-                teeth.push(RatedTooth {
-                    flank: false,
-                    ..tooth(
-                        format!("p{k}"),
-                        "planet (root, both flanks)".into(),
-                        &sp,
-                        sun_planet,
-                        2,
-                        Tooth::Planet,
-                        CASE_CARBURISED,
-                        planet_cycles,
-                    )
-                });
-                teeth.push(RatedTooth {
-                    root: false,
-                    ..tooth(
-                        format!("ps{k}"),
-                        "planet flank against the sun".into(),
-                        &sp,
-                        sun_planet,
-                        2,
-                        Tooth::Planet,
-                        CASE_CARBURISED,
-                        planet_cycles,
-                    )
-                });
-                teeth.push(RatedTooth {
-                    root: false,
-                    ..tooth(
-                        format!("pr{k}"),
-                        "planet flank against the ring".into(),
-                        &rp,
-                        planet_ring,
-                        1,
-                        Tooth::Planet,
-                        CASE_CARBURISED,
-                        planet_cycles,
-                    )
-                });
+                // the planet: its root (bending both ways) in the sun mesh, a flank in each mesh
+                for (name, what, force, pair, member, flank, root) in [
+                    ("p", "planet (root, both flanks)", &sp, sun_planet, 2, false, true),
+                    ("ps", "planet flank against the sun", &sp, sun_planet, 2, true, false),
+                    ("pr", "planet flank against the ring", &rp, planet_ring, 1, true, false),
+                ] {
+                    teeth.push(RatedTooth {
+                        flank,
+                        root,
+                        ..tooth(
+                            format!("{name}{k}"),
+                            what.into(),
+                            force,
+                            pair,
+                            member,
+                            Tooth::Planet,
+                            CASE_CARBURISED,
+                            planet_cycles,
+                        )
+                    });
+                }
                 teeth.push(tooth(
                     format!("r{k}"),
                     "ring".into(),

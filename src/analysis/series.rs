@@ -19,6 +19,8 @@ pub enum SeriesError {
     Value { path: String, row: usize, message: String },
     #[error("{path}: the series is empty")]
     Empty { path: String },
+    #[error("{path}: {seconds} s after the transient of {transient} s; nothing to rate")]
+    TooShort { path: String, seconds: f64, transient: f64 },
 }
 
 /// What a streamed channel covered: sample count and first and last time.
@@ -150,6 +152,28 @@ pub fn read_channels(path: &Path, channels: &[&str]) -> Result<(Vec<f64>, Vec<Ve
         x.iter_mut().zip(row).for_each(|(column, v)| column.push(*v));
     })?;
     Ok((t, x))
+}
+
+/// Time and several channels of a CSV file from `transient` seconds on, read in one pass; at least two
+/// samples and some time must remain.
+pub fn read_after(path: &Path, channels: &[&str], transient: f64) -> Result<(Vec<f64>, Vec<Vec<f64>>), SeriesError> {
+    let (mut t, mut columns) = read_channels(path, channels)?;
+    let first = t.partition_point(|&ti| ti < transient);
+    let seconds = t
+        .last()
+        .map_or(0.0, |last| last - t.get(first).copied().unwrap_or(*last));
+    if t.len() < first + 2 || seconds <= 0.0 {
+        return Err(SeriesError::TooShort {
+            path: path.display().to_string(),
+            seconds,
+            transient,
+        });
+    }
+    t.drain(..first);
+    columns.iter_mut().for_each(|c| {
+        c.drain(..first);
+    });
+    Ok((t, columns))
 }
 
 /// Time and one channel of a CSV file, with the checks of [`stream_channel`].

@@ -21,15 +21,8 @@ pub struct BearingsArgs {
     /// The scene's name of the gearbox6dof FMU, the channels' prefix
     #[arg(long, default_value = "gearbox")]
     pub component: String,
-    /// Seconds at the start left out
-    #[arg(long, default_value_t = 0.0)]
-    pub transient: f64,
-    /// Print the results as JSON (one object per rated bearing)
-    #[arg(long)]
-    pub json: bool,
-    /// Print the channels the rating reads (for `windrive run --record`), one per line, and stop
-    #[arg(long)]
-    pub channels: bool,
+    #[command(flatten)]
+    pub rating: super::RatingOptions,
 }
 
 pub fn run(args: &BearingsArgs) -> anyhow::Result<()> {
@@ -42,11 +35,9 @@ pub fn run(args: &BearingsArgs) -> anyhow::Result<()> {
             args.gearbox
         );
     }
-    if !(args.transient.is_finite() && args.transient >= 0.0) {
-        anyhow::bail!("--transient {}: must be a number ≥ 0", args.transient);
-    }
+    args.rating.check()?;
     let generator_speed = format!("{}.generator_speed", args.component);
-    if args.channels {
+    if args.rating.channels {
         let mut names = channels(&bearings);
         names.push(&generator_speed);
         println!("{}", names.join("\n"));
@@ -59,15 +50,10 @@ pub fn run(args: &BearingsArgs) -> anyhow::Result<()> {
     let rated = rate_series(
         series,
         &bearings,
-        args.transient,
+        args.rating.transient,
         Some((&generator_speed, &args.gearbox, ratio)),
     )?;
-    if args.json {
-        println!("{}", serde_json::to_string_pretty(&rated)?);
-    } else {
-        print!("{}", text(&rated));
-    }
-    Ok(())
+    super::print_rated(&rated, args.rating.json, text)
 }
 
 fn text(rated: &[BearingDamage]) -> String {

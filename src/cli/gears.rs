@@ -25,15 +25,8 @@ pub struct GearsArgs {
     /// gearbox for --fmu gearbox6dof, as the repository's scenes name them]
     #[arg(long)]
     pub component: Option<String>,
-    /// Seconds at the start left out (the paper discards the first 20 s of its 80 s)
-    #[arg(long, default_value_t = 0.0)]
-    pub transient: f64,
-    /// Print the results as JSON (one object per rated tooth)
-    #[arg(long)]
-    pub json: bool,
-    /// Print the channels the gear table reads (for `windrive run --record`), one per line, and stop
-    #[arg(long)]
-    pub channels: bool,
+    #[command(flatten)]
+    pub rating: super::RatingOptions,
 }
 
 pub fn run(args: &GearsArgs) -> anyhow::Result<()> {
@@ -48,21 +41,14 @@ pub fn run(args: &GearsArgs) -> anyhow::Result<()> {
             args.gearbox
         )
     })?;
-    if !(args.transient.is_finite() && args.transient >= 0.0) {
-        anyhow::bail!("--transient {}: must be a number ≥ 0", args.transient);
-    }
-    if args.channels {
+    args.rating.check()?;
+    if args.rating.channels {
         println!("{}", channels(&teeth).join("\n"));
         return Ok(());
     }
     let series = args.series.as_ref().expect("clap requires it without --channels");
-    let rated = rate_series(series, &teeth, args.transient)?;
-    if args.json {
-        println!("{}", serde_json::to_string_pretty(&rated)?);
-    } else {
-        print!("{}", text(&rated));
-    }
-    Ok(())
+    let rated = rate_series(series, &teeth, args.rating.transient)?;
+    super::print_rated(&rated, args.rating.json, text)
 }
 
 fn text(rated: &[ToothDamage]) -> String {
