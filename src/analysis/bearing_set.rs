@@ -104,8 +104,19 @@ pub struct RatedBearing {
     pub axial: String,
     /// Relative speed of its rings over the input (rotor) speed.
     pub speed_ratio: f64,
-    /// The rotor speed channel, rad/s.
-    pub speed: String,
+}
+
+/// Every rated bearing of a gearbox, and the speed channels its series must have: the rotor's (the
+/// rings' revolutions) and the generator's (the check that the series is this gearbox's).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BearingTable {
+    /// The description's name, for errors.
+    pub gearbox: String,
+    /// Generator speed over rotor speed.
+    pub gear_ratio: f64,
+    pub rotor_speed: String,
+    pub generator_speed: String,
+    pub bearings: Vec<RatedBearing>,
 }
 
 /// A bearing's result over one series.
@@ -156,13 +167,13 @@ pub enum BearingSetError {
 
 /// The bearings of `description` that describe a roller set, rated from the outputs of the FMU named
 /// `component` in the series. Bearings without rollers (no geometry, no rating) are left out.
-pub fn bearing_table(description: &Description, component: &str) -> Result<Vec<RatedBearing>, BearingSetError> {
+pub fn bearing_table(description: &Description, component: &str) -> Result<BearingTable, BearingSetError> {
     let name = || description.name.clone();
     let model = Gearbox::new(description).map_err(|e| BearingSetError::Gearbox(name(), e))?;
     let ratios = model
         .bearing_speed_ratios()
         .ok_or_else(|| BearingSetError::Gearbox(name(), "its chain is held; no bearing turns".into()))?;
-    Ok(model
+    let bearings = model
         .bearings
         .iter()
         .zip(ratios)
@@ -175,10 +186,16 @@ pub fn bearing_table(description: &Description, component: &str) -> Result<Vec<R
                 radial: format!("{component}.{}_radial_load", b.name),
                 axial: format!("{component}.{}_axial_load", b.name),
                 speed_ratio,
-                speed: format!("{component}.rotor_speed"),
             })
         })
-        .collect())
+        .collect();
+    Ok(BearingTable {
+        gearbox: name(),
+        gear_ratio: model.gear_ratio,
+        rotor_speed: format!("{component}.rotor_speed"),
+        generator_speed: format!("{component}.generator_speed"),
+        bearings,
+    })
 }
 
 impl RatedBearing {
@@ -231,32 +248,6 @@ impl RatedBearing {
     }
 }
 
-/// Refuses a series whose generator turns at another ratio to its rotor than `gearbox`'s (`expected`)
-/// by more than 5 %: rated with another gearbox's rollers and kinematics, its damage would be wrong.
-fn same_gearbox(
-    path: &Path,
-    rotor: &[f64],
-    generator: &[f64],
-    gearbox: &str,
-    expected: f64,
-) -> Result<(), BearingSetError> {
-    let sum = |c: &[f64]| c.iter().map(|x| x.abs()).sum::<f64>();
-    let (rotor, generator) = (sum(rotor), sum(generator));
-    // a stopped series says nothing about its gearbox
-    if rotor > 0.0 && generator > 0.0 {
-        let measured = generator / rotor;
-        if (measured / expected - 1.0).abs() > 0.05 {
-            return Err(BearingSetError::WrongGearbox {
-                path: path.display().to_string(),
-                gearbox: gearbox.to_string(),
-                measured,
-                expected,
-            });
-        }
-    }
-    Ok(())
-}
-
 /// One bearing's series: time (s), dynamic equivalent load P (N), its rings' relative speed (rad/s).
 pub struct BearingSeries {
     pub t: Vec<f64>,
@@ -264,69 +255,73 @@ pub struct BearingSeries {
     pub speed: Vec<f64>,
 }
 
-impl RatedBearing {
-    /// The bearing's series in `path`: time, its dynamic equivalent load P per sample (N) and its rings'
-    /// speed against each other (rad/s), checked as [`rate_series`] checks (`generator_speed` the
-    /// channel, `gearbox` its name, `expected` its ratio). What `windrive life --bearing-of` scales to a
-    /// lifetime.
-    pub fn load_and_speed(
-        &self,
-        path: &Path,
-        (generator_speed, gearbox, expected): (&str, &str, f64),
-    ) -> Result<BearingSeries, BearingSetError> {
+impl BearingTable {
+    /// The channels the table reads, each once: every bearing's radial and axial load, the rotor speed,
+    /// the generator speed.
+    pub fn channels(&self) -> Vec<&str> {
+        let mut names: Vec<&str> = Vec::new();
+        for b in &self.bearings {
+            names.extend([b.radial.as_str(), b.axial.as_str()]);
+        }
+        names.extend([self.rotor_speed.as_str(), self.generator_speed.as_str()]);
+        names
+    }
+
+    /// Refuses a series whose generator turns at another ratio to its rotor than this gearbox's by
+    /// more than 5 %: rated with another gearbox's rollers and kinematics, its damage would be wrong.
+    fn check(&self, path: &Path, rotor: &[f64], generator: &[f64]) -> Result<(), BearingSetError> {
+        let sum = |c: &[f64]| c.iter().map(|x| x.abs()).sum::<f64>();
+        let (rotor, generator) = (sum(rotor), sum(generator));
+        // a stopped series says nothing about its gearbox
+        if rotor > 0.0 && generator > 0.0 {
+            let measured = generator / rotor;
+            if (measured / self.gear_ratio - 1.0).abs() > 0.05 {
+                return Err(BearingSetError::WrongGearbox {
+                    path: path.display().to_string(),
+                    gearbox: self.gearbox.clone(),
+                    measured,
+                    expected: self.gear_ratio,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Rates every bearing over the series in `path` after `transient` seconds, once the series shows
+    /// it is this gearbox's.
+    pub fn rate_series(&self, path: &Path, transient: f64) -> Result<Vec<BearingDamage>, BearingSetError> {
+        let names = self.channels();
+        let (t, columns) = series::read_after(path, &names, transient)?;
+        let column = |name: &str| &columns[names.iter().position(|n| *n == name).expect("listed above")];
+        let rotor = column(&self.rotor_speed);
+        self.check(path, rotor, column(&self.generator_speed))?;
+        Ok(self
+            .bearings
+            .iter()
+            .map(|b| b.rate(&t, column(&b.radial), column(&b.axial), rotor))
+            .collect())
+    }
+
+    /// Bearing `b`'s series in `path`, checked as [`BearingTable::rate_series`] checks: time, its dynamic
+    /// equivalent load P per sample (N) and its rings' speed against each other (rad/s). What
+    /// `windrive life --bearing-of` scales to a lifetime.
+    pub fn load_and_speed(&self, b: &RatedBearing, path: &Path) -> Result<BearingSeries, BearingSetError> {
         let names = [
-            self.radial.as_str(),
-            self.axial.as_str(),
-            self.speed.as_str(),
-            generator_speed,
+            b.radial.as_str(),
+            b.axial.as_str(),
+            self.rotor_speed.as_str(),
+            self.generator_speed.as_str(),
         ];
         let (t, columns) = series::read_channels(path, &names)?;
-        same_gearbox(path, &columns[2], &columns[3], gearbox, expected)?;
+        self.check(path, &columns[2], &columns[3])?;
         let load = columns[0]
             .iter()
             .zip(&columns[1])
-            .map(|(&r, &a)| equivalent_load(&self.rollers, r, a))
+            .map(|(&r, &a)| equivalent_load(&b.rollers, r, a))
             .collect();
-        let speed = columns[2].iter().map(|w| w * self.speed_ratio).collect();
+        let speed = columns[2].iter().map(|w| w * b.speed_ratio).collect();
         Ok(BearingSeries { t, load, speed })
     }
-}
-
-/// The channels `bearings` read, each once, in order of first use.
-pub fn channels(bearings: &[RatedBearing]) -> Vec<&str> {
-    let mut names: Vec<&str> = Vec::new();
-    for b in bearings {
-        for c in [b.radial.as_str(), b.axial.as_str(), b.speed.as_str()] {
-            if !names.contains(&c) {
-                names.push(c);
-            }
-        }
-    }
-    names
-}
-
-/// Rates every bearing of `bearings` over the series in `path` after `transient` seconds. With
-/// `generator_speed` (that channel's name), first checks the series turns at `gear_ratio`, so a series
-/// of another gearbox is refused rather than rated with the wrong rollers and kinematics.
-pub fn rate_series(
-    path: &Path,
-    bearings: &[RatedBearing],
-    transient: f64,
-    check: Option<(&str, &str, f64)>,
-) -> Result<Vec<BearingDamage>, BearingSetError> {
-    let mut names = channels(bearings);
-    if let Some((generator_speed, _, _)) = check {
-        names.push(generator_speed);
-    }
-    let (t, columns) = series::read_after(path, &names, transient)?;
-    let column = |name: &str| &columns[names.iter().position(|n| *n == name).expect("listed above")];
-    if let (Some((generator_speed, gearbox, expected)), Some(b)) = (check, bearings.first()) {
-        same_gearbox(path, column(&b.speed), column(generator_speed), gearbox, expected)?;
-    }
-    Ok(bearings
-        .iter()
-        .map(|b| b.rate(&t, column(&b.radial), column(&b.axial), column(&b.speed)))
-        .collect())
 }
 
 #[cfg(test)]
@@ -418,7 +413,6 @@ mod tests {
             radial: String::new(),
             axial: String::new(),
             speed_ratio: 3.5,
-            speed: String::new(),
         };
         let n = 1001;
         let t: Vec<f64> = (0..n).map(|i| i as f64 * 0.01).collect();
@@ -449,7 +443,7 @@ mod tests {
     fn grc_bearings_turn_with_the_gear_ratios() {
         let d = Description::load("grc750").unwrap();
         let table = bearing_table(&d, "gearbox").unwrap();
-        let ratio = |n: &str| table.iter().find(|b| b.name == n).unwrap().speed_ratio;
+        let ratio = |n: &str| table.bearings.iter().find(|b| b.name == n).unwrap().speed_ratio;
         let p = d.stages.iter().find_map(|s| match s {
             crate::physics::gearbox::description::Stage::Planetary(p) => Some(p.clone()),
             _ => None,
@@ -470,10 +464,11 @@ mod tests {
         let model = Gearbox::new(&d).unwrap();
         assert!((ratio("hss_b") / model.gear_ratio - 1.0).abs() < 1e-9);
         assert_eq!(
-            table.len(),
+            table.bearings.len(),
             16,
             "every GRC gearbox bearing (2 carrier, 6 planet, 8 shaft) has a roller set"
         );
-        assert_eq!(table[0].radial, "gearbox.carrier_a_radial_load");
+        assert_eq!(table.bearings[0].radial, "gearbox.carrier_a_radial_load");
+        assert!((table.gear_ratio / model.gear_ratio - 1.0).abs() < 1e-15);
     }
 }

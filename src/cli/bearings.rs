@@ -2,8 +2,7 @@
 //! FMU (ISO 281 rating from the roller sets, equivalent load, revolutions from the kinematics, Miner)
 //! through [`crate::analysis::bearing_set`].
 
-use crate::analysis::bearing_set::{BearingDamage, bearing_table, channels, rate_series};
-use crate::physics::gearbox::Gearbox;
+use crate::analysis::bearing_set::{BearingDamage, BearingTable, bearing_table};
 use crate::physics::gearbox::description::Description;
 use anyhow::Context;
 use std::path::PathBuf;
@@ -25,34 +24,29 @@ pub struct BearingsArgs {
     pub rating: super::RatingOptions,
 }
 
-pub fn run(args: &BearingsArgs) -> anyhow::Result<()> {
-    let description = Description::load(&args.gearbox).map_err(|e| anyhow::anyhow!("--gearbox: {e}"))?;
-    let bearings = bearing_table(&description, &args.component).context("--gearbox")?;
-    if bearings.is_empty() {
+/// The bearing table of `--gearbox` read by `component`'s channels; an error naming the gearbox when it
+/// cannot be read or has no roller set (`windrive life --bearing-of` uses it too).
+pub fn load_table(gearbox: &str, component: &str) -> anyhow::Result<BearingTable> {
+    let description = Description::load(gearbox).map_err(|e| anyhow::anyhow!("--gearbox: {e}"))?;
+    let table = bearing_table(&description, component).context("--gearbox")?;
+    if table.bearings.is_empty() {
         anyhow::bail!(
-            "--gearbox {}: no bearing has a roller set (`rollers = {{ count, diameter_mm, length_mm, \
-             pitch_diameter_mm }}`), so none has an ISO 281 rating",
-            args.gearbox
+            "--gearbox {gearbox}: no bearing has a roller set (`rollers = {{ count, diameter_mm, length_mm, \
+             pitch_diameter_mm }}`), so none has an ISO 281 rating"
         );
     }
+    Ok(table)
+}
+
+pub fn run(args: &BearingsArgs) -> anyhow::Result<()> {
+    let table = load_table(&args.gearbox, &args.component)?;
     args.rating.check()?;
-    let generator_speed = format!("{}.generator_speed", args.component);
     if args.rating.channels {
-        let mut names = channels(&bearings);
-        names.push(&generator_speed);
-        println!("{}", names.join("\n"));
+        println!("{}", table.channels().join("\n"));
         return Ok(());
     }
-    let ratio = Gearbox::new(&description)
-        .map_err(|e| anyhow::anyhow!("--gearbox {}: {e}", args.gearbox))?
-        .gear_ratio;
     let series = args.series.as_ref().expect("clap requires it without --channels");
-    let rated = rate_series(
-        series,
-        &bearings,
-        args.rating.transient,
-        Some((&generator_speed, &args.gearbox, ratio)),
-    )?;
+    let rated = table.rate_series(series, args.rating.transient)?;
     super::print_rated(&rated, args.rating.json, text)
 }
 

@@ -1,14 +1,12 @@
 //! `windrive life`: parses the climate, the cases and the component, calls
 //! [`crate::analysis::lifetime`] and prints its lifetime DELs and gear or bearing damage.
 
-use crate::analysis::bearing_set::{RatedBearing, bearing_table};
+use crate::analysis::bearing_set::{BearingTable, RatedBearing};
 use crate::analysis::gear::{GearPair, MeshForce, Tooth};
 use crate::analysis::lifetime::{BearingLife, Case, Climate, GearLife, GearSpec, Lifetime};
 use crate::analysis::limits::LIMITS;
 use crate::analysis::tooth_root::BasicRack;
 use crate::analysis::wind::WindDistribution;
-use crate::physics::gearbox::Gearbox;
-use crate::physics::gearbox::description::Description;
 use anyhow::{Context, bail};
 use std::path::PathBuf;
 
@@ -152,8 +150,8 @@ pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
         .transpose()?;
     let read = |path: &PathBuf| -> anyhow::Result<Case> {
         Ok(match (&rated, &args.channel) {
-            (Some((b, check)), _) => {
-                let s = b.load_and_speed(path, (&check.0, &args.gearbox, check.1))?;
+            (Some((table, b)), _) => {
+                let s = table.load_and_speed(b, path)?;
                 Case::new(path, s.t, s.load, Some(s.speed))?
             }
             (None, Some(channel)) => Case::read(path, channel, args.speed.as_deref(), args.relative_to.as_deref())?,
@@ -163,13 +161,13 @@ pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
     let normal = read(&args.normal)?;
     let shutdown = args.shutdown.as_ref().map(read).transpose()?;
     let channel = match (&rated, &args.channel) {
-        (Some((b, _)), _) => format!("{} equivalent load P", b.radial.trim_end_matches("_radial_load")),
+        (Some((_, b)), _) => format!("{} equivalent load P", b.radial.trim_end_matches("_radial_load")),
         (None, Some(c)) => c.clone(),
         (None, None) => unreachable!("clap requires --channel without --bearing-of"),
     };
     let lifetime = Lifetime::new(normal, shutdown, &climate, args.years, args.shutdowns_per_year).context(options)?;
     let dels = lifetime.dels(&args.m, args.feq).context("--m, --feq")?;
-    let capacity = args.bearing.or(rated.as_ref().map(|(b, _)| b.rating));
+    let capacity = args.bearing.or(rated.as_ref().map(|(_, b)| b.rating));
     let bearing = capacity
         .map(|c| {
             lifetime
@@ -228,23 +226,18 @@ pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The bearing `name` of `--gearbox` with its roller set, and the generator-speed channel and gear
-/// ratio its series is checked against.
-fn named_bearing(args: &LifeArgs, name: &str) -> anyhow::Result<(RatedBearing, (String, f64))> {
-    let description = Description::load(&args.gearbox).map_err(|e| anyhow::anyhow!("--gearbox: {e}"))?;
-    let table = bearing_table(&description, &args.component).context("--gearbox")?;
-    let names = || table.iter().map(|b| b.name.as_str()).collect::<Vec<_>>().join(", ");
-    let Some(b) = table.iter().find(|b| b.name == name) else {
+/// The bearing table of `--gearbox` and its bearing `name`, which must have a roller set.
+fn named_bearing(args: &LifeArgs, name: &str) -> anyhow::Result<(BearingTable, RatedBearing)> {
+    let table = super::bearings::load_table(&args.gearbox, &args.component)?;
+    let Some(b) = table.bearings.iter().find(|b| b.name == name).cloned() else {
+        let names: Vec<&str> = table.bearings.iter().map(|b| b.name.as_str()).collect();
         bail!(
             "--bearing-of {name}: gearbox {} has no such bearing with a roller set; it has {}",
             args.gearbox,
-            names()
+            names.join(", ")
         );
     };
-    let ratio = Gearbox::new(&description)
-        .map_err(|e| anyhow::anyhow!("--gearbox {}: {e}", args.gearbox))?
-        .gear_ratio;
-    Ok((b.clone(), (format!("{}.generator_speed", args.component), ratio)))
+    Ok((table, b))
 }
 
 fn bearing_text(years: f64, b: &BearingLife) -> String {
