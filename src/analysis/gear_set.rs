@@ -270,163 +270,26 @@ pub fn rate_series(path: &Path, teeth: &[RatedTooth], transient: f64) -> Result<
 
 /// The paper's gearbox (seed 004 Table 4; PARAMETERS.md §8) as the scene's `component` outputs it: the
 /// torsional FMU with preset P (transverse mesh forces) or the gearbox6dof FMU with `paper1p5mw`
-/// (normal mesh forces), both of which name their mesh forces alike. Planet 1's meshes stand for all
-/// three (the paper multiplies the sun's and ring's cycles by 3). The load cycles of every tooth follow
-/// from the rotor speed and the tooth counts (the shafts' twist rates are a few per mille of their
-/// speeds and average out).
-/// Each pair's face width is the engaged one, the smaller of its two; the rings are 34CrNiMo6, every
-/// other gear 18CrNiMo7-6. The paper prints the rings' profile shifts as −1.42 and −0.36: the other sign
-/// convention for internal gears. In ours (inv α_wt from x_ring − x_planet) +1.42 and +0.36 put the
-/// planet–ring centre distance on the sun–planet one (410.8 mm for stage 1, exactly; 0.1 % apart for
-/// stage 2), and −1.42 would give no working pressure angle at all.
+/// (normal mesh forces), both of which name their mesh forces alike. It is the table of the
+/// `paper1p5mw` description ([`description_table`]: teeth, modules, shifts, the rings 34CrNiMo6 and every
+/// other gear 18CrNiMo7-6, as the paper has them), with each sun–planet mesh at Table 4's face width:
+/// the description keeps one face per stage, the ring–planet mesh's, which is 10 mm narrower. Each
+/// pair's face width is the engaged one, the smaller of its two. The paper prints the rings' profile
+/// shifts as −1.42 and −0.36, as the description does: the other sign convention for internal gears.
+/// In ours (inv α_wt from x_ring − x_planet) +1.42 and +0.36 put the planet–ring centre distance on the
+/// sun–planet one (410.8 mm for stage 1, exactly; 0.1 % apart for stage 2), and −1.42 would give no
+/// working pressure angle at all.
 pub fn paper_1p5mw(component: &str, force_kind: MeshForce) -> Vec<RatedTooth> {
-    let pair = |z1, z2, internal, module_mm: f64, helix_deg: f64, face_mm: f64, x1, x2| GearPair {
-        z1,
-        z2,
-        internal,
-        module: module_mm * 1e-3,
-        pressure_angle: 20f64.to_radians(),
-        helix_angle: f64::to_radians(helix_deg),
-        face_width: face_mm * 1e-3,
-        shift1: x1,
-        shift2: x2,
-        tip_diameters: None,
-    };
-    let channel = |name: &str| format!("{component}.{name}");
-    let rotor_speed = channel("rotor_speed");
-    let mut teeth = Vec::new();
-    // (sun, planet, ring, module, faces sun–planet / planet–ring, shifts, suffix of the channels)
-    let stages = [
-        (23u32, 34u32, 91u32, 14.0, (380.0, 370.0), (0.46, 0.48, 1.42), ""),
-        (25, 45, 116, 9.0, (180.0, 170.0), (0.28, 0.31, 0.36), "2"),
-    ];
-    const NAMES: [[&str; 5]; 2] = [["s1", "p1", "ps1", "pr1", "r1"], ["s2", "p2", "ps2", "pr2", "r2"]];
-    const DESCRIPTIONS: [[&str; 5]; 2] = [
-        [
-            "1st stage sun",
-            "1st stage planet (root, both flanks)",
-            "1st stage planet flank against the sun",
-            "1st stage planet flank against the ring",
-            "1st stage ring",
-        ],
-        [
-            "2nd stage sun",
-            "2nd stage planet (root, both flanks)",
-            "2nd stage planet flank against the sun",
-            "2nd stage planet flank against the ring",
-            "2nd stage ring",
-        ],
-    ];
-    // carrier speed over rotor speed: 1 for the first stage, the first stage's ratio for the second
-    let mut carrier_speed = 1.0;
-    for (i, (zs, zp, zr, m, (b_sp, b_pr), (xs, xp, xr), suffix)) in stages.into_iter().enumerate() {
-        let sun_planet = pair(zs, zp, false, m, 0.0, b_sp, xs, xp);
-        let planet_ring = pair(zp, zr, true, m, 0.0, b_pr, xp, xr);
-        let (sp_force, rp_force) = (
-            channel(&format!("mesh_force_sun_planet{suffix}_1")),
-            channel(&format!("mesh_force_ring_planet{suffix}_1")),
-        );
-        // tooth revolutions relative to the carrier per carrier revolution: sun z_r/z_s, planet z_r/z_p
-        let relative = |z: u32| f64::from(zr) / f64::from(z);
-        let cycles = |factor: f64| Cycles {
-            speed: rotor_speed.clone(),
-            factor: factor * carrier_speed,
-        };
-        let n = 3;
-        let rated = |k: usize, force: &String, p: GearPair, member, tooth, material, factor, flank, root| RatedTooth {
-            name: NAMES[i][k].into(),
-            description: DESCRIPTIONS[i][k].into(),
-            force: force.clone(),
-            force_kind,
-            pair: p,
-            member,
-            tooth,
-            material,
-            cycles: cycles(factor),
-            flank,
-            root,
-        };
-        let per_rev = |tooth: Tooth, relative_revs: f64| tooth.load_cycles(relative_revs, n);
-        teeth.push(rated(
-            0,
-            &sp_force,
-            sun_planet,
-            1,
-            Tooth::Sun,
-            CASE_CARBURISED,
-            per_rev(Tooth::Sun, relative(zs)),
-            true,
-            true,
-        ));
-        teeth.push(rated(
-            1,
-            &sp_force,
-            sun_planet,
-            2,
-            Tooth::Planet,
-            CASE_CARBURISED,
-            per_rev(Tooth::Planet, relative(zp)),
-            false,
-            true,
-        ));
-        teeth.push(rated(
-            2,
-            &sp_force,
-            sun_planet,
-            2,
-            Tooth::Planet,
-            CASE_CARBURISED,
-            per_rev(Tooth::Planet, relative(zp)),
-            true,
-            false,
-        ));
-        teeth.push(rated(
-            3,
-            &rp_force,
-            planet_ring,
-            1,
-            Tooth::Planet,
-            CASE_CARBURISED,
-            per_rev(Tooth::Planet, relative(zp)),
-            true,
-            false,
-        ));
-        teeth.push(rated(
-            4,
-            &rp_force,
-            planet_ring,
-            2,
-            Tooth::Ring,
-            THROUGH_HARDENED,
-            per_rev(Tooth::Ring, 1.0),
-            true,
-            true,
-        ));
-        carrier_speed *= 1.0 + f64::from(zr) / f64::from(zs);
-    }
-    let parallel = pair(28, 101, false, 6.0, 12.0, 180.0, 0.08, 0.15);
-    let force = channel("mesh_force_gear_pinion_1");
-    // the gear turns with the second sun, the pinion 101/28 times faster
-    for (name, description, member, speed) in [
-        ("p3", "3rd stage pinion", 1, carrier_speed * 101.0 / 28.0),
-        ("g3", "3rd stage gear", 2, carrier_speed),
-    ] {
-        teeth.push(RatedTooth {
-            name: name.into(),
-            description: description.into(),
-            force: force.clone(),
-            force_kind,
-            pair: parallel,
-            member,
-            tooth: Tooth::Parallel,
-            material: CASE_CARBURISED,
-            cycles: Cycles {
-                speed: rotor_speed.clone(),
-                factor: speed,
-            },
-            flank: true,
-            root: true,
-        });
+    const SUN_PLANET_FACE_MM: [(&str, f64); 2] = [("1", 380.0), ("2", 180.0)];
+    let d = Description::load("paper1p5mw").expect("a preset the library ships");
+    let mut teeth = description_table(&d, component, force_kind);
+    for t in &mut teeth {
+        let stage = t.name.trim_start_matches(|c: char| c.is_ascii_alphabetic());
+        if let Some((_, face)) = SUN_PLANET_FACE_MM.iter().find(|(k, _)| *k == stage)
+            && !t.pair.internal
+        {
+            t.pair.face_width = face * 1e-3;
+        }
     }
     teeth
 }
@@ -801,10 +664,9 @@ mod tests {
         }
     }
 
-    /// The paper's gearbox from its gearbox6dof description rates as the hand-built table P does: the
-    /// same teeth, roles, materials, mesh-force channels and load cycles, and the rings' profile shifts
-    /// turned into this module's sign; only the sun–planet face widths differ (the description keeps
-    /// one per stage, the smaller: 370 and 170 mm against Table 4's 380 and 180).
+    /// Table P is the paper's description with Table 4's sun–planet faces: every other field as the
+    /// description gives it, and the sun–planet faces 10 mm wider (380 and 180 mm against 370 and 170),
+    /// down to the bit (the output of `windrive gears` did not change when P was derived from it).
     #[test]
     fn the_papers_description_gives_table_p() {
         let d = Description::load("paper1p5mw").unwrap();
