@@ -56,6 +56,12 @@ examples (from the repository's root):
 """
 
 
+def finished_campaign_arguments(parser: argparse.ArgumentParser, files: str):
+    """The arguments of the commands that read a finished campaign: where it is and where `files` go."""
+    parser.add_argument("campaign", type=Path, help="campaign folder, its .parquet table, or the campaign file")
+    parser.add_argument("--out", type=Path, help=f"folder for {files} [default: the campaign folder]")
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(
         prog="scripts/campaign",
@@ -93,8 +99,7 @@ def main(argv=None) -> int:
         epilog=REPORT_EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    rep.add_argument("campaign", type=Path, help="campaign folder, its .parquet table, or the campaign file")
-    rep.add_argument("--out", type=Path, help="folder for the report files [default: the campaign folder]")
+    finished_campaign_arguments(rep, "the report files")
     pap = sub.add_parser(
         "paper",
         help="the paper's Tables 6 and 7 (seed 004) beside ours, η heat maps and shape checks",
@@ -105,8 +110,7 @@ def main(argv=None) -> int:
         epilog=PAPER_EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    pap.add_argument("campaign", type=Path, help="campaign folder, its .parquet table, or the campaign file")
-    pap.add_argument("--out", type=Path, help="folder for the files [default: the campaign folder]")
+    finished_campaign_arguments(pap, "the files")
     args = p.parse_args(argv)
     try:
         if args.command == "run" and args.workers is not None and args.workers < 1:

@@ -35,3 +35,11 @@ def run_campaign(tmp, text, name):
     r = campaign_cli("run", path, "--out", out, "--workers", 2)
     assert r.returncode == 0, r.stderr
     return out, pd.read_parquet(out / f"{name}.parquet")
+
+
+def one_line_error(r, *fragments):
+    """A mistake the campaign reports as it should: exit 2, one line, no traceback, naming `fragments`."""
+    assert r.returncode == 2, r.stderr
+    assert "Traceback" not in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    for f in fragments:
+        assert f in r.stderr, r.stderr

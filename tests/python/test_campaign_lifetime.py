@@ -17,7 +17,7 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python"))
 
-from campaign_cli import campaign_cli  # noqa: E402
+from campaign_cli import campaign_cli, one_line_error  # noqa: E402
 from windrive_campaign import lifetime as lt  # noqa: E402
 from windrive_campaign.errors import CampaignError  # noqa: E402
 
@@ -177,13 +177,6 @@ def test_report_writes_its_files_and_table(tiny_life):
 
 # ---------------------------------------------------------------------------------------------------
 # errors: one line, no traceback, and unfinished cases counted
-
-
-def one_line_error(r, *fragments):
-    assert r.returncode == 2, r.stderr
-    assert "Traceback" not in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
-    for f in fragments:
-        assert f in r.stderr, r.stderr
 
 
 def test_no_table_is_named(tmp_path):

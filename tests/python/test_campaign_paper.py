@@ -16,7 +16,7 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python"))
 
-from campaign_cli import campaign_cli  # noqa: E402
+from campaign_cli import campaign_cli, one_line_error  # noqa: E402
 from windrive_campaign import paper  # noqa: E402
 from windrive_campaign import paper_data as data  # noqa: E402
 from windrive_campaign.errors import CampaignError  # noqa: E402
@@ -227,13 +227,6 @@ def test_the_report_writes_its_files(tmp_path):
     assert summary["cases_left_out"]["failed"] == ["v20-failed"]
     # printed: both sides of each shape check
     assert "(c) where ∂D/∂V peaks" in r.stdout and "14-18 m/s (0.075) |       9-11.5 m/s (0.543)" in r.stdout
-
-
-def one_line_error(r, *fragments):
-    assert r.returncode == 2, r.stderr
-    assert "Traceback" not in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
-    for f in fragments:
-        assert f in r.stderr, r.stderr
 
 
 def test_no_steady_rated_case_is_one_line_naming_it(tmp_path):
