@@ -67,21 +67,23 @@ class Progress:
         print(line, file=self.stream, flush=True)
 
 
-def prepare(c: Campaign, opts: Options) -> tuple[list[cases_mod.Case], str]:
-    """The cases and the windrive copy they run (cases.snapshot_windrive)."""
+def prepare(c: Campaign, opts: Options) -> tuple[list[cases_mod.Case], str, list[str]]:
+    """The cases, the windrive copy they run (cases.snapshot_windrive) and the channels they record."""
     opts.out.mkdir(parents=True, exist_ok=True)
     store.write_atomic(opts.out / "campaign.toml", c.path.read_bytes())
-    scenes = snapshot_scenes(c, opts.windrive, opts.out)
+    scenes, record = snapshot_scenes(c, opts.windrive, opts.out)
     windrive, digest = cases_mod.snapshot_windrive(opts.windrive, opts.out)
-    return cases_mod.expand(c, scenes, digest), windrive
+    return cases_mod.expand(c, scenes, digest), windrive, record
 
 
-def snapshot_scenes(c: Campaign, windrive: str, out: Path) -> dict[Path, tuple[str, str]]:
-    """Every scene of the campaign snapshot (cases.snapshot_scene), its probe rated as the cases will be."""
+def snapshot_scenes(c: Campaign, windrive: str, out: Path) -> tuple[dict[Path, tuple[str, str]], list[str]]:
+    """Every scene of the campaign snapshot (cases.snapshot_scene), its probe recording and rated as the
+    cases will be; and those recorded channels (`recorded`, asked of windrive once)."""
     record = recorded(c, windrive)
-    return {
+    scenes = {
         p: cases_mod.snapshot_scene(p, windrive, out, record, c.gears, c.bearings) for p in cases_mod.scene_paths(c)
     }
+    return scenes, record
 
 
 def recorded(c: Campaign, windrive: str | None = None) -> list[str]:
@@ -105,7 +107,7 @@ def recorded(c: Campaign, windrive: str | None = None) -> list[str]:
 
 def run(c: Campaign, opts: Options, stream=sys.stderr) -> int:
     """Returns the exit status: 0 when every case is ok, 1 when some failed, 130 when interrupted."""
-    all_cases, windrive = prepare(c, opts)
+    all_cases, windrive, record = prepare(c, opts)
     results = store.load_results(opts.out)
     todo = [k for k in all_cases if not store.is_done(k, results.get(k.id), opts.retry_failed)]
     already = len(all_cases) - len(todo)
@@ -120,7 +122,7 @@ def run(c: Campaign, opts: Options, stream=sys.stderr) -> int:
         channels=c.channels,
         feq=c.feq,
         keep_series=c.keep_series,
-        record=tuple(recorded(c, opts.windrive)),
+        record=tuple(record),
         timeout=c.timeout,
         gears=c.gears,
         bearings=c.bearings,
