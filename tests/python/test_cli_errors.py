@@ -144,6 +144,16 @@ def test_bad_fmu_parameters_are_named(windrive, tmp_path, fmu, params, words):
      "bearings = [{ name = 'a', rollers = { count = 20, diameter_mm = 30, length_mm = 40, pitch_diameter_mm = 200, "
      "contact = 'point' } }]\n[stage.parallel.pinion]\n",
      ["point contact needs roller_stiffness"]),
+    *[("name = 'x'\n[[stage]]\n[stage.parallel]\nteeth = { gear = 80, pinion = 20 }\n"
+       "toothing = { module_mm = 5, face_width_mm = 100 }\n[stage.parallel.gear]\n"
+       f"shaft = {{ torsional = 1e7{extra}, beam = {{ {beam} }} }}\n[stage.parallel.pinion]\n", words)
+      for extra, beam, words in [
+          (", radial = 1e9", "length_m = 1, outer_diameter_mm = 300", ["stage[1].gear.shaft", "a beam or radial"]),
+          ("", "length_m = 1, outer_diameter_mm = 300, inner_diameter_mm = 300",
+           ["stage[1].gear.shaft.beam.inner_diameter_mm = 300", "below outer_diameter_mm"]),
+          ("", "length_m = 0, outer_diameter_mm = 300", ["stage[1].gear.shaft.beam.length_m"]),
+          ("", "length_m = 1, outer_diameter_mm = 300, density = 7850", ["unknown field `density`"]),
+      ]],
 ])
 def test_bad_gearbox_description_is_named(windrive, tmp_path, content, words):
     """A description file's mistakes reach the user with the file, the line or the field."""
