@@ -118,7 +118,7 @@ def test_channels_list_what_the_rating_reads(windrive):
 
 @pytest.mark.parametrize("args,words", [
     (["bearings", "{csv}", "--gearbox", "nosuch"], ["--gearbox", "nosuch", "grc750"]),
-    (["bearings", "{csv}", "--gearbox", "c2mw"], ["c2mw", "no bearing has a roller set"]),
+    (["bearings", "{csv}", "--gearbox", "nrel5mw"], ["nrel5mw", "no bearing has a roller set"]),
     (["bearings", "{csv}", "--transient=-1"], ["--transient -1"]),
     (["bearings", "{csv}"], ["x.csv", "gearbox.carrier_a_radial_load"]),
     (["bearings", "{csv}", "--component", "gb"], ["x.csv", "gb.carrier_a_radial_load"]),

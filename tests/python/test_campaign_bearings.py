@@ -108,14 +108,14 @@ def test_a_description_file_is_relative_to_the_campaign_file(tmp_path, windrive)
 
 
 def test_a_gearbox_without_roller_sets_stops_the_campaign_before_any_case(tmp_path):
-    """c2mw describes no roller set: windrive's own message, from asking it for the channels, before
+    """nrel5mw describes no roller set: windrive's own message, from asking it for the channels, before
     the scene's probe or any case runs."""
-    path = write_campaign(tmp_path, campaign('[bearings]\ngearbox = "c2mw"'))
+    path = write_campaign(tmp_path, campaign('[bearings]\ngearbox = "nrel5mw"'))
     out = tmp_path / "out"
     r = campaign_cli("run", path, "--out", out, "--workers", 1)
     assert r.returncode == 2, r.stderr
-    assert r.stderr.startswith(f"error: {path}: [bearings] gearbox = 'c2mw', component = 'gearbox': ")
-    assert "error: --gearbox c2mw: no bearing has a roller set" in r.stderr and "Traceback" not in r.stderr
+    assert r.stderr.startswith(f"error: {path}: [bearings] gearbox = 'nrel5mw', component = 'gearbox': ")
+    assert "error: --gearbox nrel5mw: no bearing has a roller set" in r.stderr and "Traceback" not in r.stderr
     assert not (out / "cases").exists() and not (out / "scenes").exists()
 
 
