@@ -553,18 +553,16 @@ impl AlphaIntegrator {
             // a residual at the rounding level of the forces themselves cannot be reduced further
             // (only the smooth classes ask: the piecewise-linear one converges on its pattern)
             // past RELAXED_AFTER iterations a residual ten times the tolerance is the rounding floor the
-            // iteration stalls at (absolute angles of 1500 rad with the loads of a held rotor)
-            let floor = if linearity == Linearity::NearlyPiecewiseLinear && iteration >= RELAXED_AFTER {
-                10.0
-            } else {
-                1.0
-            };
+            // iteration stalls at (absolute angles of 1500 rad with the loads of a held rotor), and each
+            // increment is halved
+            let relaxed = linearity == Linearity::NearlyPiecewiseLinear && iteration >= RELAXED_AFTER;
+            let floor = if relaxed { 10.0 } else { 1.0 };
             let settled = |w: &Work| {
                 residual <= floor * RESIDUAL_TOLERANCE * w.fi.iter().chain(&w.f1).fold(0.0f64, |m, x| m.max(x.abs()))
             };
             w.step.iter_mut().for_each(|x| *x = 0.0);
             factor.solver.add_solution(&w.r, &mut w.step);
-            if linearity == Linearity::NearlyPiecewiseLinear && iteration >= RELAXED_AFTER {
+            if relaxed {
                 w.step.iter_mut().for_each(|x| *x *= 0.5);
             }
             // r is free until the next residual: it keeps the iterate this increment starts from

@@ -252,9 +252,10 @@ impl RollerBearing {
                         continue;
                     }
                     let z = row.z + s;
-                    let root = self.k_lamina * power_less_one(delta, self.exponent);
-                    let elastic = root * delta;
-                    let stiffness = self.exponent * root;
+                    // the secant stiffness q/δ, so neither load nor tangent divides by δ
+                    let secant = self.k_lamina * power_less_one(delta, self.exponent);
+                    let elastic = secant * delta;
+                    let stiffness = self.exponent * secant;
                     let damping = self.damping_time * stiffness;
                     let q = elastic + damping * (rate_u + z * rate_w);
                     // a contact pushes, never pulls: damping cannot make it sticky
