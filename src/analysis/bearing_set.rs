@@ -269,12 +269,20 @@ impl BearingTable {
 
     /// Refuses a series whose generator turns at another ratio to its rotor than this gearbox's by
     /// more than 5 %: rated with another gearbox's rollers and kinematics, its damage would be wrong.
+    /// The ratio is read where the rotor turns at half its fastest or more: a stopped, braked rotor
+    /// rocks on the shafts' compliance while the generator is held, which says nothing about the gears.
     fn check(&self, path: &Path, rotor: &[f64], generator: &[f64]) -> Result<(), BearingSetError> {
-        let sum = |c: &[f64]| c.iter().map(|x| x.abs()).sum::<f64>();
-        let (rotor, generator) = (sum(rotor), sum(generator));
+        let fastest = rotor.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let (mut rotor_sum, mut generator_sum) = (0.0, 0.0);
+        for (r, g) in rotor.iter().zip(generator) {
+            if r.abs() >= 0.5 * fastest {
+                rotor_sum += r.abs();
+                generator_sum += g.abs();
+            }
+        }
         // a stopped series says nothing about its gearbox
-        if rotor > 0.0 && generator > 0.0 {
-            let measured = generator / rotor;
+        if rotor_sum > 0.0 && generator_sum > 0.0 {
+            let measured = generator_sum / rotor_sum;
             if (measured / self.gear_ratio - 1.0).abs() > 0.05 {
                 return Err(BearingSetError::WrongGearbox {
                     path: path.display().to_string(),
@@ -342,6 +350,8 @@ mod tests {
             laminae: 10,
             contact: Contact::Line,
             roller_stiffness: None,
+            profile_radius_mm: None,
+            race_profile_radii_mm: None,
             crowning_um: 0.0,
         }
     }
@@ -470,5 +480,38 @@ mod tests {
         );
         assert_eq!(table.bearings[0].radial, "gearbox.carrier_a_radial_load");
         assert!((table.gear_ratio / model.gear_ratio - 1.0).abs() < 1e-15);
+    }
+
+    /// A braked stop: the rotor turns at the gearbox ratio to the generator, then rocks on the shafts
+    /// while the brake holds the generator. The rocking says nothing about the gears, so the series
+    /// is the gearbox's; the same series at another ratio is refused.
+    #[test]
+    fn a_braked_rotor_rocking_is_not_another_gearbox() {
+        let d = Description::load("grc750").unwrap();
+        let table = bearing_table(&d, "gearbox").unwrap();
+        let ratio = table.gear_ratio;
+        let n = 2000;
+        let rotor: Vec<f64> = (0..n)
+            .map(|i| {
+                let t = i as f64 * 0.01;
+                if t < 5.0 {
+                    2.0 * (1.0 - t / 5.0)
+                } else {
+                    0.3 * (10.0 * t).sin()
+                }
+            })
+            .collect();
+        let generator: Vec<f64> = rotor
+            .iter()
+            .enumerate()
+            .map(|(i, w)| if i < 500 { ratio * w } else { 0.0 })
+            .collect();
+        let path = Path::new("stop.csv");
+        table.check(path, &rotor, &generator).unwrap();
+        let other: Vec<f64> = generator.iter().map(|g| 1.1 * g).collect();
+        assert!(matches!(
+            table.check(path, &rotor, &other),
+            Err(BearingSetError::WrongGearbox { .. })
+        ));
     }
 }

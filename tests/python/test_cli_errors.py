@@ -143,7 +143,19 @@ def test_bad_fmu_parameters_are_named(windrive, tmp_path, fmu, params, words):
      "toothing = { module_mm = 5, face_width_mm = 100 }\n[stage.parallel.gear]\n"
      "bearings = [{ name = 'a', rollers = { count = 20, diameter_mm = 30, length_mm = 40, pitch_diameter_mm = 200, "
      "contact = 'point' } }]\n[stage.parallel.pinion]\n",
-     ["point contact needs roller_stiffness"]),
+     ["point contact needs profile_radius_mm and race_profile_radii_mm, or roller_stiffness"]),
+    *[("name = 'x'\n[[stage]]\n[stage.parallel]\nteeth = { gear = 80, pinion = 20 }\n"
+       "toothing = { module_mm = 5, face_width_mm = 100 }\n[stage.parallel.gear]\n"
+       "bearings = [{ name = 'a', rollers = { count = 20, diameter_mm = 30, length_mm = 30, pitch_diameter_mm = 200, "
+       f"{extra} }} }}]\n[stage.parallel.pinion]\n", words)
+      for extra, words in [
+          ("contact = 'point', profile_radius_mm = 15, race_profile_radii_mm = [15.9, 14]",
+           ["stage[1].gear.bearings[1].rollers.race_profile_radii_mm", "outer raceway's radius 14 mm must exceed"]),
+          ("contact = 'point', profile_radius_mm = 15",
+           ["stage[1].gear.bearings[1].rollers", "give profile_radius_mm and race_profile_radii_mm"]),
+          ("profile_radius_mm = 15, race_profile_radii_mm = [15.9, 15.9]",
+           ["stage[1].gear.bearings[1].rollers", "describe point contact"]),
+      ]],
     *[("name = 'x'\n[[stage]]\n[stage.parallel]\nteeth = { gear = 80, pinion = 20 }\n"
        "toothing = { module_mm = 5, face_width_mm = 100 }\n[stage.parallel.gear]\n"
        f"shaft = {{ torsional = 1e7{extra}, beam = {{ {beam} }} }}\n[stage.parallel.pinion]\n", words)
@@ -153,6 +165,11 @@ def test_bad_fmu_parameters_are_named(windrive, tmp_path, fmu, params, words):
            ["stage[1].gear.shaft.beam.inner_diameter_mm = 300", "below outer_diameter_mm"]),
           ("", "length_m = 0, outer_diameter_mm = 300", ["stage[1].gear.shaft.beam.length_m"]),
           ("", "length_m = 1, outer_diameter_mm = 300, density = 7850", ["unknown field `density`"]),
+          ("", "length_m = 1, outer_diameter_mm = 300, elements = 0",
+           ["stage[1].gear.shaft.beam.elements = 0", "outside 1..=10"]),
+          ("", "length_m = 1, outer_diameter_mm = 300, elements = 11",
+           ["stage[1].gear.shaft.beam.elements = 11", "outside 1..=10"]),
+          ("", "length_m = 1, outer_diameter_mm = 300, elements = -1", ["elements"]),
       ]],
 ])
 def test_bad_gearbox_description_is_named(windrive, tmp_path, content, words):

@@ -9,7 +9,7 @@
 use super::description::{Contact, Rollers};
 use super::mesh::KeyBits;
 use super::row::{Row, add_outer};
-use crate::physics::hertz::{LineContact, effective_modulus, subsurface_peaks};
+use crate::physics::hertz::{EllipticContact, LineContact, effective_modulus, subsurface_peaks};
 use nalgebra::DMatrix;
 use std::f64::consts::TAU;
 
@@ -111,11 +111,25 @@ pub struct RollerBearing {
     axial_clearance: f64,
     damping_time: f64,
     lamina_width: f64,
-    /// Hertz line contact: effective radii at the inner and outer race (m) and E* (Pa); None for
-    /// point contact, whose pressure needs the crown radii the description does not carry.
-    hertz: Option<(f64, f64, f64)>,
-    /// Subsurface Tresca shear peak per unit p_max and its depth per unit half-width.
+    /// The Hertz contact at the inner and outer race.
+    hertz: RaceContacts,
+    /// Subsurface Tresca shear peak per unit p_max and its depth per unit (semi-minor) half-width,
+    /// at the inner race.
     shear_peak: (f64, f64),
+}
+
+/// How a roller meets its races, for their pressures.
+#[derive(Debug, Clone, PartialEq)]
+enum RaceContacts {
+    /// Line contact: effective radii at the inner and outer race (m) and E* (Pa), per lamina.
+    Line { inner: f64, outer: f64, e_star: f64 },
+    /// Point contact from the roller's and the grooves' profile radii: the whole roller's load.
+    Point {
+        inner: EllipticContact,
+        outer: EllipticContact,
+    },
+    /// Point contact given by its stiffness alone: no geometry, no pressure.
+    Unknown,
 }
 
 /// The geometry a roller set needs from the model: its rows, its cage row and which race is the
@@ -164,26 +178,50 @@ impl RollerBearing {
                 (s, crown * (2.0 * s / length).powi(2))
             })
             .collect();
-        let (exponent, c_roller) = match (r.contact, r.roller_stiffness) {
-            (Contact::Line, None) => {
+        let e_star = effective_modulus(STEEL_E, STEEL_NU, STEEL_E, STEEL_NU);
+        let cos = alpha.cos();
+        // in the rolling plane: the roller and the races' radii normal to the contact (a tapered
+        // race is a cone: its radius / cos α)
+        let roller = 0.5 * d;
+        let rolling = [
+            1.0 / (1.0 / roller + 1.0 / (0.5 * (dm - d * cos) / cos)),
+            1.0 / (1.0 / roller - 1.0 / (0.5 * (dm + d * cos) / cos)),
+        ];
+        let hertz = match (r.contact, r.profile_radius_mm, r.race_profile_radii_mm) {
+            (Contact::Line, _, _) => RaceContacts::Line {
+                inner: rolling[0],
+                outer: rolling[1],
+                e_star,
+            },
+            (Contact::Point, Some(profile), Some(races)) => {
+                // across the rolling plane: the convex roller in its concave groove
+                let across = |race: f64| 1.0 / (1.0 / (profile * mm) - 1.0 / (race * mm));
+                let point = |k: usize| EllipticContact::new(rolling[k], across(races[k]), e_star);
+                match (point(0), point(1)) {
+                    (Some(inner), Some(outer)) => RaceContacts::Point { inner, outer },
+                    _ => RaceContacts::Unknown,
+                }
+            }
+            (Contact::Point, _, _) => RaceContacts::Unknown,
+        };
+        let (exponent, c_roller) = match (r.contact, r.roller_stiffness, &hertz) {
+            (Contact::Line, None, _) => {
                 // N/mm^(10/9) with L in mm, in SI: × 1000^(8/9 + 10/9) = 1e6
                 (LINE_EXPONENT, ISO_LINE_CONSTANT * 1e6 * length.powf(8.0 / 9.0))
             }
-            (Contact::Line, Some(c)) => (LINE_EXPONENT, c),
-            (Contact::Point, c) => (POINT_EXPONENT, c.unwrap_or(0.0)),
+            (Contact::Line, Some(c), _) => (LINE_EXPONENT, c),
+            (Contact::Point, Some(c), _) => (POINT_EXPONENT, c),
+            // the two contacts in series: δ = (Q/c_i)^(2/3) + (Q/c_o)^(2/3)
+            (Contact::Point, None, RaceContacts::Point { inner, outer }) => (
+                POINT_EXPONENT,
+                (inner.stiffness().powf(-2.0 / 3.0) + outer.stiffness().powf(-2.0 / 3.0)).powf(-1.5),
+            ),
+            (Contact::Point, None, _) => (POINT_EXPONENT, 0.0),
         };
-        let hertz = (r.contact == Contact::Line).then(|| {
-            let cos = alpha.cos();
-            // races' radii normal to the contact (a tapered race is a cone: its radius / cos α)
-            let inner = 0.5 * (dm - d * cos) / cos;
-            let outer = 0.5 * (dm + d * cos) / cos;
-            let roller = 0.5 * d;
-            (
-                1.0 / (1.0 / roller + 1.0 / inner),
-                1.0 / (1.0 / roller - 1.0 / outer),
-                effective_modulus(STEEL_E, STEEL_NU, STEEL_E, STEEL_NU),
-            )
-        });
+        let shear_peak = match &hertz {
+            RaceContacts::Point { inner, .. } => inner.max_shear(STEEL_NU),
+            _ => subsurface_peaks(STEEL_NU).max_shear,
+        };
         RollerBearing {
             bearing: m.bearing,
             rows: m.rows,
@@ -201,7 +239,7 @@ impl RollerBearing {
             damping_time,
             lamina_width: width,
             hertz,
-            shear_peak: subsurface_peaks(STEEL_NU).max_shear,
+            shear_peak,
         }
     }
 
@@ -340,23 +378,31 @@ impl RollerBearing {
         }
     }
 
-    /// Hertz pressures and the subsurface shear of the most loaded lamina of `loads` (zeros for
-    /// point contact).
+    /// Hertz pressures and the subsurface shear of the most loaded lamina of `loads` (line
+    /// contact) or the most loaded roller (point contact); zeros for a point contact given by its
+    /// stiffness alone.
     pub fn stresses(&self, loads: &RollerLoads) -> RaceStresses {
-        let Some((r_inner, r_outer, e_star)) = self.hertz else {
-            return RaceStresses::default();
+        let (inner_pressure, outer_pressure, half_width) = match &self.hertz {
+            _ if loads.max_lamina_load <= 0.0 => return RaceStresses::default(),
+            RaceContacts::Line { inner, outer, e_star } => {
+                let w = loads.max_lamina_load / self.lamina_width;
+                let (i, o) = (
+                    LineContact::new(w, *inner, *e_star),
+                    LineContact::new(w, *outer, *e_star),
+                );
+                (i.max_pressure, o.max_pressure, i.half_width)
+            }
+            RaceContacts::Point { inner, outer } => {
+                let (i, o) = (inner.at(loads.max_roller_load), outer.at(loads.max_roller_load));
+                (i.max_pressure, o.max_pressure, i.semi_minor)
+            }
+            RaceContacts::Unknown => return RaceStresses::default(),
         };
-        if loads.max_lamina_load <= 0.0 {
-            return RaceStresses::default();
-        }
-        let w = loads.max_lamina_load / self.lamina_width;
-        let inner = LineContact::new(w, r_inner, e_star);
-        let outer = LineContact::new(w, r_outer, e_star);
         RaceStresses {
-            inner_pressure: inner.max_pressure,
-            outer_pressure: outer.max_pressure,
-            max_shear: self.shear_peak.0 * inner.max_pressure,
-            max_shear_depth: self.shear_peak.1 * inner.half_width,
+            inner_pressure,
+            outer_pressure,
+            max_shear: self.shear_peak.0 * inner_pressure,
+            max_shear_depth: self.shear_peak.1 * half_width,
         }
     }
 

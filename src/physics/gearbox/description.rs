@@ -163,9 +163,18 @@ pub struct Rollers {
     pub laminae: u32,
     #[serde(default)]
     pub contact: Contact,
-    /// Roller–races stiffness c in q = c·δ^e, N/m^e (required for point contact).
+    /// Roller–races stiffness c in q = c·δ^e, N/m^e; for point contact without the profile radii.
     #[serde(default)]
     pub roller_stiffness: Option<f64>,
+    /// Point contact (balls, crowned rollers): the roller's radius in its axial plane (a ball's
+    /// radius), mm, and the inner and outer raceways' radii in that plane (their grooves, concave,
+    /// larger than the roller's), mm. With them the Hertz contact ellipse gives c and the race
+    /// pressures. A spherical roller on its raceway conforms so closely that its ellipse outgrows
+    /// the roller: give it line contact with the osculation's gap as `crowning_um` instead.
+    #[serde(default)]
+    pub profile_radius_mm: Option<f64>,
+    #[serde(default)]
+    pub race_profile_radii_mm: Option<[f64; 2]>,
     /// Profile drop at the roller ends (a parabolic crown), µm.
     #[serde(default)]
     pub crowning_um: f64,
@@ -305,6 +314,19 @@ pub struct Beam {
     pub youngs_modulus: f64,
     #[serde(default = "default_shear_modulus")]
     pub shear_modulus: f64,
+    /// Elements along the length. One is exact for loads at the ends and massless; two or more put
+    /// nodes between them that carry the shaft's mass (`model.density`), so the shaft's own bending
+    /// and whirling modes appear.
+    #[serde(default = "one_element")]
+    pub elements: u32,
+}
+
+/// Most elements a shaft may be cut into: a handful resolve its first bending modes; more only add
+/// DOFs and stiff modes the step has to resolve.
+pub const MAX_BEAM_ELEMENTS: u32 = 10;
+
+fn one_element() -> u32 {
+    1
 }
 
 fn default_youngs_modulus() -> f64 {
@@ -756,6 +778,12 @@ fn check_beam(beam: &Beam, s: &Shaft, at: &str) -> Result<(), String> {
     if !(beam.from_m.is_finite() && beam.to_m.is_finite()) {
         return Err(format!("{at}.beam: from_m and to_m must be numbers"));
     }
+    if !(1..=MAX_BEAM_ELEMENTS).contains(&beam.elements) {
+        return Err(format!(
+            "{at}.beam.elements = {} outside 1..={MAX_BEAM_ELEMENTS}",
+            beam.elements
+        ));
+    }
     Ok(())
 }
 
@@ -792,14 +820,40 @@ fn check_rollers(r: &Rollers, at: &str) -> Result<(), String> {
     positive_or_zero(&format!("{at}.crowning_um"), r.crowning_um)?;
     finite(&format!("{at}.clearance_um"), r.clearance_um)?;
     finite(&format!("{at}.axial_clearance_um"), r.axial_clearance_um)?;
-    match (r.contact, r.roller_stiffness) {
-        (_, Some(c)) => positive(&format!("{at}.roller_stiffness"), c)?,
-        (Contact::Point, None) => {
+    let profile = match (r.profile_radius_mm, r.race_profile_radii_mm) {
+        (None, None) => false,
+        (Some(roller), Some(races)) => {
+            if r.contact != Contact::Point {
+                return Err(format!(
+                    "{at}: profile_radius_mm and race_profile_radii_mm describe point contact: give contact = \"point\""
+                ));
+            }
+            positive(&format!("{at}.profile_radius_mm"), roller)?;
+            for (name, race) in ["inner", "outer"].into_iter().zip(races) {
+                if !(race.is_finite() && race > roller) {
+                    return Err(format!(
+                        "{at}.race_profile_radii_mm: the {name} raceway's radius {race} mm must exceed the roller's \
+                         profile_radius_mm = {roller} (a concave groove around a convex roller)"
+                    ));
+                }
+            }
+            true
+        }
+        _ => {
             return Err(format!(
-                "{at}: point contact needs roller_stiffness (N/m^1.5): ISO/TS 16281's line-contact constant does not apply"
+                "{at}: give profile_radius_mm and race_profile_radii_mm = [inner, outer] together"
             ));
         }
-        (Contact::Line, None) => {}
+    };
+    match (r.contact, r.roller_stiffness) {
+        (_, Some(c)) => positive(&format!("{at}.roller_stiffness"), c)?,
+        (Contact::Point, None) if !profile => {
+            return Err(format!(
+                "{at}: point contact needs profile_radius_mm and race_profile_radii_mm, or roller_stiffness (N/m^1.5): \
+                 ISO/TS 16281's line-contact constant does not apply"
+            ));
+        }
+        _ => {}
     }
     Ok(())
 }

@@ -47,6 +47,8 @@ pub enum BodyKind {
     Gear,
     Pinion,
     Generator,
+    /// A node between the elements of a flexible shaft (`beam.elements` ≥ 2): the shaft's own mass.
+    ShaftNode,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -179,6 +181,8 @@ struct Builder<'a> {
     downwind_plate: Option<(usize, usize)>,
     /// Entries of `shafts` that are carrier webs: springs like a shaft's, not reported as one.
     webs: Vec<usize>,
+    /// (entry of `shafts`, its nodes from upstream to downstream) for beams of several elements.
+    beam_nodes: Vec<(usize, Vec<usize>)>,
     dofs: usize,
 }
 
@@ -495,6 +499,7 @@ impl Gearbox {
             rollers: Vec::new(),
             downwind_plate: None,
             webs: Vec::new(),
+            beam_nodes: Vec::new(),
             meshes: Vec::new(),
             geometry: Vec::new(),
             shafts: Vec::new(),
@@ -805,6 +810,7 @@ impl Gearbox {
             b.shafts.push((u, i, shaft, name));
             last_output = i;
         }
+        add_beam_nodes(&mut b);
         let mut names: Vec<&str> = b.bearings.iter().map(|x| x.name.as_str()).collect();
         names.sort_unstable();
         if let Some(w) = names.windows(2).find(|w| w[0] == w[1]) {
@@ -1071,9 +1077,20 @@ fn rigid_mode(b: &Builder, input: usize) -> Option<Vec<f64>> {
         return None;
     }
     r[start] = 1.0;
+    // a shaft's nodes turn with its upstream end
+    let links: Vec<(usize, usize)> = b
+        .shafts
+        .iter()
+        .map(|&(u, d, _, _)| (u, d))
+        .chain(
+            b.beam_nodes
+                .iter()
+                .flat_map(|(s, nodes)| nodes.iter().map(|&k| (b.shafts[*s].0, k))),
+        )
+        .collect();
     for _ in 0..4 * b.bodies.len() + 4 {
         let mut changed = false;
-        for &(u, d, _, _) in &b.shafts {
+        for &(u, d) in &links {
             let (fu, fd) = (b.bodies[u].first? + SPIN, b.bodies[d].first? + SPIN);
             if r[fu].is_nan() != r[fd].is_nan() {
                 let v = if r[fu].is_nan() { r[fd] } else { r[fu] };
@@ -1111,19 +1128,60 @@ fn rigid_mode(b: &Builder, input: usize) -> Option<Vec<f64>> {
     consistent.then_some(r)
 }
 
-/// Shaft springs (with damping from the shaft ratio and the inertia on either side) and the mass matrix.
-/// A flexible shaft from body `u` (leaving it at `beam.from_m` along the axis) to body `d` (entering at
-/// `beam.to_m`): a Timoshenko element's bending in the x–z plane (w = u_x, φ = θ_y) and the y–z plane
-/// (w = u_y, φ = −θ_x, as du_y/dz = −θ_x), and its axial stretch, as springs on the ends' rows.
-fn beam_springs(b: &mut Builder, u: usize, d: usize, beam: &desc::Beam, tau: f64) {
-    let (e, g) = (beam.youngs_modulus, beam.shear_modulus);
-    let (area, second_moment, kappa) = beam::hollow_section(
+/// Area, second moment of area and shear coefficient of a beam's section; Poisson's ratio from E and G.
+fn section(beam: &desc::Beam) -> (f64, f64, f64) {
+    beam::hollow_section(
         beam.outer_diameter_mm * 1e-3,
         beam.inner_diameter_mm * 1e-3,
-        e / (2.0 * g) - 1.0,
-    );
-    let k = beam::bending_stiffness(e * second_moment, kappa * g * area, beam.length_m);
-    let ends = [(u, beam.from_m), (d, beam.to_m)];
+        beam.youngs_modulus / (2.0 * beam.shear_modulus) - 1.0,
+    )
+}
+
+/// Nodes between the elements of every beam of two or more elements, evenly along its free length,
+/// on the axis of the body upstream and in its frame. A lumped-mass beam: each node carries one
+/// element's mass ρAL/n and its section's rotary inertia, ρIL/n about a diameter and 2ρIL/n about
+/// the axis; the half-elements at the two ends belong to the bodies the shaft joins (their described
+/// masses).
+fn add_beam_nodes(b: &mut Builder) {
+    let density = b.d.model.density;
+    for index in 0..b.shafts.len() {
+        let (u, _, spec, name) = b.shafts[index].clone();
+        let Some(beam) = spec.beam.filter(|beam| beam.elements > 1) else {
+            continue;
+        };
+        let (area, second_moment, _) = section(&beam);
+        let element = beam.length_m / f64::from(beam.elements);
+        let inertia = (
+            density * area * element,
+            2.0 * density * second_moment * element,
+            density * second_moment * element,
+        );
+        let (frame, centre) = (b.bodies[u].frame, b.bodies[u].centre);
+        let nodes = (1..beam.elements)
+            .map(|k| {
+                b.add_body(
+                    format!("{name}_node_{k}"),
+                    BodyKind::ShaftNode,
+                    None,
+                    frame,
+                    centre,
+                    inertia,
+                    false,
+                )
+            })
+            .collect();
+        b.beam_nodes.push((index, nodes));
+    }
+}
+
+/// One Timoshenko element of a flexible shaft, `length` long, from body `ends[0].0` (leaving it at
+/// `ends[0].1` along the axis from its centre) to body `ends[1].0` (entering at `ends[1].1`): its
+/// bending in the x–z plane (w = u_x, φ = θ_y) and the y–z plane (w = u_y, φ = −θ_x, as
+/// du_y/dz = −θ_x), and its axial stretch, as springs on the ends' rows.
+fn beam_springs(b: &mut Builder, ends: [(usize, f64); 2], beam: &desc::Beam, length: f64, tau: f64) {
+    let (e, g) = (beam.youngs_modulus, beam.shear_modulus);
+    let (area, second_moment, kappa) = section(beam);
+    let k = beam::bending_stiffness(e * second_moment, kappa * g * area, length);
     let translation = |b: &Builder, (body, z): (usize, f64), n: [f64; 3]| {
         let mut row = Row::default();
         b.point(&mut row, body, [0.0, 0.0, z], n, 1.0);
@@ -1139,9 +1197,9 @@ fn beam_springs(b: &mut Builder, u: usize, d: usize, beam: &desc::Beam, tau: f64
     for (n, dof, sign) in [([1.0, 0.0, 0.0], TY, 1.0), ([0.0, 1.0, 0.0], TX, -1.0)] {
         let rows = [
             translation(b, ends[0], n),
-            tilt(b, u, dof, sign),
+            tilt(b, ends[0].0, dof, sign),
             translation(b, ends[1], n),
-            tilt(b, d, dof, sign),
+            tilt(b, ends[1].0, dof, sign),
         ];
         for (stiffness, v) in beam::springs(&k) {
             let mut row = Row::default();
@@ -1154,7 +1212,7 @@ fn beam_springs(b: &mut Builder, u: usize, d: usize, beam: &desc::Beam, tau: f64
             b.spring(row, stiffness, stiffness * tau, 0.0);
         }
     }
-    let axial = e * area / beam.length_m;
+    let axial = e * area / length;
     let mut row = translation(b, ends[0], [0.0, 0.0, 1.0]);
     let downstream = translation(b, ends[1], [0.0, 0.0, 1.0]);
     for (&i, x) in downstream.idx.iter().zip(&downstream.val) {
@@ -1164,6 +1222,7 @@ fn beam_springs(b: &mut Builder, u: usize, d: usize, beam: &desc::Beam, tau: f64
     b.spring(row, axial, axial * tau, 0.0);
 }
 
+/// Shaft springs (with damping from the shaft ratio and the inertia on either side) and the mass matrix.
 fn finish(b: &mut Builder, rigid: &Option<Vec<f64>>) -> Result<(Vec<ShaftSpring>, DMatrix<f64>), String> {
     let n = b.dofs;
     let mut shafts = Vec::new();
@@ -1188,7 +1247,9 @@ fn finish(b: &mut Builder, rigid: &Option<Vec<f64>>) -> Result<(Vec<ShaftSpring>
             b.bodies
                 .iter()
                 .enumerate()
-                .filter(|(i, body)| body.first.is_some() && if up { *i <= u } else { *i >= d })
+                .filter(|(i, body)| {
+                    body.first.is_some() && body.kind != BodyKind::ShaftNode && if up { *i <= u } else { *i >= d }
+                })
                 .map(|(i, body)| body.polar * (spin_ratio(b, i) / ratio).powi(2))
                 .sum()
         };
@@ -1201,11 +1262,30 @@ fn finish(b: &mut Builder, rigid: &Option<Vec<f64>>) -> Result<(Vec<ShaftSpring>
             b.bodies[u].first.ok_or("shaft from the housing")?,
             b.bodies[d].first.ok_or("shaft to the housing")?,
         );
-        let mut torsion = Row::default();
-        torsion.add(fu + SPIN, 1.0);
-        torsion.add(fd + SPIN, -1.0);
-        let spring = b.spring(torsion, spec.torsional, c, 0.0);
-        if !b.webs.contains(&index) {
+        // a beam of n elements: n torsion springs in series, each n times as stiff and as damped as
+        // the shaft, the first (at the upstream end) reporting the shaft's torque
+        let nodes = b
+            .beam_nodes
+            .iter()
+            .find(|(s, _)| *s == index)
+            .map_or_else(Vec::new, |(_, n)| n.clone());
+        let chain: Vec<usize> = std::iter::once(u).chain(nodes).chain(std::iter::once(d)).collect();
+        let elements = (chain.len() - 1) as f64;
+        let mut first_spring = None;
+        for pair in chain.windows(2) {
+            let (a, z) = (b.bodies[pair[0]].first, b.bodies[pair[1]].first);
+            let (Some(a), Some(z)) = (a, z) else {
+                return Err(format!("shaft {name}: a node is part of the housing"));
+            };
+            let mut torsion = Row::default();
+            torsion.add(a + SPIN, 1.0);
+            torsion.add(z + SPIN, -1.0);
+            let spring = b.spring(torsion, elements * spec.torsional, elements * c, 0.0);
+            first_spring.get_or_insert(spring);
+        }
+        if !b.webs.contains(&index)
+            && let Some(spring) = first_spring
+        {
             shafts.push(ShaftSpring {
                 name: name.clone(),
                 spring,
@@ -1214,7 +1294,13 @@ fn finish(b: &mut Builder, rigid: &Option<Vec<f64>>) -> Result<(Vec<ShaftSpring>
         }
         let tau = b.d.model.bearing_damping_time;
         if let Some(beam) = &spec.beam {
-            beam_springs(b, u, d, beam, tau);
+            let length = beam.length_m / elements;
+            let last = chain.len() - 2;
+            for (k, pair) in chain.windows(2).enumerate() {
+                let from = if k == 0 { beam.from_m } else { 0.0 };
+                let to = if k == last { beam.to_m } else { 0.0 };
+                beam_springs(b, [(pair[0], from), (pair[1], to)], beam, length, tau);
+            }
         }
         for (k, stiffness) in [
             (UX, spec.radial),
