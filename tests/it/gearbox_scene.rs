@@ -4,7 +4,7 @@
 //! loads. The 6-DOF gearbox's bearing compliance lowers the first drivetrain mode by 4 %, so the two
 //! runs drift out of phase once the held rotor rocks; what must agree is the load each shaft carries:
 //! the RMS torque of every shaft in normal operation and while the brake slips within 3 % (measured
-//! 1 %), and while the brake holds within 5 % (measured 3.5 %: the held rotor rocks through zero
+//! 1 %), and while the brake holds within 5 % (measured 3.4 %: the held rotor rocks through zero
 //! torque, where the roller bearings' clearance lets the planets and shafts float, softer than the
 //! torsional model's linear springs; docs/GEARBOX.md). The planets' upwind bearings carry 6–10 rollers
 //! in normal operation and fall to 2 or fewer when the torque reverses in the shutdown (thesis ch. 7:

@@ -155,6 +155,14 @@ def test_bad_fmu_parameters_are_named(windrive, tmp_path, fmu, params, words):
            ["stage[1].gear.bearings[1].rollers", "give profile_radius_mm and race_profile_radii_mm"]),
           ("profile_radius_mm = 15, race_profile_radii_mm = [15.9, 15.9]",
            ["stage[1].gear.bearings[1].rollers", "describe point contact"]),
+          ("contact = 'point', profile_radius_mm = 15, race_profile_radii_mm = [15.9, 15.9], roller_stiffness = 1e10",
+           ["stage[1].gear.bearings[1].rollers", "not both"]),
+          ("contact = 'point', profile_radius_mm = 15, race_profile_radii_mm = [15.9, 15.9], crowning_um = 5",
+           ["stage[1].gear.bearings[1].rollers.crowning_um", "describe the roller's crown already"]),
+          ("contact = 'point', profile_radius_mm = 15, race_profile_radii_mm = [15.0000000000001, 15.9]",
+           ["stage[1].gear.bearings[1].rollers", "a million times longer than wide"]),
+          ("contact = 'point', profile_radius_mm = 15, race_profile_radii_mm = [nan, 15.9]",
+           ["stage[1].gear.bearings[1].rollers.race_profile_radii_mm", "inner raceway's radius NaN"]),
       ]],
     *[("name = 'x'\n[[stage]]\n[stage.parallel]\nteeth = { gear = 80, pinion = 20 }\n"
        "toothing = { module_mm = 5, face_width_mm = 100 }\n[stage.parallel.gear]\n"

@@ -1,5 +1,6 @@
-//! A flexible shaft between two bodies as one Timoshenko beam element: bending in both transverse
-//! planes with shear deformation, and axial stretch. The element's stiffness is split into springs
+//! A flexible shaft between two bodies as Timoshenko beam elements (one, or several with nodes
+//! between them, model.rs): bending in both transverse planes with shear deformation, and axial
+//! stretch. The element's stiffness is split into springs
 //! along its eigenvectors (K = Σ λ_i v_i v_iᵀ), so the model carries it as it carries every other
 //! spring: a row over the DOFs and a stiffness. Torsion stays the shaft's own spring (the published
 //! torsional stiffness, and the torque the FMU reports).

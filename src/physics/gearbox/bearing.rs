@@ -145,7 +145,7 @@ pub struct Mounting {
 impl RollerBearing {
     pub fn new(r: &Rollers, m: Mounting, damping_time: f64) -> Self {
         let mm = 1e-3;
-        let (d, length, dm) = (r.diameter_mm * mm, r.length_mm * mm, r.pitch_diameter_mm * mm);
+        let (length, dm) = (r.length_mm * mm, r.pitch_diameter_mm * mm);
         let alpha = r.contact_angle_deg.to_radians();
         let roller_rows: Vec<RollerRow> = if r.rows == 2 {
             let half = 0.5 * r.row_spacing_mm * mm;
@@ -179,30 +179,22 @@ impl RollerBearing {
             })
             .collect();
         let e_star = effective_modulus(STEEL_E, STEEL_NU, STEEL_E, STEEL_NU);
-        let cos = alpha.cos();
-        // in the rolling plane: the roller and the races' radii normal to the contact (a tapered
-        // race is a cone: its radius / cos α)
-        let roller = 0.5 * d;
-        let rolling = [
-            1.0 / (1.0 / roller + 1.0 / (0.5 * (dm - d * cos) / cos)),
-            1.0 / (1.0 / roller - 1.0 / (0.5 * (dm + d * cos) / cos)),
-        ];
-        let hertz = match (r.contact, r.profile_radius_mm, r.race_profile_radii_mm) {
-            (Contact::Line, _, _) => RaceContacts::Line {
+        let (rolling, across) = r.contact_radii();
+        let hertz = match (r.contact, across) {
+            (Contact::Line, _) => RaceContacts::Line {
                 inner: rolling[0],
                 outer: rolling[1],
                 e_star,
             },
-            (Contact::Point, Some(profile), Some(races)) => {
-                // across the rolling plane: the convex roller in its concave groove
-                let across = |race: f64| 1.0 / (1.0 / (profile * mm) - 1.0 / (race * mm));
-                let point = |k: usize| EllipticContact::new(rolling[k], across(races[k]), e_star);
+            (Contact::Point, Some(across)) => {
+                // the description's check has built both ellipses once already
+                let point = |k: usize| EllipticContact::new(rolling[k], across[k], e_star);
                 match (point(0), point(1)) {
                     (Some(inner), Some(outer)) => RaceContacts::Point { inner, outer },
                     _ => RaceContacts::Unknown,
                 }
             }
-            (Contact::Point, _, _) => RaceContacts::Unknown,
+            (Contact::Point, None) => RaceContacts::Unknown,
         };
         let (exponent, c_roller) = match (r.contact, r.roller_stiffness, &hertz) {
             (Contact::Line, None, _) => {

@@ -180,6 +180,33 @@ pub struct Rollers {
     pub crowning_um: f64,
 }
 
+impl Rollers {
+    /// The effective radii of a roller's contact with the inner and the outer race, m: in the
+    /// rolling plane (the races' radii normal to the contact: a tapered race is a cone, its radius
+    /// / cos α; the outer race concave), and, for point contact with profile radii, across it (the
+    /// convex roller in its concave groove; a flat raceway's radius is infinite).
+    pub fn contact_radii(&self) -> ([f64; 2], Option<[f64; 2]>) {
+        let mm = 1e-3;
+        let (d, dm, cos) = (
+            self.diameter_mm * mm,
+            self.pitch_diameter_mm * mm,
+            self.contact_angle_deg.to_radians().cos(),
+        );
+        let roller = 0.5 * d;
+        let rolling = [
+            1.0 / (1.0 / roller + 1.0 / (0.5 * (dm - d * cos) / cos)),
+            1.0 / (1.0 / roller - 1.0 / (0.5 * (dm + d * cos) / cos)),
+        ];
+        let across = match (self.contact, self.profile_radius_mm, self.race_profile_radii_mm) {
+            (Contact::Point, Some(p), Some(races)) => {
+                Some(races.map(|race| 1.0 / (1.0 / (p * mm) - 1.0 / (race * mm))))
+            }
+            _ => None,
+        };
+        (rolling, across)
+    }
+}
+
 fn default_rows() -> u32 {
     1
 }
@@ -830,10 +857,32 @@ fn check_rollers(r: &Rollers, at: &str) -> Result<(), String> {
             }
             positive(&format!("{at}.profile_radius_mm"), roller)?;
             for (name, race) in ["inner", "outer"].into_iter().zip(races) {
-                if !(race.is_finite() && race > roller) {
+                // a flat raceway (inf in TOML) is allowed: a crowned roller on a cylinder
+                if race.is_nan() || race <= roller {
                     return Err(format!(
                         "{at}.race_profile_radii_mm: the {name} raceway's radius {race} mm must exceed the roller's \
                          profile_radius_mm = {roller} (a concave groove around a convex roller)"
+                    ));
+                }
+            }
+            if r.roller_stiffness.is_some() {
+                return Err(format!(
+                    "{at}: give roller_stiffness or the profile radii, not both (the radii give the stiffness)"
+                ));
+            }
+            if r.crowning_um != 0.0 {
+                return Err(format!(
+                    "{at}.crowning_um: the profile radii describe the roller's crown already; leave crowning_um out"
+                ));
+            }
+            let (rolling, across) = r.contact_radii();
+            for (k, name) in ["inner", "outer"].into_iter().enumerate() {
+                let across = across.map_or(f64::NAN, |a| a[k]);
+                // the ellipse's shape does not depend on the modulus
+                if crate::physics::hertz::EllipticContact::new(rolling[k], across, 1.0).is_none() {
+                    return Err(format!(
+                        "{at}: the roller and the {name} raceway conform so closely that the contact ellipse would be \
+                         a million times longer than wide: give line contact with the osculation's gap as crowning_um"
                     ));
                 }
             }
