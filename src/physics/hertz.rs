@@ -175,7 +175,8 @@ impl EllipticContact {
             1.0
         } else {
             // bisection on ln κ from just above 1 to 10⁶ (a roller's crown far flatter than any bearing's)
-            let (mut lo, mut hi) = (1e-9f64, 6.0 * std::f64::consts::LN_10);
+            let top = 6.0 * std::f64::consts::LN_10;
+            let (mut lo, mut hi) = (1e-9f64, top);
             for _ in 0..200 {
                 let mid = 0.5 * (lo + hi);
                 if side(mid.exp()) < difference {
@@ -187,7 +188,7 @@ impl EllipticContact {
                     break;
                 }
             }
-            if hi >= 6.0 * std::f64::consts::LN_10 - 1e-9 {
+            if hi >= top - 1e-9 {
                 return None;
             }
             (0.5 * (lo + hi)).exp()

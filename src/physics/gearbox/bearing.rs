@@ -374,8 +374,10 @@ impl RollerBearing {
     /// contact) or the most loaded roller (point contact); zeros for a point contact given by its
     /// stiffness alone.
     pub fn stresses(&self, loads: &RollerLoads) -> RaceStresses {
+        if loads.max_lamina_load <= 0.0 {
+            return RaceStresses::default();
+        }
         let (inner_pressure, outer_pressure, half_width) = match &self.hertz {
-            _ if loads.max_lamina_load <= 0.0 => return RaceStresses::default(),
             RaceContacts::Line { inner, outer, e_star } => {
                 let w = loads.max_lamina_load / self.lamina_width;
                 let (i, o) = (

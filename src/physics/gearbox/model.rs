@@ -181,8 +181,9 @@ struct Builder<'a> {
     downwind_plate: Option<(usize, usize)>,
     /// Entries of `shafts` that are carrier webs: springs like a shaft's, not reported as one.
     webs: Vec<usize>,
-    /// (entry of `shafts`, its nodes from upstream to downstream) for beams of several elements.
-    beam_nodes: Vec<(usize, Vec<usize>)>,
+    /// Per entry of `shafts`, the nodes of its beam from upstream to downstream (none for springs
+    /// or a beam of one element); filled once every shaft is listed.
+    beam_nodes: Vec<Vec<usize>>,
     dofs: usize,
 }
 
@@ -1083,9 +1084,10 @@ fn rigid_mode(b: &Builder, input: usize) -> Option<Vec<f64>> {
         .iter()
         .map(|&(u, d, _, _)| (u, d))
         .chain(
-            b.beam_nodes
+            b.shafts
                 .iter()
-                .flat_map(|(s, nodes)| nodes.iter().map(|&k| (b.shafts[*s].0, k))),
+                .zip(&b.beam_nodes)
+                .flat_map(|(&(u, _, _, _), nodes)| nodes.iter().map(move |&k| (u, k))),
         )
         .collect();
     for _ in 0..4 * b.bodies.len() + 4 {
@@ -1147,6 +1149,7 @@ fn add_beam_nodes(b: &mut Builder) {
     for index in 0..b.shafts.len() {
         let (u, _, spec, name) = b.shafts[index].clone();
         let Some(beam) = spec.beam.filter(|beam| beam.elements > 1) else {
+            b.beam_nodes.push(Vec::new());
             continue;
         };
         let (area, second_moment, _) = section(&beam);
@@ -1170,7 +1173,7 @@ fn add_beam_nodes(b: &mut Builder) {
                 )
             })
             .collect();
-        b.beam_nodes.push((index, nodes));
+        b.beam_nodes.push(nodes);
     }
 }
 
@@ -1264,36 +1267,31 @@ fn finish(b: &mut Builder, rigid: &Option<Vec<f64>>) -> Result<(Vec<ShaftSpring>
         );
         // a beam of n elements: n torsion springs in series, each n times as stiff and as damped as
         // the shaft, the first (at the upstream end) reporting the shaft's torque
-        let nodes = b
-            .beam_nodes
-            .iter()
-            .find(|(s, _)| *s == index)
-            .map_or_else(Vec::new, |(_, n)| n.clone());
-        let chain: Vec<usize> = std::iter::once(u).chain(nodes).chain(std::iter::once(d)).collect();
-        let elements = (chain.len() - 1) as f64;
-        let mut first_spring = None;
-        for pair in chain.windows(2) {
-            let (a, z) = (b.bodies[pair[0]].first, b.bodies[pair[1]].first);
-            let (Some(a), Some(z)) = (a, z) else {
-                return Err(format!("shaft {name}: a node is part of the housing"));
-            };
+        let nodes = b.beam_nodes[index].clone();
+        // spin DOFs along the chain: the ends' checked above, a node's always its own
+        let spins: Vec<usize> = std::iter::once(fu)
+            .chain(nodes.iter().filter_map(|&k| b.bodies[k].first))
+            .chain(std::iter::once(fd))
+            .map(|f| f + SPIN)
+            .collect();
+        let elements = (spins.len() - 1) as f64;
+        let first_torsion = b.springs.len();
+        for pair in spins.windows(2) {
             let mut torsion = Row::default();
-            torsion.add(a + SPIN, 1.0);
-            torsion.add(z + SPIN, -1.0);
-            let spring = b.spring(torsion, elements * spec.torsional, elements * c, 0.0);
-            first_spring.get_or_insert(spring);
+            torsion.add(pair[0], 1.0);
+            torsion.add(pair[1], -1.0);
+            b.spring(torsion, elements * spec.torsional, elements * c, 0.0);
         }
-        if !b.webs.contains(&index)
-            && let Some(spring) = first_spring
-        {
+        if !b.webs.contains(&index) {
             shafts.push(ShaftSpring {
                 name: name.clone(),
-                spring,
+                spring: first_torsion,
                 sign: ratio.signum(),
             });
         }
         let tau = b.d.model.bearing_damping_time;
         if let Some(beam) = &spec.beam {
+            let chain: Vec<usize> = std::iter::once(u).chain(nodes).chain(std::iter::once(d)).collect();
             let length = beam.length_m / elements;
             let last = chain.len() - 2;
             for (k, pair) in chain.windows(2).enumerate() {
