@@ -1,6 +1,7 @@
 //! `windrive bench gearbox`: the 6-DOF GRC gearbox in drivetrain D's 30 s shutdown scene
 //! (scenes/d-shutdown-6dof) through the master with lamina bearings and 35, 11 and 5 slices per
-//! mesh, with linear bearings and at internal steps of 1 and 0.5 ms, each against the 35-slice
+//! mesh, with the main shaft as one element or rigid, with linear bearings and at internal steps of
+//! 1 and 0.5 ms, each against the 35-slice
 //! lamina run at 0.25 ms without numerical damping (largest mesh forces,
 //! bearing load and contact pressures, rollers in contact, HSS torque); the torsional model in the same scene
 //! (scenes/d-shutdown) as the baseline measured in the same run; the integrators at part load, where
@@ -50,6 +51,40 @@ fn rms_error(x: &[f64], reference: &[f64]) -> f64 {
     (e / r).sqrt()
 }
 
+/// The GRC's main shaft as the preset gives it (three beam elements with their mass), as one
+/// massless element (exact for loads at its ends, six DOFs fewer per node), or rigid (one element,
+/// its steel a thousand times stiffer: the bearings and the carrier take all the compliance).
+#[derive(Clone, Copy)]
+enum MainShaft {
+    Preset,
+    OneElement,
+    Rigid,
+}
+
+impl MainShaft {
+    /// A description file for the FMU's `gearbox` parameter, None for the preset itself.
+    fn description(self) -> anyhow::Result<Option<std::path::PathBuf>> {
+        let (name, stiffer) = match self {
+            MainShaft::Preset => return Ok(None),
+            MainShaft::OneElement => ("one-element", 1.0),
+            MainShaft::Rigid => ("rigid", 1e3),
+        };
+        let mut d = Description::load("grc750")?;
+        let beam = d
+            .rotor
+            .as_mut()
+            .and_then(|r| r.shaft.as_mut())
+            .and_then(|s| s.beam.as_mut())
+            .ok_or_else(|| anyhow::anyhow!("grc750: the bench expects its main shaft as a beam"))?;
+        beam.elements = 1;
+        beam.youngs_modulus *= stiffer;
+        beam.shear_modulus *= stiffer;
+        let file = std::env::temp_dir().join(format!("windrive-bench-grc750-{name}-main-shaft.toml"));
+        std::fs::write(&file, toml::to_string(&d)?)?;
+        Ok(Some(file))
+    }
+}
+
 pub fn run(stop: f64) -> anyhow::Result<()> {
     let six = Path::new("scenes/d-shutdown-6dof");
     let tor = Path::new("scenes/d-shutdown");
@@ -89,22 +124,34 @@ pub fn run(stop: f64) -> anyhow::Result<()> {
     let mut reference: Option<Vec<Vec<f64>>> = None;
     // the reference is the full model at a quarter of the FMU's default internal step (1 ms): its
     // differences are the errors of each row, the step's included
-    let variants: [(&str, usize, &str, f64, &str); 7] = [
-        ("reference: 0.25 ms", 35, "lamina", 2.5e-4, "implicit"),
-        ("35 slices, lamina", 35, "lamina", 1e-3, "hht"),
-        ("same, Newmark", 35, "lamina", 1e-3, "implicit"),
-        ("same, 0.5 ms", 35, "lamina", 5e-4, "hht"),
-        ("11 slices, lamina", 11, "lamina", 1e-3, "hht"),
-        ("5 slices, lamina", 5, "lamina", 1e-3, "hht"),
-        ("35 slices, linear", 35, "linear", 1e-3, "hht"),
+    let variants: [(&str, usize, &str, f64, &str, MainShaft); 9] = [
+        (
+            "reference: 0.25 ms",
+            35,
+            "lamina",
+            2.5e-4,
+            "implicit",
+            MainShaft::Preset,
+        ),
+        ("35 slices, lamina", 35, "lamina", 1e-3, "hht", MainShaft::Preset),
+        ("same, Newmark", 35, "lamina", 1e-3, "implicit", MainShaft::Preset),
+        ("same, 0.5 ms", 35, "lamina", 5e-4, "hht", MainShaft::Preset),
+        ("11 slices, lamina", 11, "lamina", 1e-3, "hht", MainShaft::Preset),
+        ("5 slices, lamina", 5, "lamina", 1e-3, "hht", MainShaft::Preset),
+        ("main shaft 1 element", 35, "lamina", 1e-3, "hht", MainShaft::OneElement),
+        ("rigid main shaft", 35, "lamina", 1e-3, "hht", MainShaft::Rigid),
+        ("35 slices, linear", 35, "linear", 1e-3, "hht", MainShaft::Preset),
     ];
-    for (label, slices, bearings, step, integrator) in variants {
-        let o = vec![
+    for (label, slices, bearings, step, integrator, shaft) in variants {
+        let mut o = vec![
             param("gearbox", "slices", slices),
             param("gearbox", "bearing_model", bearings),
             param("gearbox", "max_internal_step", step),
             param("gearbox", "integrator", integrator),
         ];
+        if let Some(file) = shaft.description()? {
+            o.push(param("gearbox", "gearbox", file.display()));
+        }
         let (wall, cols) = run_scene(six, &o, &channels("gearbox"), stop)?;
         let r = reference.get_or_insert_with(|| cols.clone());
         let rel = |k: usize| format!("{:+.2}%", 100.0 * (peak(&cols[k]) / peak(&r[k]) - 1.0));
