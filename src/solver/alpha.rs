@@ -55,13 +55,16 @@ const NEARLY_LINEAR_INCREMENT_TOLERANCE: f64 = 1e-8;
 /// in 12.6 s instead of 298.
 const RELAXED_AFTER: usize = 6;
 
-/// One step: from `t` by `h`, inputs `u0` at t and `u1` at t + h.
+/// One step: from `t` by `h`, inputs `u0` at t and `u1` at t + h; `fi0`, when the caller has them,
+/// the internal forces at the step's start state (the methods that weight the start of the step
+/// need them, and a driver has just evaluated them for the consistent accelerations).
 #[derive(Debug, Clone, Copy)]
 pub struct Span<'a> {
     pub t: f64,
     pub h: f64,
     pub u0: &'a [f64],
     pub u1: &'a [f64],
+    pub fi0: Option<&'a [f64]>,
 }
 
 /// The four parameters of the family.
@@ -502,7 +505,10 @@ impl AlphaIntegrator {
             external_forces(sys, u1, &mut w.f1);
             if c.af != 0.0 {
                 external_forces(sys, u0, &mut w.f0);
-                sys.internal_forces(t, &st.q, &st.v, &mut w.fi0);
+                match span.fi0 {
+                    Some(fi) => w.fi0[..n].copy_from_slice(&fi[..n]),
+                    None => sys.internal_forces(t, &st.q, &st.v, &mut w.fi0),
+                }
                 if let Some(f) = friction_dof {
                     w.f0[f] += st.friction_force;
                 }

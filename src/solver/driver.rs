@@ -41,6 +41,14 @@ pub struct Driver {
     u1: Vec<f64>,
     f: Vec<f64>,
     fi: Vec<f64>,
+    /// `fi` holds the internal forces at the communication point's state (the consistent
+    /// accelerations evaluated them), which the first sub-step's start-weighted methods reuse.
+    fi_at_start: bool,
+    /// Whether the first sub-step reuses `fi` (true, the default); false evaluates them afresh, the
+    /// check that reusing them changes no bit.
+    pub reuse_start_forces: bool,
+    /// The friction force's accelerations (dense mass).
+    friction_a: Vec<f64>,
     /// The dense mass matrix's factor for consistent accelerations.
     mass: MassSolver,
     /// Most internal steps one `advance` may take: a host's absurd communication step (1e6 s) is
@@ -64,6 +72,9 @@ impl Driver {
             u1: Vec::new(),
             f: Vec::new(),
             fi: Vec::new(),
+            fi_at_start: false,
+            reuse_start_forces: true,
+            friction_a: Vec::new(),
             mass: MassSolver::default(),
             max_steps_per_call: 1e6,
         }
@@ -152,11 +163,16 @@ impl Driver {
         let h = span.1 - span.0;
         let result = match self.method {
             Method::Implicit(_) => {
+                // a sub-step from the communication point starts where the consistent
+                // accelerations evaluated the internal forces (a failed step leaves the state)
+                let reuse = self.reuse_start_forces && self.fi_at_start && span.0 == 0.0;
+                let fi0 = reuse.then_some(&self.fi[..]);
                 let span = Span {
                     t: t + span.0,
                     h,
                     u0: &self.u0,
                     u1: &self.u1,
+                    fi0,
                 };
                 self.alpha.step(sys, st, &span, &mut self.stats)
             }
@@ -192,6 +208,7 @@ impl Driver {
         let u = &self.u0;
         let friction = sys.friction(u).filter(|f| f.kinetic > 0.0 || f.holding > 0.0);
         let mass = sys.mass();
+        self.fi_at_start = false;
         match mass {
             Mass::Diagonal(m)
                 if sys.linearity() == Linearity::Linear
@@ -211,6 +228,7 @@ impl Driver {
                 self.fi.resize(n, 0.0);
                 external_forces(sys, u, &mut self.f);
                 sys.internal_forces(t, &st.q, &st.v, &mut self.fi);
+                self.fi_at_start = true;
                 for (f, fi) in self.f.iter_mut().zip(&self.fi) {
                     *f -= fi;
                 }
@@ -239,9 +257,10 @@ impl Driver {
                     self.f.clear();
                     self.f.resize(n, 0.0);
                     self.f[fr.dof] = force;
-                    self.fi.resize(n, 0.0);
-                    self.mass.solve(mass, &self.f, &mut self.fi);
-                    for (a, d) in st.a.iter_mut().zip(&self.fi) {
+                    // (not in `fi`: the first sub-step reuses it)
+                    self.friction_a.resize(n, 0.0);
+                    self.mass.solve(mass, &self.f, &mut self.friction_a);
+                    for (a, d) in st.a.iter_mut().zip(&self.friction_a) {
                         *a += d;
                     }
                 }

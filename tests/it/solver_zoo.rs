@@ -303,6 +303,75 @@ fn stick_slip_stops_on_time_and_holds_bit_exactly() {
     }
 }
 
+/// `Linear` as the gearbox presents itself to the integrators: nonlinear (the Newton path, with
+/// HHT-α's start-of-step forces) and with a dense mass matrix (the friction's accelerations solved).
+struct DenseNonlinear(Linear, DMatrix<f64>);
+
+impl SecondOrderSystem for DenseNonlinear {
+    fn dofs(&self) -> usize {
+        self.0.dofs()
+    }
+    fn linearity(&self) -> Linearity {
+        Linearity::Nonlinear
+    }
+    fn mass(&self) -> Mass<'_> {
+        Mass::Dense(&self.1)
+    }
+    fn input_loads(&self) -> &[InputLoad] {
+        self.0.input_loads()
+    }
+    fn internal_forces(&self, t: f64, q: &[f64], v: &[f64], out: &mut [f64]) {
+        self.0.internal_forces(t, q, v, out)
+    }
+    fn add_tangent(&self, t: f64, q: &[f64], v: &[f64], c_c: f64, c_k: f64, j: &mut DMatrix<f64>) {
+        self.0.add_tangent(t, q, v, c_c, c_k, j)
+    }
+    fn friction(&self, u: &[f64]) -> Option<Friction> {
+        self.0.friction(u)
+    }
+}
+
+/// HHT-α needs the internal forces at each step's start; the driver hands it those it evaluated
+/// for the consistent accelerations at the communication point. Through sliding, sticking and
+/// breaking free (the friction's accelerations solved with a dense mass), every bit is as when
+/// they are evaluated afresh.
+#[test]
+fn reusing_the_communication_points_forces_changes_no_bit() {
+    let mut chain = Linear::chain(vec![2.0, 1.0], &[400.0, 900.0]);
+    chain.friction_dof = Some(1);
+    chain.c = DMatrix::from_row_slice(2, 2, &[0.5, -0.2, -0.2, 0.3]);
+    let mass = DMatrix::from_row_slice(2, 2, &[2.0, 0.1, 0.1, 1.0]);
+    let sys = DenseNonlinear(chain, mass);
+    let method = Method::Implicit(Alpha::hht(0.8).unwrap());
+    let trajectory = |reuse: bool| {
+        let mut driver = Driver::new(method);
+        driver.reuse_start_forces = reuse;
+        let mut st = DynState::new(vec![0.0, 0.0], vec![1.0, 2.0]);
+        let (mut out, mut locked) = (Vec::new(), 0);
+        for i in 0..3000 {
+            // a pull that sticks the friction DOF for a while and then breaks it free
+            let u = [40.0 * (i as f64 * 2e-3).sin(), 5.0];
+            driver
+                .advance(&sys, &mut st, i as f64 * 1e-3, 1e-3, 1e-3, 2, |_, o| {
+                    o.copy_from_slice(&u)
+                })
+                .unwrap();
+            locked += st.locked as usize;
+            out.extend(st.q.iter().chain(&st.v).chain(&st.a).map(|x| x.to_bits()));
+        }
+        (out, locked)
+    };
+    let (fresh, locked) = trajectory(false);
+    assert!(
+        locked > 100 && locked < 2900,
+        "the contact sticks and slips: {locked} steps locked"
+    );
+    assert!(
+        trajectory(true).0 == fresh,
+        "reusing the start forces changed the trajectory"
+    );
+}
+
 /// The spectral radius of the HHT-α amplification matrix for an undamped oscillator at Ω = h·ω,
 /// from the method's defining equations (Hilber, Hughes, Taylor 1977), not from the integrator:
 /// the state (x, h·v, h²·a) maps to the next by A = L⁻¹·R.

@@ -33,9 +33,8 @@ pub struct Loads {
 impl Gearbox {
     /// Every reported load at (q, v).
     pub fn loads(&self, q: &[f64], v: &[f64]) -> Loads {
-        let mut f = vec![0.0; self.dofs()];
         let mut slices = vec![0.0; self.slice_count()];
-        let flank = self.forces_with_slices(q, v, &mut f, &mut slices);
+        let flank = self.mesh_loads(q, v, &mut slices);
         let mut at = 0;
         let meshes = self
             .meshes

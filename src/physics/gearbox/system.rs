@@ -93,6 +93,23 @@ impl Gearbox {
         loads
     }
 
+    /// Every mesh's flank loads, its per-slice loads written to `slices`, without the springs',
+    /// roller sets' and frames' forces: what the reported loads need of the meshes (the roller sets
+    /// report their own). Half a force evaluation less per reported step.
+    pub fn mesh_loads(&self, q: &[f64], v: &[f64], slices: &mut [f64]) -> Vec<[FlankLoad; 2]> {
+        let mut scratch = vec![0.0; self.dofs()];
+        let mut at = 0;
+        self.meshes
+            .iter()
+            .map(|m| {
+                let n = m.slices();
+                let l = m.add_forces(q, v, &mut scratch, Some(&mut slices[at..at + n]));
+                at += n;
+                l
+            })
+            .collect()
+    }
+
     pub fn slice_count(&self) -> usize {
         self.meshes.iter().map(|m| m.slices()).sum()
     }
