@@ -10,6 +10,7 @@ pub mod loads;
 pub mod mesh;
 pub mod modal;
 pub mod model;
+mod ninth_root;
 pub mod row;
 pub mod statics;
 mod system;
