@@ -72,12 +72,25 @@ impl Gearbox {
         q: &[f64],
         v: &[f64],
         out: &mut [f64],
-        mut slices: Option<&mut [f64]>,
-        mut each: impl FnMut([FlankLoad; 2]),
+        slices: Option<&mut [f64]>,
+        each: impl FnMut([FlankLoad; 2]),
     ) {
         out.iter_mut().for_each(|x| *x = 0.0);
         self.add_spring_forces(q, v, out);
         self.add_frame_forces(q, v, out);
+        self.add_mesh_forces(q, v, out, slices, each);
+    }
+
+    /// The meshes' part of f_int added to `out`, each mesh's flank loads handed to `each` and,
+    /// when given, the per-slice loads written to `slices` (mesh after mesh).
+    fn add_mesh_forces(
+        &self,
+        q: &[f64],
+        v: &[f64],
+        out: &mut [f64],
+        mut slices: Option<&mut [f64]>,
+        mut each: impl FnMut([FlankLoad; 2]),
+    ) {
         let mut at = 0;
         for m in &self.meshes {
             let n = m.slices();
@@ -97,17 +110,9 @@ impl Gearbox {
     /// roller sets' and frames' forces: what the reported loads need of the meshes (the roller sets
     /// report their own). Half a force evaluation less per reported step.
     pub fn mesh_loads(&self, q: &[f64], v: &[f64], slices: &mut [f64]) -> Vec<[FlankLoad; 2]> {
-        let mut scratch = vec![0.0; self.dofs()];
-        let mut at = 0;
-        self.meshes
-            .iter()
-            .map(|m| {
-                let n = m.slices();
-                let l = m.add_forces(q, v, &mut scratch, Some(&mut slices[at..at + n]));
-                at += n;
-                l
-            })
-            .collect()
+        let mut loads = Vec::with_capacity(self.meshes.len());
+        self.add_mesh_forces(q, v, &mut vec![0.0; self.dofs()], Some(slices), |l| loads.push(l));
+        loads
     }
 
     pub fn slice_count(&self) -> usize {
