@@ -64,15 +64,6 @@ fn count(i: usize, n: u64) {
     ANSWERED[i].fetch_add(n, std::sync::atomic::Ordering::Relaxed);
 }
 
-/// CPU time of this thread: what a call costs, not how long a busy machine (or a paused test) kept
-/// it waiting, so a long run at low priority is not failed for a hang it did not have.
-fn cpu_now() -> Duration {
-    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
-    // SAFETY: clock_gettime writes the struct it is given.
-    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32)
-}
-
 /// What one call returned, checked: fmi2Fatal or a hang (a second of CPU) fails the run; an error
 /// is an answer.
 fn judge<T>(what: &str, start: Duration, r: Result<T, ImportError>) -> Option<T> {

@@ -144,3 +144,12 @@ impl Rng {
         xs[self.below(xs.len())]
     }
 }
+
+/// CPU time of this thread: what a call costs, not how long a busy machine (or a paused test) kept
+/// it waiting, so a test run at low priority is not failed for a hang it did not have.
+pub fn cpu_now() -> std::time::Duration {
+    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    // SAFETY: clock_gettime writes the struct it is given.
+    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    std::time::Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32)
+}

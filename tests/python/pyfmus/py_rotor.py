@@ -1,7 +1,7 @@
 """Rotor torque source made with PythonFMU (a tool nobody here wrote): zero until ramp_start, then a
 linear ramp to torque_final over ramp_time; brake command 0; grid connected. Raises an FMU error from
-fail_time on (negative = never), to test how masters handle an FMU that fails mid-run; pauses 0.5 s of
-wall time once at pause_time and crashes the whole process (SIGSEGV) at crash_time, to test what a
+fail_time on (negative = never), to test how masters handle an FMU that fails mid-run; pauses
+pause_length seconds of wall time once at pause_time and crashes the whole process (SIGSEGV) at crash_time, to test what a
 master keeps of its results when a third-party FMU takes it down."""
 import os
 import signal
@@ -21,11 +21,12 @@ class PyRotor(Fmi2Slave):
         self.ramp_time = 0.5
         self.fail_time = -1.0
         self.pause_time = -1.0
+        self.pause_length = 0.5
         self.crash_time = -1.0
         self.rotor_torque = 0.0
         self.brake_command = 0.0
         self.connected = True
-        for name in ("torque_final", "ramp_start", "ramp_time", "fail_time", "pause_time", "crash_time"):
+        for name in ("torque_final", "ramp_start", "ramp_time", "fail_time", "pause_time", "pause_length", "crash_time"):
             self.register_variable(Real(name, causality=Fmi2Causality.parameter, variability=Fmi2Variability.tunable))
         self.register_variable(Real("rotor_torque", causality=Fmi2Causality.output))
         self.register_variable(Real("brake_command", causality=Fmi2Causality.output))
@@ -35,7 +36,7 @@ class PyRotor(Fmi2Slave):
         if 0.0 <= self.fail_time <= current_time:
             return False
         if 0.0 <= self.pause_time <= current_time:
-            time.sleep(0.5)
+            time.sleep(self.pause_length)
             self.pause_time = -1.0
         if 0.0 <= self.crash_time <= current_time:
             os.kill(os.getpid(), signal.SIGSEGV)
