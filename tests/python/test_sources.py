@@ -23,7 +23,7 @@ OUTSIDE = [
     (re.compile(r"shared[/]", re.IGNORECASE), "the reading folder"),
     (re.compile(r"shared\s+seed", re.IGNORECASE), "the reading folder"),
     (re.compile(r"PARAMETERS\.md|PARAMETERS\s*§", re.IGNORECASE), "the private parameter sheet"),
-    (re.compile(r"REFERENCE[-]DATA", re.IGNORECASE), "the private reference-data sheet"),
+    (re.compile(r"REFERENCE[-]DATA", re.IGNORECASE), "the private sheet of reference data"),
     (re.compile(r"FMI[-]NOTES", re.IGNORECASE), "the private FMI notes"),
     (re.compile(r"DEPENDENCIES\.md|DEPENDENCIES\s+A\d", re.IGNORECASE), "the private dependency notes"),
     (re.compile(r"DESIGN\.md", re.IGNORECASE), "the private design notes"),
