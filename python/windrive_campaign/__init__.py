@@ -17,7 +17,7 @@ result file per case, then one Parquet table per campaign. Modules, one job each
 - lifetime: the design life's damage sums, DELs, shares and LDD from the table (issue 15 §2)
 - report:   `report`: lifetime.csv/.json/_ldd.csv, the bar chart and the printed table
 - gears:    [gears]: every gear tooth rated per case by `windrive gears` on the case's series
-- paper_data: the paper's (seed 004) Tables 6 and 7, transcribed
+- paper_data: the paper's Tables 6 and 7 (docs/SOURCES.md §Paper), transcribed
 - paper:    `paper`: our gear damage per wind speed x TI cell beside the paper's, η, the shape checks
 - paper_report: `paper`: the tables as CSV/Markdown, the η heat maps, the JSON summary, the printout
 """

@@ -102,7 +102,7 @@ def main(argv=None) -> int:
     finished_campaign_arguments(rep, "the report files")
     pap = sub.add_parser(
         "paper",
-        help="the paper's Tables 6 and 7 (seed 004) beside ours, η heat maps and shape checks",
+        help="the paper's Tables 6 and 7 (docs/SOURCES.md §Paper) beside ours, η heat maps and shape checks",
         description="Gear damage of a finished wind speed x turbulence intensity grid with [gears] beside the "
         "paper's Table 6 (1-day damage, TI 14 %) and Table 7 (η against steady rated wind), heat maps of η, "
         "and the shapes the paper concludes from (docs/CAMPAIGNS.md, The paper's comparison). Exit status 1 "

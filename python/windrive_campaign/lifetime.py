@@ -33,7 +33,7 @@ from .errors import CampaignError
 
 DEL_COLUMN = re.compile(r"^(?P<channel>.+)\.del_m(?P<m>[0-9.eE+-]+)$")
 
-# Thesis §3.4.3 (shared/seeds/000_…txt, "3.65"): the DEL of the measured shutdown series over the DEL of
+# Thesis §3.4.3 ("3.65"; docs/SOURCES.md §Thesis): the DEL of the measured shutdown series over the DEL of
 # each other measured series, each over its own duration at 1 Hz, m = 6, the same for HSS and LSS torque.
 THESIS_M = 6.0
 THESIS_RATIOS = {"normal operation": 3.65, "start-up": 1.43, "normal stop": 1.1}

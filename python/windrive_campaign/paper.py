@@ -1,4 +1,4 @@
-"""The paper's comparison (seed 004, Tables 6 and 7; paper_data.py) from a campaign's table: our gear
+"""The paper's comparison (its Tables 6 and 7; paper_data.py) from a campaign's table: our gear
 damage per cell of wind speed × turbulence intensity, both tables side by side, and the shapes the paper
 draws its conclusions from. Pure computation on the table; paper_report.py writes and prints it.
 

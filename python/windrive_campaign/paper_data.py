@@ -1,6 +1,6 @@
 """The paper's published gear damage, transcribed for `scripts/campaign paper` (paper.py): D. Xiang,
 L. Jiang, M. You, Y. Shen, "Influence of Quasi-Steady Wind Loads on the Fatigue Damage of Wind Turbine
-Gearboxes" (Tsinghua University; seed 004 of this project), Table 6 and Table 7. Embedded here so the
+Gearboxes" (Tsinghua University; docs/SOURCES.md §Paper), Table 6 and Table 7. Embedded here so the
 report never reads the paper's text at run time.
 
 Transcribed by hand from the paper's extracted text, where both tables lost their layout; how each was

@@ -145,7 +145,7 @@ def heat_maps(rel_ours: pd.DataFrame, path: Path):
                 ax.set_ylabel("wind speed [m/s]", fontsize=8)
         fig.colorbar(im, ax=list(axes[:, k]), shrink=0.8, label="η [%]")
     fig.suptitle(f"η = (D − D_const,rated) / D_const,rated, D_const,rated = steady {data.RATED_SPEED:g} m/s "
-                 "(paper: seed 004 Table 7)", fontsize=10)  # fmt: skip
+                 "(paper: Table 7)", fontsize=10)  # fmt: skip
     fig.savefig(path, dpi=100)
     plt.close(fig)
 
@@ -186,7 +186,7 @@ def summary(cmp: paper.Comparison, table: Path, meta: dict) -> dict:
         "campaign": meta.get("campaign"),
         "table": str(table),
         "paper": "Xiang, Jiang, You, Shen: Influence of Quasi-Steady Wind Loads on the Fatigue Damage of Wind "
-                 "Turbine Gearboxes (seed 004), Tables 6 and 7",
+                 "Turbine Gearboxes, Tables 6 and 7",
         "definitions": DEFINITIONS,
         "cases_used": c.used,
         "cells": [{"wind_speed": v, "ti_pct": ti, "cases": int(n)} for (v, ti), n in c.count.items()],

@@ -1,7 +1,7 @@
-//! What the thesis measured on drivetrain C's field turbine (ch. 3; PARAMETERS.md §5), as statistics
-//! of a normal-operation and a shutdown run, and each one's misfit: the objective the scene inputs
-//! that no source gives (turbulence intensity, brake torque and ramp, pitch rate, trip delay) are
-//! fitted to by `windrive calibrate`.
+//! What the thesis measured on drivetrain C's field turbine (its ch. 3; the sun–planet force ranges are
+//! its drivetrain C results, §6.2), as statistics of a normal-operation and a shutdown run, and each
+//! one's misfit: the objective the scene inputs that no source gives (turbulence intensity, brake torque
+//! and ramp, pitch rate, trip delay) are fitted to by `windrive calibrate`.
 //!
 //! Misfits are logarithmic, ln(achieved / target), so a factor of two weighs the same whichever the
 //! statistic's size: zero inside a bound the thesis states as "more than" or "between", the distance

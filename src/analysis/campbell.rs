@@ -105,7 +105,7 @@ mod tests {
         assert_eq!(m, vec![(2.5, 1), (40.0, 2), (70.0, 1)]);
     }
 
-    /// PARAMETERS.md §1, Table 4.8 of the thesis: C 174×, 648×, 2664× (thesis convention) with the
+    /// Table 4.8 of the thesis: C 174×, 648×, 2664× (thesis convention) with the
     /// physical first stage 145×; A 146× and 730× (thesis) for the two planetary stages.
     #[test]
     fn mesh_orders_of_c_and_a() {

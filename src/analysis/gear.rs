@@ -3,7 +3,7 @@
 //! gives a formula (α_t, β_b, α_wt, ε_α, ε_β, Z_H, Z_E, Z_ε, Z_β, Y_β) and are parameters otherwise
 //! (K_A, K_v, K_Hβ, K_Fβ, K_Hα, K_Fα, K_γ); Y_F and Y_S of external teeth come from the root geometry
 //! in `tooth_root`. Life factors Z_NT and Y_NT for case-carburised
-//! steel are interpolated log–log between the standard's knots (REFERENCE-DATA §5.5).
+//! steel are interpolated log–log between the standard's knots (ISO 6336-2/-3; docs/SOURCES.md §Published inputs).
 
 use std::f64::consts::PI;
 
@@ -157,7 +157,7 @@ pub struct Factors {
     pub k_h_alpha: f64,
     pub k_f_beta: f64,
     pub k_f_alpha: f64,
-    /// Load sharing of a planetary stage (1.10 for 3 planets, REFERENCE-DATA §5.4).
+    /// Load sharing of a planetary stage (1.10 for 3 planets, IEC 61400-4).
     pub k_gamma: f64,
     /// Single-pair contact factor Z_B,D.
     pub z_bd: f64,
@@ -169,8 +169,9 @@ pub struct Factors {
 }
 
 impl Default for Factors {
-    /// Everything 1, except K_A = 1.25 (REFERENCE-DATA §5.4) and Y_F·Y_S of a standard 20° tooth
-    /// with about 25 teeth (Y_F 2.6, Y_S 1.6: ISO 6336-3 charts, for illustration; give your own).
+    /// Everything 1, except K_A = 1.25 (as gfsReboucas/Drivetrain's NREL 5 MW rating takes it) and Y_F·Y_S
+    /// of a standard 20° tooth with about 25 teeth (Y_F 2.6, Y_S 1.6: ISO 6336-3 charts, for illustration;
+    /// give your own).
     fn default() -> Self {
         Factors {
             k_a: 1.25,
@@ -377,8 +378,8 @@ pub(crate) mod tests {
     }
 
     /// Textbook values: Z_H = 2.495 for a spur pair with α = 20° and no shift (ISO 6336-2 chart);
-    /// Z_E = 189.8 √MPa for steel on steel (REFERENCE-DATA §5.4); ε_α = 1.557 for 20/20 teeth of
-    /// standard full depth.
+    /// Z_E = 189.8 √MPa for steel on steel (ISO 6336-2's formula, E = 206 GPa, ν = 0.3); ε_α = 1.557 for
+    /// 20/20 teeth of standard full depth.
     #[test]
     fn standard_factors() {
         let g = spur(20, 20, false).geometry();
@@ -392,7 +393,7 @@ pub(crate) mod tests {
         assert!((g.centre_distance - 0.2).abs() < 1e-12);
     }
 
-    /// NREL 5 MW gearbox (REFERENCE-DATA §2.1, Nejad et al. 2016 Table V): the profile shifts turn
+    /// NREL 5 MW gearbox (Nejad et al. 2016 Table V): the profile shifts turn
     /// the standard centre distances 810 / 567 / 845.9 mm into the published 863 / 584 / 861 mm.
     #[test]
     fn nrel_5mw_centre_distances_from_profile_shift() {
@@ -466,7 +467,7 @@ pub(crate) mod tests {
         assert!((contact_life_factor(5e7) - 1.0).abs() < 1e-12);
         assert!((bending_life_factor(3e6) - 1.0).abs() < 1e-12);
         assert_eq!(bending_life_factor(1e12), 0.85);
-        // REFERENCE-DATA §5.5: implied S-N exponents (σ ∝ N^(−1/m)) 13.2 for contact, 8.74 for bending
+        // ISO 6336-2/-3's knots imply S-N exponents (σ ∝ N^(−1/m)) 13.2 for contact, 8.74 for bending
         let slope = |f: fn(f64) -> f64, n0: f64, n1: f64| (n1 / n0).ln() / (f(n0) / f(n1)).ln();
         assert!((slope(contact_life_factor, 1e5, 5e7) - 13.2).abs() < 0.05);
         assert!((slope(bending_life_factor, 1e3, 3e6) - 8.74).abs() < 0.01);

@@ -1,5 +1,5 @@
-//! Every gear tooth of a gearbox rated together from one recorded series, as the paper does it (shared
-//! seed 004, §1.3): the mesh force of each stage → ISO 6336-2 contact and ISO 6336-3 root stresses
+//! Every gear tooth of a gearbox rated together from one recorded series, as the paper does it (its
+//! §1.3): the mesh force of each stage → ISO 6336-2 contact and ISO 6336-3 root stresses
 //! (the paper's Eqs. 2–3: nominal stresses, no load factors) → load cycles from the gear's speed
 //! (its Eq. 1, n = Σ t_j ω_j / 2π, the LDD with bins as fine as the samples) → Miner's sum over a
 //! two-slope S-N curve per material (its second slope 2m − 1) → damage in the window and per day.
@@ -66,8 +66,8 @@ pub struct Material {
     pub bending: SnCurve,
 }
 
-/// Case-carburised 18CrNiMo7-6 (Eh), MQ: σ_Hlim 1500 MPa, σ_Flim 500 MPa (ISO 6336-5, REFERENCE-DATA
-/// §5.5); Z_NT 1.6 at 1e5 → 1 at 5e7, Y_NT 2.5 at 1e3 → 1 at 3e6.
+/// Case-carburised 18CrNiMo7-6 (Eh), MQ: σ_Hlim 1500 MPa, σ_Flim 500 MPa (ISO 6336-5); Z_NT 1.6 at 1e5
+/// → 1 at 5e7, Y_NT 2.5 at 1e3 → 1 at 3e6 (ISO 6336-2, -3).
 pub const CASE_CARBURISED: Material = Material {
     name: "18CrNiMo7-6 case carburised (Eh, MQ)",
     contact_limit: CONTACT_LIMIT_EH_MQ,
@@ -268,7 +268,7 @@ pub fn rate_series(path: &Path, teeth: &[RatedTooth], transient: f64) -> Result<
         .collect()
 }
 
-/// The paper's gearbox (seed 004 Table 4; PARAMETERS.md §8) as the scene's `component` outputs it: the
+/// The paper's gearbox (paper Table 4) as the scene's `component` outputs it: the
 /// torsional FMU with preset P (transverse mesh forces) or the gearbox6dof FMU with `paper1p5mw`
 /// (normal mesh forces), both of which name their mesh forces alike. It is the table of the
 /// `paper1p5mw` description ([`description_table`]: teeth, modules, shifts, the rings 34CrNiMo6 and every
@@ -483,7 +483,7 @@ mod tests {
             let ratio = c.cycles_to_failure(0.5) / c.cycles_to_failure(1.0);
             assert!((ratio.ln() / 2f64.ln() - (2.0 * m - 1.0)).abs() < 1e-9);
         }
-        // REFERENCE-DATA §5.5: the implied slopes 13.2 (contact) and 8.74 (bending, Eh); V bends at 6.2
+        // ISO 6336-2/-3's knots imply the slopes 13.2 (contact) and 8.74 (bending, Eh); V bends at 6.2
         assert!((CASE_CARBURISED.contact.slope() - 13.2).abs() < 0.05);
         assert!((CASE_CARBURISED.bending.slope() - 8.74).abs() < 0.01);
         assert!((THROUGH_HARDENED.bending.slope() - 300f64.ln() / 2.5f64.ln()).abs() < 1e-12);

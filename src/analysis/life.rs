@@ -75,7 +75,7 @@ mod tests {
         assert!((d / (n / (bearing_l10(1.2e6, p_eq, true) * 1e6)) - 1.0).abs() < 1e-12);
     }
 
-    /// PARAMETERS.md §6: a UW bearing carrying 1.6× the DW load lives 1.6^(10/3) = 4.79× shorter.
+    /// Thesis §7.1 (Eqs. 7.1–7.2): a UW bearing carrying 1.6× the DW load lives 1.6^(10/3) = 4.79× shorter.
     #[test]
     fn load_ratio_to_life_ratio() {
         let ratio = bearing_l10(5500e3, 100e3, true) / bearing_l10(5500e3, 160e3, true);

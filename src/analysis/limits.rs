@@ -1,4 +1,4 @@
-//! Allowable stresses the thesis checks against (PARAMETERS.md §6, REFERENCE-DATA §5.5): IEC 61400-4
+//! Allowable stresses the thesis checks against (its §7.2; σ_Hlim, σ_Flim from ISO 6336-5): IEC 61400-4
 //! maximum Hertz pressure of gearbox bearings and ISO 6336-5 limits of case-carburised gears.
 
 /// σ_Hlim of case-carburised 18CrNiMo7-6 (Eh), quality MQ (ISO 6336-5), Pa.

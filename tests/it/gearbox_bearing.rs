@@ -262,7 +262,7 @@ fn tilt_loads_the_laminae_unevenly() {
     assert!(straight.force[4].abs() < 1e-6 * straight.force[0]);
 }
 
-/// REFERENCE-DATA §4's worked example: a Ø40 roller on a Ø200 inner race (R' = 16.67 mm), steel,
+/// Worked by hand from Johnson's formulas: a Ø40 roller on a Ø200 inner race (R' = 16.67 mm), steel,
 /// 1000 N/mm: p_max = 1484 MPa, b = 0.429 mm; the shear peaks at 0.300 p_max, 0.786 b deep
 /// (Johnson §4.2). Tolerances 0.2 % (the printed digits).
 #[test]

@@ -1,4 +1,4 @@
-//! The paper's 1.5 MW turbine (preset P, scenes/p-normal; shared seed 004) as its global model behaves:
+//! The paper's 1.5 MW turbine (preset P, scenes/p-normal; docs/SOURCES.md §Paper) as its global model behaves:
 //!
 //! - steady wind above rated: rotor speed at 17.5 rpm within 0.5 % and rotor power at the 1650 kW the
 //!   paper reports above rated within 1 % (the pitch PI holds speed; the torque law holds torque);

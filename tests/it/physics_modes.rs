@@ -1,4 +1,4 @@
-//! Modal analysis against the thesis's published 2-mass values (PARAMETERS.md §2) and agreement of
+//! Modal analysis against the thesis's published 2-mass values (its §6.1, from Table 4.2) and agreement of
 //! the three fidelities built from one description.
 
 use windrive::physics::drivetrain::{Drivetrain, PRESETS};

@@ -126,7 +126,7 @@ fn drivetrains_a_and_b_shutdown_with_the_scaled_input() {
 }
 
 /// The variable-speed torque law in region 2 with the analytic rotor in steady wind: the rotor
-/// settles at the C_p optimum, λ = 8.10 and P = ½ρπR²V³·0.480 (REFERENCE-DATA §7.2), through the
+/// settles at the C_p optimum, λ = 8.10 and P = ½ρπR²V³·0.480 (Heier's C_p by hand), through the
 /// DFIG (C) and the PMG (A) with their current loops. Started 3 % off the equilibrium speed; the
 /// tolerance (0.05 % on both; measured 1e-5) covers what 60 s of the slow k·ω² convergence leaves.
 #[test]

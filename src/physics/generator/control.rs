@@ -1,7 +1,7 @@
 //! The torque demand a variable-speed turbine's controller sends to the converter, from the
 //! low-pass filtered generator speed ω_f. Two laws:
 //!
-//! - `Law`: the NREL baseline (Jonkman's DISCON; REFERENCE-DATA §3.6) region law. Region 1 (below
+//! - `Law`: the NREL baseline (Jonkman's DISCON, OpenFAST r-test) region law. Region 1 (below
 //!   cut-in) 0; region 1½ a line from cut-in to the start of region 2; region 2 k·ω² (the optimal
 //!   tip-speed-ratio law); region 2½ a line through the synchronous speed of a `slip` induction
 //!   machine ending at rated torque; region 3 (ω_f ≥ rated) constant power P/ω_f. Torque ≤ max.
@@ -48,7 +48,7 @@ impl TorqueLaw {
         self.rated_power / self.rated_speed / (self.rated_speed - self.sync_speed)
     }
 
-    /// Where k·ω² meets the region-2½ line (REFERENCE-DATA §3.5, VS_TrGnSp); the rated speed when
+    /// Where k·ω² meets the region-2½ line (OpenFAST ServoDyn's VS_TrGnSp); the rated speed when
     /// k·ω² lies above the line everywhere below rated.
     pub fn transition_speed(&self) -> f64 {
         let s = self.slope25();
@@ -142,7 +142,7 @@ impl TorqueControl {
 mod tests {
     use super::*;
 
-    /// REFERENCE-DATA §3.5/3.6: the NREL 5 MW law (VS_RtGnSp 121.6805 rad/s, VS_Rgn2K 2.332287,
+    /// The NREL 5 MW law (Jonkman's DISCON: VS_RtGnSp 121.6805 rad/s, VS_Rgn2K 2.332287,
     /// VS_SlPc 10 %, VS_RtPwr 5 296 610 W, cut-in 70.16224 rad/s) gives VS_SySp 110.619 rad/s,
     /// VS_TrGnSp 119.014 rad/s, Slope15 921.83 and Slope25 3935.04 N·m/(rad/s).
     #[test]

@@ -148,7 +148,7 @@ pub(crate) mod tests {
         }
     }
 
-    /// AWT-27 Thevenin induction generator (REFERENCE-DATA §3.3, OpenFAST TEC model), in per unit
+    /// AWT-27 Thevenin induction generator (OpenFAST r-test's AWT_YFix_WSt, ServoDyn's TEC model), in per unit
     /// on Z_b = 1 Ω so the machine data are the published ohms: the steady torque of the
     /// third-order model equals OpenFAST's closed-form A0·V²·s/(C0 + C1·s + C2·s²) — the same
     /// equivalent circuit solved a different way.

@@ -1,4 +1,4 @@
-//! Generators of drivetrains A–D (thesis Table 4.6, PARAMETERS.md §4) and the typical values the
+//! Generators of drivetrains A–D (thesis Table 4.6) and the typical values the
 //! sources leave out. Per unit on the generator's rated power and voltage:
 //!
 //! | | A | B | C | D |
@@ -14,7 +14,7 @@
 //! The PMG's synchronous inductance is L_m + L_ls. Torque-law defaults: region 2 at the analytic
 //! rotor's optimal tip-speed ratio, cut-in at the minimum rotor speed (thesis Table 3.1), region 2½
 //! over 10 % slip, region 3 at 99 % of rated speed, torque ≤ 1.1 × rated, speed filter 0.25 Hz
-//! (the NREL baseline's choices, REFERENCE-DATA §3.6).
+//! (the NREL 5 MW baseline controller's choices, Jonkman's DISCON).
 
 use super::control::{SpeedRegulator, TorqueControl, TorqueLaw};
 use super::induction::Induction;
