@@ -234,10 +234,11 @@ fn generate(m: &Model, xml: &str, guid: &str) -> String {
     .unwrap();
     writeln!(
         s,
-        "use crate::fmi2::variables::{{Causality, Start, VarType, Variability, Variable}};"
+        "use crate::fmi2::fmu::variables::{{Causality, Start, VarType, Variability, Variable}};"
     )
     .unwrap();
-    writeln!(s, "use crate::fmi2::slave as s;").unwrap();
+    writeln!(s, "use crate::fmi2::fmu::slave as s;").unwrap();
+    writeln!(s, "use crate::fmi2::fmu::error as e;").unwrap();
     writeln!(s, "pub const MODEL_IDENTIFIER: &str = {:?};", m.identifier).unwrap();
     writeln!(s, "pub const GUID: &str = {guid:?};").unwrap();
     writeln!(
@@ -533,7 +534,7 @@ fn range_check(v: &Var) -> String {
         return String::new();
     }
     let (min, max) = (option_literal(&v.min), option_literal(&v.max));
-    format!("s::ParameterError::check_range({:?}, {x}, {min}, {max})?; ", v.name)
+    format!("e::ParameterError::check_range({:?}, {x}, {min}, {max})?; ", v.name)
 }
 
 /// The variables of `vars` with type `t`.
@@ -580,7 +581,7 @@ fn generate_faces(m: &Model, s: &mut String) {
                 t.fmi
             ),
             &format!(
-                "set_{}(&mut self, {}: u32, {}: {}) -> Result<bool, s::ParameterError>",
+                "set_{}(&mut self, {}: u32, {}: {}) -> Result<bool, e::ParameterError>",
                 t.method,
                 unused(&these, "r"),
                 unused(&these, "value"),
@@ -651,7 +652,7 @@ fn generate_faces(m: &Model, s: &mut String) {
     )
     .unwrap();
     let (order, value) = (unused(&reals, "order"), unused(&reals, "value"));
-    writeln!(s, "    pub fn set_derivative(&mut self, r: u32, {order}: i32, {value}: f64) -> s::SlaveResult<()> {{\n        match r {{").unwrap();
+    writeln!(s, "    pub fn set_derivative(&mut self, r: u32, {order}: i32, {value}: f64) -> e::SlaveResult<()> {{\n        match r {{").unwrap();
     for v in &reals {
         writeln!(
             s,
@@ -663,7 +664,7 @@ fn generate_faces(m: &Model, s: &mut String) {
     }
     writeln!(
         s,
-        "            _ => Err(s::err(format!(\"Real value reference {{r}} is not an input\"))),\n        }}\n    }}\n"
+        "            _ => Err(e::err(format!(\"Real value reference {{r}} is not an input\"))),\n        }}\n    }}\n"
     )
     .unwrap();
     writeln!(s, "    /// Moves every Real input's expansion point forward by `h` seconds (after a step), so the\n    /// polynomials continue if nobody sets new values.").unwrap();
@@ -681,7 +682,7 @@ fn generate_faces(m: &Model, s: &mut String) {
     .unwrap();
     writeln!(
         s,
-        "pub fn no_getter(ty: VarType, r: u32) -> s::SlaveError {{\n    s::no_getter(variable(ty, r), ty, r)\n}}"
+        "pub fn no_getter(ty: VarType, r: u32) -> e::SlaveError {{\n    s::no_getter(variable(ty, r), ty, r)\n}}"
     )
     .unwrap();
     for t in &TYPES {
@@ -695,7 +696,7 @@ fn generate_faces(m: &Model, s: &mut String) {
         .unwrap();
         writeln!(s, "#[inline]\npub fn get_{m}(p: &Parameters, i: &Inputs, r: u32) -> Option<{}> {{\n    p.get_{m}(r).or_else(|| i.get_{m}(r)){to_owned}\n}}", t.owned).unwrap();
         writeln!(s, "\n/// Sets {} {f} parameter or input by value reference (see [`Parameters::set_{m}`] and\n/// [`Inputs::set_{m}`]); anything else is refused by name. The parameters are shared with the\n/// FMU states taken since they last changed: only a parameter's value copies them (an input's\n/// never does).", a.to_lowercase()).unwrap();
-        writeln!(s, "#[inline]\npub fn set_{m}(p: &mut std::sync::Arc<Parameters>, i: &mut Inputs, r: u32, value: {}, log: &mut dyn s::Log) -> s::SlaveResult<s::Changed> {{", t.arg).unwrap();
+        writeln!(s, "#[inline]\npub fn set_{m}(p: &mut std::sync::Arc<Parameters>, i: &mut Inputs, r: u32, value: {}, log: &mut dyn s::Log) -> e::SlaveResult<s::Changed> {{", t.arg).unwrap();
         writeln!(s, "    if i.set_{m}(r, value, log) {{\n        Ok(s::Changed::Input)\n    }} else if std::sync::Arc::make_mut(p).set_{m}(r, value)? {{\n        Ok(s::Changed::Parameter)\n    }} else {{\n        Err(s::cannot_set(variable(VarType::{f}, r), VarType::{f}, r))\n    }}\n}}").unwrap();
     }
 }
@@ -737,9 +738,9 @@ fn main() {
 
     #[cfg(feature = "cli")]
     {
-        println!("cargo:rerun-if-changed=src/fmi2/logger.c");
+        println!("cargo:rerun-if-changed=src/fmi2/host/logger.c");
         cc::Build::new()
-            .file("src/fmi2/logger.c")
+            .file("src/fmi2/host/logger.c")
             .warnings(true)
             .compile("windrive_logger");
     }

@@ -1,7 +1,7 @@
 //! windrive: wind-turbine drivetrain models as FMI 2.0 Co-Simulation FMUs, the master that couples
 //! them, and the analysis drivetrain engineers run on the results.
 //!
-//! Data flows one way: `physics` ← `solver` ← `fmi2::export` ← `fmus/*`. Physics never sees FFI.
+//! Data flows one way: `physics` ← `solver` ← `fmi2::fmu::export` ← `fmus/*`. Physics never sees FFI.
 //! Determinism: every model is a pure function of its parameters, inputs and step sizes; the same
 //! calls give bit-identical results, and a restored FMU state continues bit-identically.
 

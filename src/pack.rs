@@ -2,7 +2,7 @@
 //! modelDescription.xml (taken from the built binary, so its GUID is the binary's),
 //! binaries/linux64/<name>.so, resources/ and documentation/index.html.
 
-use crate::fmi2::description::ModelDescription;
+use crate::fmi2::host::description::ModelDescription;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 

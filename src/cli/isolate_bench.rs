@@ -5,7 +5,7 @@
 
 use crate::cosim::master::read_recorded;
 use crate::cosim::{Algorithm, Master, Options, Record, Scene, System};
-use crate::fmi2::isolate::Isolation;
+use crate::fmi2::host::isolate::Isolation;
 use anyhow::bail;
 use std::path::Path;
 use std::time::Instant;

@@ -292,6 +292,6 @@ pub fn print_rated<T: serde::Serialize>(rated: &[T], json: bool, text: fn(&[T]) 
 
 /// `windrive fmu-host`: serves until the master says quit or is gone.
 pub fn fmu_host(args: &FmuHostArgs) -> anyhow::Result<()> {
-    crate::fmi2::isolate::host::serve(args.fd, &args.dir, &args.name, args.logging, args.master)
+    crate::fmi2::host::serve::serve(args.fd, &args.dir, &args.name, args.logging, args.master)
         .map_err(|e| anyhow::anyhow!("fmu-host {}: {e}", args.name))
 }

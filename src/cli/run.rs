@@ -191,7 +191,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let params = parse_params(&args.params)?;
     let mut system = if args.isolate {
         let host = std::env::current_exe().context("finding windrive's executable to host the FMUs")?;
-        let mut how = crate::fmi2::isolate::Isolation::new(host);
+        let mut how = crate::fmi2::host::isolate::Isolation::new(host);
         how.call_timeout = args.call_timeout.map(std::time::Duration::from_secs_f64);
         System::build_isolated(&scene, &params, &record, &how)?
     } else {
@@ -200,7 +200,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     for w in &system.warnings {
         eprintln!("warning: {w}");
     }
-    let fmu_default = |f: fn(&crate::fmi2::description::DefaultExperiment) -> Option<f64>| {
+    let fmu_default = |f: fn(&crate::fmi2::host::description::DefaultExperiment) -> Option<f64>| {
         system
             .units
             .iter()

@@ -4,7 +4,7 @@
 //! same run (the iterative algorithm saves every FMU's state at every macro step).
 
 use crate::cosim::{Algorithm, Master, Options, Record, Scene, System};
-use crate::fmi2::import::Fmu;
+use crate::fmi2::host::import::Fmu;
 use std::path::Path;
 use std::time::Instant;
 

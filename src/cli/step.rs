@@ -3,7 +3,7 @@
 
 use crate::analysis::spectrum::dominant_in_window;
 use crate::cosim::recorder::CsvWriter;
-use crate::fmi2::import::Fmu;
+use crate::fmi2::host::import::Fmu;
 use crate::reference::step::{CHANNELS, Rows, Scenario, column, run_fmi};
 use anyhow::Context;
 use std::path::{Path, PathBuf};

@@ -1,12 +1,15 @@
 //! The checks a scene must pass before any FMU is instantiated: connectors against the FMUs,
 //! parameter values against their variables, and algebraic loops through direct feedthrough.
 
+use super::error::SystemError;
 use super::ssp::{Component, Scene, Value};
-use super::system::{Endpoint, SystemError};
-use crate::fmi2::description::{ModelDescription, ScalarVariable};
-use crate::fmi2::import::Fmu;
+use crate::fmi2::host::description::{ModelDescription, ScalarVariable};
+use crate::fmi2::host::import::Fmu;
 use std::collections::HashMap;
 use std::sync::Arc;
+
+/// A connection end: (unit, variable name).
+pub(super) type Endpoint = (usize, String);
 
 /// Checks that can fail before any FMU is instantiated.
 pub(super) struct Checker<'a> {

@@ -14,7 +14,7 @@
 use super::acceleration::{Acceleration, Accelerator};
 use super::system::System;
 use super::unit::{DiscreteInputs, Unit};
-use crate::fmi2::import::ImportError;
+use crate::fmi2::host::error::ImportError;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Algorithm {

@@ -4,6 +4,7 @@
 pub mod acceleration;
 mod checks;
 pub mod divergence;
+pub mod error;
 pub mod master;
 pub mod recorder;
 pub mod ssp;
@@ -22,5 +23,6 @@ pub type Override = (String, String, String);
 pub fn param(component: &str, variable: &str, value: impl ToString) -> Override {
     (component.to_string(), variable.to_string(), value.to_string())
 }
-pub use system::{Record, System, SystemError};
+pub use error::SystemError;
+pub use system::{Record, System};
 pub use unit::{Kind, Link, Unit};

@@ -5,7 +5,8 @@
 //! Prefixes are not interpreted (see `xml.rs`), so `ssd:Component` and `Component` read the same.
 
 use super::xml::{self, Element};
-use crate::fmi2::import::{ImportError, TempDir, unzip};
+use crate::fmi2::host::archive::{TempDir, unzip};
+use crate::fmi2::host::error::ImportError;
 use std::path::{Path, PathBuf};
 
 #[derive(Debug, thiserror::Error)]

@@ -3,31 +3,19 @@
 //! propagated. The master (`master.rs`) only sees the [`Unit`]s built here.
 
 use super::checks::{
-    Checker, check_connectors, check_parameters, component_list, find_algebraic_loops, parameter_bound,
+    Checker, Endpoint, check_connectors, check_parameters, component_list, find_algebraic_loops, parameter_bound,
     typed_overrides, variable,
 };
+use super::error::SystemError;
 use super::ssp::{Scene, Value};
 use super::unit::{DiscreteInputs, Inputs, Kind, Link, Unit, VarGroup, kind_of};
-use crate::fmi2::description::ScalarVariable;
-use crate::fmi2::import::{Fmu, ImportError};
-use crate::fmi2::isolate::Isolation;
+use crate::fmi2::host::description::ScalarVariable;
+use crate::fmi2::host::error::ImportError;
+use crate::fmi2::host::import::Fmu;
+use crate::fmi2::host::isolate::Isolation;
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
-
-#[derive(Debug, thiserror::Error)]
-pub enum SystemError {
-    #[error("component {component}: {error}")]
-    Load { component: String, error: ImportError },
-    #[error("{ssd}:{line}: {message}")]
-    Invalid { ssd: PathBuf, line: usize, message: String },
-    #[error("algebraic loop through direct-feedthrough outputs: {0}")]
-    AlgebraicLoop(String),
-    #[error("component {component}: {error}")]
-    Call { component: String, error: ImportError },
-    #[error("{0}")]
-    Record(String),
-}
 
 /// A connection resolved to value references, before the units exist.
 #[derive(Debug, Clone, Copy)]
@@ -40,9 +28,6 @@ struct PendingInput {
     factor: f64,
     offset: f64,
 }
-
-/// A connection end: (unit, variable name).
-pub(super) type Endpoint = (usize, String);
 
 /// The runnable system.
 pub struct System {

@@ -1,8 +1,10 @@
 //! One instantiated component as the master sees it: the values it fetches after every step, the
 //! inputs it receives and where they come from, and its saved FMU state for rollback.
 
-use crate::fmi2::description::ScalarVariable;
-use crate::fmi2::import::{Fmu, ImportError, Instance, SavedState};
+use crate::fmi2::host::description::ScalarVariable;
+use crate::fmi2::host::error::ImportError;
+use crate::fmi2::host::import::{Fmu, Instance};
+use crate::fmi2::host::state::SavedState;
 use std::sync::Arc;
 
 /// Kinds of values a master moves between FMUs. Enumerations travel as Integer.

@@ -28,12 +28,12 @@ pub enum ReferenceError {
     Model(String),
     #[cfg(feature = "cli")]
     #[error(transparent)]
-    Fmu(#[from] crate::fmi2::import::ImportError),
+    Fmu(#[from] crate::fmi2::host::error::ImportError),
     #[cfg(feature = "cli")]
     #[error("at t = {time} s: {source}")]
     Step {
         time: f64,
-        source: crate::fmi2::import::ImportError,
+        source: crate::fmi2::host::error::ImportError,
     },
     #[cfg(feature = "cli")]
     #[error(transparent)]
@@ -46,8 +46,8 @@ pub enum ReferenceError {
     Master(#[from] crate::cosim::MasterError),
 }
 
-impl From<crate::fmi2::slave::SlaveError> for ReferenceError {
-    fn from(e: crate::fmi2::slave::SlaveError) -> Self {
+impl From<crate::fmi2::fmu::error::SlaveError> for ReferenceError {
+    fn from(e: crate::fmi2::fmu::error::SlaveError) -> Self {
         Self::Model(e.0)
     }
 }

@@ -6,7 +6,7 @@
 //! against; [`run_fmi`] runs the same scenario through the FMI boundary.
 
 use super::ReferenceError;
-use crate::fmi2::slave::{NoLog, Slave};
+use crate::fmi2::fmu::slave::{NoLog, Slave};
 use crate::models::torsional::vr;
 use crate::physics::drivetrain::Drivetrain;
 use crate::slaves::torsional::TorsionalSlave;
@@ -80,7 +80,11 @@ impl Scenario {
 /// torque is read each step (the benchmark's loop: set 3 inputs, step, get 1 output). Returns the
 /// rows and the wall time of the stepping, s.
 #[cfg(feature = "cli")]
-pub fn run_fmi(fmu: &crate::fmi2::import::Fmu, sc: &Scenario, record: bool) -> Result<(Rows, f64), ReferenceError> {
+pub fn run_fmi(
+    fmu: &crate::fmi2::host::import::Fmu,
+    sc: &Scenario,
+    record: bool,
+) -> Result<(Rows, f64), ReferenceError> {
     let rated = sc.rated_torques()?;
     let mut inst = fmu.instantiate("torsional", false)?;
     inst.setup_experiment(0.0, Some(sc.stop_time))?;

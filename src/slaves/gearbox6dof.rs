@@ -2,8 +2,9 @@
 //! [`Gearbox`] and the implicit integrators of [`crate::solver`]. Its connectors are `torsional`'s,
 //! so it replaces it in any scene.
 
-use crate::fmi2::slave::{Changed, Log, ParameterError, Slave, SlaveResult, err};
-use crate::fmi2::variables::VarType;
+use crate::fmi2::fmu::error::{ParameterError, SlaveResult, err};
+use crate::fmi2::fmu::slave::{Changed, Log, Slave};
+use crate::fmi2::fmu::variables::VarType;
 use crate::models::gearbox6dof as xml;
 use crate::models::gearbox6dof::vr;
 use crate::physics::brake::DiskBrake;

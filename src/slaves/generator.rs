@@ -3,8 +3,9 @@
 //! equilibrium at the speed input of that moment (re-built while the speed is still being set
 //! during initialisation).
 
-use crate::fmi2::slave::{Changed, Log, ParameterError, Slave, SlaveResult, err};
-use crate::fmi2::variables::VarType;
+use crate::fmi2::fmu::error::{ParameterError, SlaveResult, err};
+use crate::fmi2::fmu::slave::{Changed, Log, Slave};
+use crate::fmi2::fmu::variables::VarType;
 use crate::models::generator as xml;
 use crate::models::generator::vr;
 use crate::physics::generator::presets::{self, Kind, Overrides};

@@ -1,5 +1,5 @@
 //! FMU faces of the physics: each maps one modelDescription's variables onto a model and implements
-//! [`crate::fmi2::slave::Slave`]. The `fmus/<name>` crates only export them. Parameters and
+//! [`crate::fmi2::fmu::slave::Slave`]. The `fmus/<name>` crates only export them. Parameters and
 //! inputs come from the generated `crate::models::<name>::{Parameters, Inputs, get_*, set_*}`
 //! (build.rs, from the XML); a face writes its outputs, what to drop when a parameter changes,
 //! how to build its model and how to step it.
@@ -10,7 +10,7 @@ pub mod rotor;
 pub mod torsional;
 
 /// The brake's lock and release events of the last step, through the host's logger (logEvents).
-pub fn log_brake_events(events: &[crate::solver::Event], log: &mut dyn crate::fmi2::slave::Log) {
+pub fn log_brake_events(events: &[crate::solver::Event], log: &mut dyn crate::fmi2::fmu::slave::Log) {
     for e in events {
         let what = if e.locked {
             "locked (stiction)"

@@ -1,7 +1,8 @@
 //! The `rotor` FMU: variables of modelDescription/rotor.xml mapped onto [`RotorModel`].
 
-use crate::fmi2::slave::{Changed, Log, ParameterError, Slave, SlaveError, SlaveResult};
-use crate::fmi2::variables::VarType;
+use crate::fmi2::fmu::error::{ParameterError, SlaveError, SlaveResult};
+use crate::fmi2::fmu::slave::{Changed, Log, Slave};
+use crate::fmi2::fmu::variables::VarType;
 use crate::models::rotor as xml;
 use crate::models::rotor::vr;
 use crate::physics::aero::{AIR_DENSITY, PitchController, PitchState, Rotor};
@@ -582,7 +583,7 @@ impl Slave for RotorSlave {
     fn do_step(&mut self, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
         let steps = (h / CONTROL_STEP).ceil();
         if steps > self.params.max_steps_per_call {
-            return Err(crate::fmi2::slave::err(format!(
+            return Err(crate::fmi2::fmu::error::err(format!(
                 "the communication step of {h} s needs {steps:.0} pitch-control steps of {CONTROL_STEP} s, more than \
                  max_steps_per_call = {:.0}; take shorter communication steps or raise the limit",
                 self.params.max_steps_per_call

@@ -1,8 +1,9 @@
 //! The `torsional` FMU: variables of modelDescription/torsional.xml mapped onto [`TorsionalModel`]
 //! and the integrators of [`crate::solver`].
 
-use crate::fmi2::slave::{Changed, Log, ParameterError, Slave, SlaveResult, err};
-use crate::fmi2::variables::VarType;
+use crate::fmi2::fmu::error::{ParameterError, SlaveResult, err};
+use crate::fmi2::fmu::slave::{Changed, Log, Slave};
+use crate::fmi2::fmu::variables::VarType;
 use crate::models::torsional as xml;
 use crate::models::torsional::vr;
 use crate::physics::brake::DiskBrake;

@@ -38,7 +38,7 @@ fn assert_contains(message: &str, parts: &[&str]) {
 /// Unpacks one of the scene's FMUs into a folder FMU (resources/<name>-dir) and points the scene at it.
 fn unpack_fmu(dir: &Path, name: &str) -> PathBuf {
     let out = dir.join("resources").join(format!("{name}-dir"));
-    windrive::fmi2::import::unzip(&dir.join("resources").join(format!("{name}.fmu")), &out).unwrap();
+    windrive::fmi2::host::archive::unzip(&dir.join("resources").join(format!("{name}.fmu")), &out).unwrap();
     edit(
         &ssd(dir),
         &format!("resources/{name}.fmu"),

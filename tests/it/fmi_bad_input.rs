@@ -5,7 +5,7 @@ use crate::common;
 use common::*;
 use std::ffi::{CString, c_int};
 use std::ptr::{null, null_mut};
-use windrive::fmi2::import::{Fmu, Instance};
+use windrive::fmi2::host::import::{Fmu, Instance};
 use windrive::fmi2::types::*;
 
 fn logged(inst: &mut Instance) -> String {
@@ -550,7 +550,7 @@ fn non_finite_outputs_are_errors_naming_the_variable() {
 /// user who set it meant something by it. `series` is a file the aero mode never reads.
 #[test]
 fn every_string_parameter_is_checked_in_every_mode() {
-    let dir = windrive::fmi2::import::TempDir::new("windrive-test-series").unwrap();
+    let dir = windrive::fmi2::host::archive::TempDir::new("windrive-test-series").unwrap();
     let series = dir.path().join("torque.csv");
     std::fs::write(&series, "time,torque\n0,0.5\n100,0.5\n").unwrap();
     let series = series.to_string_lossy().into_owned();

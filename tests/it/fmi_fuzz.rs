@@ -12,7 +12,9 @@
 use crate::common;
 use common::*;
 use std::time::Duration;
-use windrive::fmi2::import::{Fmu, ImportError, Instance, SavedState};
+use windrive::fmi2::host::error::ImportError;
+use windrive::fmi2::host::import::{Fmu, Instance};
+use windrive::fmi2::host::state::SavedState;
 use windrive::fmi2::types::Fmi2Status;
 
 use crate::common::Rng;

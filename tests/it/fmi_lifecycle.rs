@@ -3,7 +3,7 @@
 
 use crate::common;
 use common::*;
-use windrive::fmi2::import::{Fmu, Instance};
+use windrive::fmi2::host::import::{Fmu, Instance};
 
 const FMUS: [&str; 4] = ["rotor", "torsional", "generator", "gearbox6dof"];
 

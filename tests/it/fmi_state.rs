@@ -4,7 +4,7 @@
 
 use crate::common;
 use common::*;
-use windrive::fmi2::import::{Fmu, Instance};
+use windrive::fmi2::host::import::{Fmu, Instance};
 
 const OUTPUTS: [&str; 6] = [
     "hss_torque",

@@ -5,8 +5,8 @@
 use crate::common;
 
 use common::Recorder;
-use windrive::fmi2::slave::{NoLog, Slave};
-use windrive::fmi2::variables::{Causality, Start, VarType};
+use windrive::fmi2::fmu::slave::{NoLog, Slave};
+use windrive::fmi2::fmu::variables::{Causality, Start, VarType};
 use windrive::slaves::{
     gearbox6dof::Gearbox6dofSlave, generator::GeneratorSlave, rotor::RotorSlave, torsional::TorsionalSlave,
 };

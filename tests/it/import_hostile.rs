@@ -6,8 +6,8 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use windrive::cosim::Scene;
-use windrive::fmi2::archive::{Limits, TempDir, remove_orphans, unzip, unzip_within};
-use windrive::fmi2::import::Fmu;
+use windrive::fmi2::host::archive::{Limits, TempDir, remove_orphans, unzip, unzip_within};
+use windrive::fmi2::host::import::Fmu;
 use zip::write::SimpleFileOptions;
 
 /// A zip archive at `path` with `(name, bytes)` entries, deflated.
@@ -289,7 +289,7 @@ fn deeply_nested_xml_is_refused_without_exhausting_the_stack() {
         &format!("<ModelStructure/><VendorAnnotations>{deep}</VendorAnnotations>"),
     );
     // refused or accepted, but answered: no stack overflow, no panic
-    let _ = windrive::fmi2::description::ModelDescription::parse(&md);
+    let _ = windrive::fmi2::host::description::ModelDescription::parse(&md);
 }
 
 use crate::common::Rng;
@@ -346,7 +346,7 @@ fn ten_thousand_mutated_descriptions_and_scenes_never_panic_the_parsers() {
         let s = String::from_utf8_lossy(&bad);
         let outcome = std::panic::catch_unwind(|| {
             if path.extension().is_some_and(|e| e == "xml") {
-                let _ = windrive::fmi2::description::ModelDescription::parse(&s);
+                let _ = windrive::fmi2::host::description::ModelDescription::parse(&s);
             } else {
                 let _ = windrive::cosim::xml::parse(&s);
             }

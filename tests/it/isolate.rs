@@ -10,8 +10,9 @@ use crate::common;
 use common::{fmu_path, scene_copy};
 use std::path::Path;
 use windrive::cosim::{Algorithm, Master, Options, Record, Scene, System};
-use windrive::fmi2::import::{Fmu, ImportError, Instance};
-use windrive::fmi2::isolate::Isolation;
+use windrive::fmi2::host::error::ImportError;
+use windrive::fmi2::host::import::{Fmu, Instance};
+use windrive::fmi2::host::isolate::Isolation;
 
 fn host() -> &'static Path {
     Path::new(env!("CARGO_BIN_EXE_windrive"))

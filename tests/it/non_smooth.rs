@@ -52,7 +52,7 @@ fn brake_holds_and_backlash_rattles_only_at_a_coarse_undamped_internal_step() {
 /// for D at 1 ms.
 #[test]
 fn backlash_with_a_coarse_undamped_step_is_warned_about() {
-    use windrive::fmi2::slave::Slave;
+    use windrive::fmi2::fmu::slave::Slave;
     use windrive::models::torsional::vr;
     use windrive::slaves::torsional::TorsionalSlave;
     // hht at its default spectral_radius 1 is Newmark: the HHT-alpha case sets 0.6

@@ -224,7 +224,7 @@ fn fidelity_json_names_a_level_within_tolerance() {
 /// everywhere, and the files are written.
 #[test]
 fn stability_map_runs_agree_with_the_theory() {
-    let tmp = windrive::fmi2::import::TempDir::new("windrive-test-stability").unwrap();
+    let tmp = windrive::fmi2::host::archive::TempDir::new("windrive-test-stability").unwrap();
     let stem = tmp.path().join("map");
     let out = windrive(&[
         "chart",
@@ -258,7 +258,7 @@ fn stability_map_runs_agree_with_the_theory() {
 /// limit as it moves with the mesh stiffness); Newmark and HHT-alpha hold at every step.
 #[test]
 fn integrator_stability_runs_follow_rk4s_limit() {
-    let tmp = windrive::fmi2::import::TempDir::new("windrive-test-integrators").unwrap();
+    let tmp = windrive::fmi2::host::archive::TempDir::new("windrive-test-integrators").unwrap();
     let stem = tmp.path().join("map");
     let out = windrive(&["chart", "integrators", "--out", stem.to_str().unwrap()]);
     let stdout = String::from_utf8_lossy(&out.stdout);

@@ -2,7 +2,7 @@
 //! conservation of the undamped implicit integrator, brake stiction without creep, backlash and
 //! time-varying mesh stiffness at the physical mesh frequency. Runs the FMU's Rust face directly.
 
-use windrive::fmi2::slave::{NoLog as Quiet, Slave};
+use windrive::fmi2::fmu::slave::{NoLog as Quiet, Slave};
 use windrive::models::torsional::vr;
 use windrive::physics::drivetrain::{Drivetrain, PRESETS, Stage};
 use windrive::slaves::torsional::TorsionalSlave;

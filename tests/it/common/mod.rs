@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use std::path::PathBuf;
-use windrive::fmi2::import::{Fmu, Instance};
+use windrive::fmi2::host::import::{Fmu, Instance};
 
 /// A packed FMU of ours (scripts/test packs them before running the tests).
 pub fn fmu_path(name: &str) -> PathBuf {
@@ -25,8 +25,8 @@ pub fn torsional_fmu_path() -> PathBuf {
 
 /// A copy of the repository's scene folder `scenes/<name>` in a fresh temporary folder, with our
 /// packed FMUs under resources/; returns (guard, scene folder).
-pub fn scene_copy(name: &str) -> (windrive::fmi2::import::TempDir, PathBuf) {
-    let tmp = windrive::fmi2::import::TempDir::new("windrive-test-scene").unwrap();
+pub fn scene_copy(name: &str) -> (windrive::fmi2::host::archive::TempDir, PathBuf) {
+    let tmp = windrive::fmi2::host::archive::TempDir::new("windrive-test-scene").unwrap();
     let dir = tmp.path().join(name);
     let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name);
     std::fs::create_dir_all(dir.join("resources")).unwrap();
@@ -93,7 +93,7 @@ pub fn run_scene(
 #[derive(Default)]
 pub struct Recorder(pub Vec<String>);
 
-impl windrive::fmi2::slave::Log for Recorder {
+impl windrive::fmi2::fmu::slave::Log for Recorder {
     fn warning(&mut self, msg: &str) {
         self.0.push(msg.to_string());
     }

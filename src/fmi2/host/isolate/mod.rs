@@ -13,7 +13,6 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 pub mod channel;
-pub mod host;
 pub mod remote;
 pub mod wire;
 
@@ -39,7 +38,7 @@ impl Isolation {
 /// Request codes of the mailbox protocol. A message is `[count][request]…`; its reply is
 /// `[requests done][status of the last one done]` followed by the last request's results, or on a
 /// status other than OK and Warning by the FMU's log texts.
-mod op {
+pub(super) mod op {
     pub const SETUP_EXPERIMENT: u32 = 1;
     pub const ENTER_INITIALIZATION_MODE: u32 = 2;
     pub const EXIT_INITIALIZATION_MODE: u32 = 3;

@@ -2,58 +2,15 @@
 //! symbols up front, and drive instances through a safe [`Instance`] whose every call returns a
 //! `Result` the caller must handle. Messages an FMU logs are collected per instance.
 
-pub use super::archive::{TempDir, unzip};
+use super::archive::{TempDir, unzip};
 use super::description::ModelDescription;
-use super::types::*;
+use super::error::{ImportError, LogRecord};
+use super::state::SavedState;
+use crate::fmi2::types::*;
 use libloading::Library;
 use std::ffi::{CStr, CString, c_char, c_int, c_void};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
-
-#[derive(Debug, thiserror::Error)]
-pub enum ImportError {
-    #[error("{path}: {message}")]
-    Archive { path: PathBuf, message: String },
-    #[error("{path}: modelDescription.xml: {message}")]
-    Description { path: PathBuf, message: String },
-    #[error("{path}: cannot load: {message}")]
-    Library { path: PathBuf, message: String },
-    #[error("{path}: missing FMI function {symbol}")]
-    MissingSymbol { path: PathBuf, symbol: String },
-    #[error("{instance}: fmi2Instantiate returned NULL{}", log_suffix(.log))]
-    Instantiate { instance: String, log: Vec<String> },
-    #[error("{instance}: {function} returned {status}{}", log_suffix(.log))]
-    Call {
-        instance: String,
-        function: &'static str,
-        status: &'static str,
-        log: Vec<String>,
-    },
-    #[error("{model}: no variable named {name}")]
-    UnknownVariable { model: String, name: String },
-    #[error("{instance}: its process ended during {calls}: {how}")]
-    Crashed {
-        instance: String,
-        calls: String,
-        how: String,
-    },
-    #[error("{instance}: {message}")]
-    Isolation { instance: String, message: String },
-}
-
-/// The FMU's messages after an error: the last few, which say what went wrong.
-fn log_suffix(log: &[String]) -> String {
-    const SHOWN: usize = 8;
-    match log.len() {
-        0 => String::new(),
-        n if n <= SHOWN => format!(": {}", log.join(" | ")),
-        n => format!(
-            ": ({} earlier messages not shown) {}",
-            n - SHOWN,
-            log[n - SHOWN..].join(" | ")
-        ),
-    }
-}
 
 /// dlopen of an FMU binary; the error text carries dlerror's (missing library, undefined symbol).
 fn open_library(path: &Path) -> Result<Library, String> {
@@ -344,7 +301,7 @@ impl Fmu {
         logging_on: bool,
         how: &super::isolate::Isolation,
     ) -> Result<Instance, ImportError> {
-        super::isolate::remote::Remote::spawn(self, name, logging_on, how).map(|r| Instance(Backend::Isolated(r)))
+        super::isolate::remote::Remote::spawn(&self.dir, name, logging_on, how).map(|r| Instance(Backend::Isolated(r)))
     }
 
     /// The loaded binary's functions, for tests that call them directly.
@@ -400,9 +357,6 @@ fn platforms(dir: &Path) -> String {
 const MAX_KEPT_LOG_RECORDS: usize = 1_000;
 /// Longer messages are cut here (with their length said): 1 000 of them bound a log to 4 MB.
 const MAX_LOG_MESSAGE_BYTES: usize = 4_096;
-
-/// One logged message: (status, category, text).
-pub type LogRecord = (Fmi2Status, String, String);
 
 #[derive(Default)]
 struct LogRecords {
@@ -507,25 +461,6 @@ fn drain(target: &LogTarget) -> Vec<LogRecord> {
         (Fmi2Status::Warning, "windrive".to_string(), text)
     });
     note.into_iter().chain(r.newest).collect()
-}
-
-/// An FMU state saved by fmi2GetFMUstate or restored by fmi2DeSerializeFMUstate. Free it with
-/// [`Instance::free_state`] on the instance that made it.
-#[derive(Debug)]
-pub struct SavedState(Fmi2FmuState);
-
-// SAFETY: a saved state is only handed back to the instance that made it, which is Send.
-unsafe impl Send for SavedState {}
-
-impl SavedState {
-    /// A state an isolated instance's host made, by the address the host knows it by.
-    pub(crate) fn from_handle(handle: u64) -> Self {
-        Self(handle as usize as Fmi2FmuState)
-    }
-
-    pub(crate) fn handle(&self) -> u64 {
-        self.0 as usize as u64
-    }
 }
 
 /// A live FMU instance, in this process or in a host process of its own
@@ -867,12 +802,5 @@ mod tests {
         assert!(log[1].2.ends_with("… (message of 100000 bytes cut)") && log[1].2.len() < 4_200);
         assert_eq!(log[MAX_KEPT_LOG_RECORDS].2, "the last one");
         assert!(drain(&target).is_empty());
-        // an error shows the last few messages, not a thousand
-        let texts: Vec<String> = (0..1_000).map(|k| format!("m{k}")).collect();
-        let suffix = log_suffix(&texts);
-        assert!(
-            suffix.starts_with(": (992 earlier messages not shown) m992 | "),
-            "{suffix}"
-        );
     }
 }

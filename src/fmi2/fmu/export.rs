@@ -12,8 +12,8 @@
 //! checks for null before reading and never builds a slice from a null pointer, even of length 0.
 
 use super::slave::{Log, Slave};
-use super::types::*;
 use super::variables::{Causality, VarType, Variability, Variable};
+use crate::fmi2::types::*;
 use std::ffi::{CStr, CString, c_int};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
@@ -1110,8 +1110,8 @@ pub unsafe fn get_string_status<S: Slave>(c: Fmi2Component, _kind: c_int, value:
 mod tests {
     //! The adapter's own guarantees, checked on a deliberately misbehaving model.
     use super::*;
-    use crate::fmi2::slave::{SlaveError, SlaveResult};
-    use crate::fmi2::variables::Start;
+    use crate::fmi2::fmu::error::{SlaveError, SlaveResult};
+    use crate::fmi2::fmu::variables::Start;
 
     static VARS: [Variable; 1] = [Variable {
         name: "x",

@@ -3,7 +3,7 @@
 //! bomb is refused, not extracted), and the private folder is removed when its owner is dropped,
 //! or, when a run was killed before that, by the next run that unpacks anything.
 
-use super::import::ImportError;
+use super::error::ImportError;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 

@@ -4,10 +4,12 @@
 use super::channel::{CAPACITY, Channel, POLL};
 use super::wire::{Reader, WireError, Writer};
 use super::{Isolation, op};
-use crate::fmi2::import::{Fmu, ImportError, LogRecord, SavedState};
+use crate::fmi2::host::error::{ImportError, LogRecord};
+use crate::fmi2::host::state::SavedState;
 use crate::fmi2::types::Fmi2Status;
 use std::os::fd::AsRawFd;
 use std::os::unix::process::{CommandExt, ExitStatusExt};
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -65,9 +67,9 @@ fn describe_exit(status: std::process::ExitStatus) -> String {
 }
 
 impl Remote {
-    /// Starts `host` (`windrive`'s executable) as `fmu-host` for instance `name` of `fmu` and waits
-    /// until it has instantiated the FMU.
-    pub fn spawn(fmu: &Fmu, name: &str, logging_on: bool, how: &Isolation) -> Result<Self, ImportError> {
+    /// Starts `host` (`windrive`'s executable) as `fmu-host` for instance `name` of the FMU unpacked
+    /// in `dir` and waits until it has instantiated the FMU.
+    pub fn spawn(dir: &Path, name: &str, logging_on: bool, how: &Isolation) -> Result<Self, ImportError> {
         let host = &how.host;
         let failed = |message: String| ImportError::Isolation {
             instance: name.into(),
@@ -80,7 +82,7 @@ impl Remote {
             .arg("--fd")
             .arg(raw.to_string())
             .arg("--dir")
-            .arg(&fmu.dir)
+            .arg(dir)
             .arg("--name")
             .arg(name)
             .arg("--master")

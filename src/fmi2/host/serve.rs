@@ -1,10 +1,12 @@
 //! The child process's side: loads one FMU, instantiates it and answers the master's requests
 //! from the mailbox until told to quit or the master goes away.
 
-use super::channel::Channel;
-use super::op;
-use super::wire::{Reader, WireError, Writer};
-use crate::fmi2::import::{Fmu, ImportError, Instance, SavedState};
+use super::isolate::channel::Channel;
+use super::isolate::op;
+use super::isolate::wire::{Reader, WireError, Writer};
+use crate::fmi2::host::error::ImportError;
+use crate::fmi2::host::import::{Fmu, Instance};
+use crate::fmi2::host::state::SavedState;
 use crate::fmi2::types::Fmi2Status;
 use std::os::fd::RawFd;
 use std::path::Path;
