@@ -10,10 +10,12 @@
 
 pub mod analysis;
 pub mod fmi2;
+pub mod linear;
 pub mod physics;
 pub mod reference;
 pub mod slaves;
 pub mod solver;
+pub mod studies;
 
 #[cfg(feature = "cli")]
 pub mod cli;

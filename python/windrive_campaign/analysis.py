@@ -1,5 +1,5 @@
 """Statistics, damage-equivalent loads and load duration distributions of one case's series, after the
-transient. The same definitions as `windrive del` and `windrive ldd` (src/analysis/damage.rs, ldd.rs),
+transient. The same definitions as `windrive del` and `windrive ldd` (src/analysis/fatigue/damage.rs, ldd.rs),
 checked against them in tests/python/test_campaign.py:
 
 - DEL_m = (Σ n_i S_i^m / N_eq)^(1/m), S_i the rainflow ranges (ASTM E1049-85, the `rainflow` package;

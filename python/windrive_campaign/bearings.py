@@ -1,5 +1,5 @@
 """`[bearings]`: every rolling bearing of the case's gearbox6dof gearbox rated by `windrive bearings` on
-the case's series (src/cli/bearings.rs, src/analysis/bearing_set.rs): ISO 281's basic dynamic load rating
+the case's series (src/cli/bearings.rs, src/analysis/rating/bearing_set.rs): ISO 281's basic dynamic load rating
 C_r from each roller set, the equivalent load P = X·F_r + Y·F_a per sample, the rings' revolutions from
 the gearbox's kinematics and Miner's sum of revolutions over L10 per day.
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-# 8760 h a year, as `windrive life` (src/analysis/lifetime.rs) and thesis Table 7.1 count hours
+# 8760 h a year, as `windrive life` (src/analysis/fatigue/lifetime.rs) and thesis Table 7.1 count hours
 HOURS_PER_YEAR = 8760.0
 
 # IEC 61400-1 ed. 3 Table 1: reference turbulence intensity at 15 m/s per turbulence class

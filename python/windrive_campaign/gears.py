@@ -1,5 +1,5 @@
 """`[gears]`: every gear tooth of the case's gearbox rated by `windrive gears` on the case's series
-(src/cli/gears.rs, src/analysis/gear_set.rs): ISO 6336 contact and root stress from the mesh forces, load
+(src/cli/gears.rs, src/analysis/rating/gear_set.rs): ISO 6336 contact and root stress from the mesh forces, load
 cycles from the speeds, a two-slope S-N curve and Miner's sum per day, as the paper does it (its §1.3).
 
 The rating stays in Rust, run as a second subprocess on the series the case just wrote, so the campaign's

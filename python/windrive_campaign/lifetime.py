@@ -1,5 +1,5 @@
 """A campaign's lifetime figures from its Parquet table (issue 15 §2), by the convention of `windrive
-life` (src/analysis/lifetime.rs), so the two agree on the cases it can compute (tested):
+life` (src/analysis/fatigue/lifetime.rs), so the two agree on the cases it can compute (tested):
 
 - each case stands for w_i repetitions in the design life: a DLC 1.2 case w_i = hours_i · 3600 / T_i
   (its climate hours over its analysed seconds T_i), an event w_i = events_i (per_year × years);

@@ -1,28 +1,12 @@
-//! Fatigue and vibration analysis of recorded series: rainflow counting and matrices, damage-equivalent
-//! loads, load duration distributions, ISO 6336 gear stresses with their root geometry, S-N curves with
-//! Miner's sum, ISO 281 bearing life, Hertz line contact, operating hours from wind distributions,
-//! spectra and Campbell diagrams. Everything reads plain series; nothing here needs an FMU.
+//! Analysis of recorded series, by kind: [`signal`] (reading series, spectra, error metrics, a scene's
+//! quantities of interest), [`fatigue`] (rainflow counting and matrices, damage-equivalent loads, load
+//! duration distributions, S-N curves with Miner's sum, operating hours, lifetime assembly) and
+//! [`rating`] (ISO 6336 gear and ISO 281 bearing ratings of a gearbox with their limits), plus the
+//! shutdown summary a drivetrain engineer reads after a run. Everything reads plain series; nothing
+//! here needs an FMU. Linear (modal and frequency-domain) analysis of the models is in
+//! [`crate::linear`].
 
-pub mod bearing_set;
-pub mod bode;
-pub mod calibration;
-pub mod campbell;
-pub mod damage;
-pub mod gear;
-pub mod gear_set;
-/// Hertz contact is physics the gearbox model evaluates too; the analysis reads it from there.
-pub use crate::physics::hertz;
-pub mod ldd;
-pub mod life;
-pub mod lifetime;
-pub mod limits;
-pub mod matrix;
-pub mod metrics;
-pub mod nelder_mead;
-pub mod quantities;
-pub mod rainflow;
-pub mod series;
+pub mod fatigue;
+pub mod rating;
 pub mod shutdown;
-pub mod spectrum;
-pub mod tooth_root;
-pub mod wind;
+pub mod signal;

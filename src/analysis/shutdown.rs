@@ -4,9 +4,9 @@
 //! dominant frequency while the brake slips and once it holds (beside the modes they should match),
 //! and the mesh-force reversals.
 
-use super::metrics::range;
-use super::series::{SeriesError, read_channels};
-use super::spectrum::dominant_in_window;
+use super::signal::metrics::range;
+use super::signal::series::{SeriesError, read_channels};
+use super::signal::spectrum::dominant_in_window;
 use crate::physics::drivetrain::{Drivetrain, Stage};
 use std::path::Path;
 

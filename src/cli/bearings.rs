@@ -1,8 +1,8 @@
 //! `windrive bearings`: every rolling bearing of a gearbox rated from one series of the `gearbox6dof`
 //! FMU (ISO 281 rating from the roller sets, equivalent load, revolutions from the kinematics, Miner)
-//! through [`crate::analysis::bearing_set`].
+//! through [`crate::analysis::rating::bearing_set`].
 
-use crate::analysis::bearing_set::{BearingDamage, BearingTable, bearing_table};
+use crate::analysis::rating::bearing_set::{BearingDamage, BearingTable, bearing_table};
 use crate::physics::gearbox::description::Description;
 use anyhow::Context;
 use std::path::PathBuf;

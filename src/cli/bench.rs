@@ -5,7 +5,7 @@
 //! checked against half the limit) for the accuracy figures.
 
 use super::step::torsional_fmu;
-use crate::analysis::metrics::{peak_and_rms_errors as errors, trajectory_error};
+use crate::analysis::signal::metrics::{peak_and_rms_errors as errors, trajectory_error};
 use crate::reference::step::{Scenario, rk4_step_limit, run_fmi, run_native};
 use anyhow::bail;
 use std::path::PathBuf;
@@ -305,7 +305,8 @@ fn linear_solvers() -> anyhow::Result<()> {
 }
 
 fn rainflow(args: &BenchArgs) -> anyhow::Result<()> {
-    use crate::analysis::{damage::DamageSums, rainflow};
+    use crate::analysis::fatigue::damage::DamageSums;
+    use crate::analysis::fatigue::rainflow;
     let x: Vec<f64> = match &args.input {
         Some(path) => std::fs::read(path)?
             .chunks_exact(8)

@@ -1,13 +1,13 @@
 //! `windrive calibrate`: fits the inputs of drivetrain C's scenes that no source gives (turbulence
 //! intensity, brake torque, brake ramp, pitch rate towards feather, trip delay) to the statistics the
-//! thesis measured on the field turbine ([`crate::analysis::calibration`]), by Nelder–Mead over both
+//! thesis measured on the field turbine ([`crate::studies::calibration`]), by Nelder–Mead over both
 //! scenes run through the master; prints target, achieved and misfit per statistic, writes the table
 //! as Markdown, and with `--apply` writes the fitted values into the scenes' parameter files.
 
-use crate::analysis::calibration::{self, Context, Runs};
-use crate::analysis::nelder_mead;
 use crate::cosim::Scene;
 use crate::physics::drivetrain::Drivetrain;
+use crate::studies::calibration::{self, Context, Runs};
+use crate::studies::nelder_mead;
 use anyhow::{Context as _, bail};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

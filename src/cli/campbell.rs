@@ -1,8 +1,8 @@
 //! `windrive campbell --preset C`: natural frequencies against rotor speed with the excitation orders,
 //! and the crossings inside the operating range.
 
-use crate::analysis::campbell::{crossings, distinct_modes, excitation_orders};
 use crate::cli::{modes, plot};
+use crate::linear::campbell::{crossings, distinct_modes, excitation_orders};
 use crate::physics::drivetrain::operating_speed_range_rpm;
 use std::path::PathBuf;
 

@@ -1,7 +1,12 @@
 //! `windrive rainflow`, `del`, `ldd` and `spectrum`: cycle counting (lists and matrices),
 //! damage-equivalent loads, load duration distributions and amplitude spectra of one CSV channel.
 
-use crate::analysis::{damage, ldd, matrix, rainflow, series, spectrum};
+use crate::analysis::fatigue::damage;
+use crate::analysis::fatigue::ldd;
+use crate::analysis::fatigue::matrix;
+use crate::analysis::fatigue::rainflow;
+use crate::analysis::signal::series;
+use crate::analysis::signal::spectrum;
 use crate::cli::plot;
 use std::path::PathBuf;
 

@@ -5,10 +5,10 @@
 //! modes lie inside the band the scene's inputs excite, and how well each reduced model keeps them.
 
 use super::study::{Measured, Study, component_of};
-use crate::analysis::spectrum::amplitude_spectrum;
+use crate::analysis::signal::spectrum::amplitude_spectrum;
 use crate::cosim::{Algorithm, Options, Override, Scene, param as p};
+use crate::linear::modes::{Boundary, modes};
 use crate::physics::drivetrain::Drivetrain;
-use crate::physics::modes::{Boundary, modes};
 use crate::physics::torsional::{Fidelity, ModelOptions, TorsionalModel};
 use anyhow::{Context, anyhow, bail};
 use std::path::PathBuf;

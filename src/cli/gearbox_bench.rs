@@ -10,9 +10,9 @@
 //! with the work per step that sets the speed.
 
 use crate::cosim::{Algorithm, Master, Options, Record, Scene, System, param};
+use crate::linear::modes::eigenpairs_of;
 use crate::physics::gearbox::statics::equilibrium;
 use crate::physics::gearbox::{Description, Gearbox};
-use crate::physics::modes::eigenpairs_of;
 use crate::solver::alpha::Alpha;
 use crate::solver::{Driver, DynState, Method, rk4};
 use std::path::Path;

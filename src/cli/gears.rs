@@ -1,8 +1,8 @@
 //! `windrive gears`: every gear tooth of a gearbox rated from one series (ISO 6336 stresses, load
-//! cycles from the speeds, two-slope S-N, Miner) through [`crate::analysis::gear_set`].
+//! cycles from the speeds, two-slope S-N, Miner) through [`crate::analysis::rating::gear_set`].
 
-use crate::analysis::gear::MeshForce;
-use crate::analysis::gear_set::{ToothDamage, channels, gear_table, rate_series};
+use crate::analysis::rating::gear::MeshForce;
+use crate::analysis::rating::gear_set::{ToothDamage, channels, gear_table, rate_series};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]

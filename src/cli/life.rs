@@ -1,12 +1,12 @@
 //! `windrive life`: parses the climate, the cases and the component, calls
-//! [`crate::analysis::lifetime`] and prints its lifetime DELs and gear or bearing damage.
+//! [`crate::analysis::fatigue::lifetime`] and prints its lifetime DELs and gear or bearing damage.
 
-use crate::analysis::bearing_set::{BearingTable, RatedBearing};
-use crate::analysis::gear::{GearPair, MeshForce, Tooth};
-use crate::analysis::lifetime::{BearingLife, Case, Climate, GearLife, GearSpec, Lifetime};
-use crate::analysis::limits::LIMITS;
-use crate::analysis::tooth_root::BasicRack;
-use crate::analysis::wind::WindDistribution;
+use crate::analysis::fatigue::lifetime::{BearingLife, Case, Climate, GearLife, GearSpec, Lifetime};
+use crate::analysis::fatigue::operating_hours::WindDistribution;
+use crate::analysis::rating::bearing_set::{BearingTable, RatedBearing};
+use crate::analysis::rating::gear::{GearPair, MeshForce, Tooth};
+use crate::analysis::rating::limits::LIMITS;
+use crate::analysis::rating::tooth_root::BasicRack;
 use anyhow::{Context, bail};
 use std::path::PathBuf;
 

@@ -1,7 +1,7 @@
 //! `windrive modes`.
 
+use crate::linear::modes::{Boundary, Modes, modes};
 use crate::physics::drivetrain::Drivetrain;
-use crate::physics::modes::{Boundary, Modes, modes};
 use crate::physics::torsional::{Fidelity, Lumping, ModelOptions, TorsionalModel};
 use anyhow::{Context, anyhow};
 use std::path::PathBuf;
@@ -53,15 +53,16 @@ pub fn compute(preset: &str, fidelity: &str, generator: &str, lumping: &str) -> 
 
 /// `--gearbox`: the 6-DOF gearbox's modes, a table or JSON, and a plot of frequency against torsional share.
 fn run_gearbox(args: &ModesArgs, name: &str) -> anyhow::Result<()> {
-    use crate::physics::gearbox::{Description, Gearbox, modal};
+    use crate::linear::gearbox_modes;
+    use crate::physics::gearbox::{Description, Gearbox};
     let d = Description::load(name)?;
     let g = Gearbox::new(&d).map_err(|e| anyhow!("{name}: {e}"))?;
-    let m = modal::modes(&g);
+    let m = gearbox_modes::modes(&g);
     if let Some(path) = &args.plot {
         let mut clouds: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
         for mode in m
             .iter()
-            .filter(|x| x.frequency_hz > 0.0 && x.family != modal::Family::Rigid)
+            .filter(|x| x.frequency_hz > 0.0 && x.family != gearbox_modes::Family::Rigid)
         {
             let label = serde_json::to_value(mode.family)?.as_str().unwrap_or("").to_string();
             let point = (mode.torsional_projection, mode.frequency_hz.log10());

@@ -1,7 +1,7 @@
 //! Plots with plotters. Text needs a TrueType font: the system's DejaVu Sans (Debian package
 //! fonts-dejavu-core) is registered at first use; no font file is shipped in this repository.
 
-use crate::physics::modes::Modes;
+use crate::linear::modes::Modes;
 use anyhow::{Context, anyhow};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};

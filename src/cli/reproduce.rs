@@ -6,9 +6,9 @@
 
 use super::calibrate::run_channels;
 use super::modes::compute;
+use crate::analysis::fatigue::operating_hours::WindDistribution;
 use crate::analysis::shutdown::F_MIN_HZ;
-use crate::analysis::spectrum::dominant_in_window;
-use crate::analysis::wind::WindDistribution;
+use crate::analysis::signal::spectrum::dominant_in_window;
 use crate::cosim::Scene;
 use crate::physics::drivetrain::{Drivetrain, Stage};
 use anyhow::Context;
@@ -272,7 +272,7 @@ pub fn scene_rows() -> anyhow::Result<Vec<Row>> {
         None,
         "D keeps the estimated brake and pitch inputs (only C has measured statistics to fit)",
     ));
-    // ranges and DEL in the order of analysis::calibration::statistics
+    // ranges and DEL in the order of studies::calibration::statistics
     let c = super::calibrate::current_statistics()?;
     let fitted = "C's inputs are fitted to the measured ranges, ratio and peak together (docs/calibration-c.md)";
     for (quantity, thesis, ours) in [

@@ -4,10 +4,11 @@
 //! spectrum while braking with the computed modes marked, the rainflow range–mean cloud.
 
 use super::plot::{self, Series};
-use crate::analysis::{rainflow, shutdown};
+use crate::analysis::fatigue::rainflow;
+use crate::analysis::shutdown;
 use crate::cosim::{Algorithm, Master, Options, Record, Scene, System, recorder::Recorder};
+use crate::linear::modes::Boundary;
 use crate::physics::drivetrain::Drivetrain;
-use crate::physics::modes::Boundary;
 use crate::reference::modes::lowest_mode;
 use anyhow::{Context, bail};
 use std::path::{Path, PathBuf};

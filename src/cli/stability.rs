@@ -5,14 +5,14 @@
 //! step × coupling stiffness, every run 20 s of the rotor-torque step. A run is unstable when the
 //! master stops it (divergence or non-finite values) or the coupling torque's peak over its last
 //! quarter is more than twice the peak over its first (the undamped exact solution keeps its
-//! amplitude). The theory ([`crate::reference::split`]) draws the boundary where the macro-step map
+//! amplitude). The theory ([`crate::cosim::stability`]) draws the boundary where the macro-step map
 //! grows the amplitude by the same factor over the same time.
 
 use crate::cosim::master::run_columns_with;
+use crate::cosim::stability::{Scheme, Split};
 use crate::cosim::{Acceleration, Algorithm, Options, Scene, param};
 use crate::reference::grid_step::torsional_params;
 use crate::reference::shaft_cut;
-use crate::reference::split::{Scheme, Split};
 use anyhow::{Context, anyhow, bail};
 use std::fmt::Write as _;
 use std::path::PathBuf;

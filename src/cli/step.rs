@@ -1,7 +1,7 @@
 //! `windrive step-response`: the rated-torque step of [`crate::reference::step`] on a drivetrain,
 //! through its torsional FMU: a CSV, the peaks, the dominant frequency and the modes beside it.
 
-use crate::analysis::spectrum::dominant_in_window;
+use crate::analysis::signal::spectrum::dominant_in_window;
 use crate::cosim::recorder::CsvWriter;
 use crate::fmi2::host::import::Fmu;
 use crate::reference::step::{CHANNELS, Rows, Scenario, column, run_fmi};

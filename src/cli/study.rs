@@ -2,7 +2,7 @@
 //! interest and its reference, and one measured run (CPU time best of several, the relative error of
 //! every quantity against the reference).
 
-use crate::analysis::quantities::{self, Quantity};
+use crate::analysis::signal::quantities::{self, Quantity};
 use crate::cosim::{Options, Override, Scene};
 use crate::reference::scene::{SceneReference, compute, run_quantities};
 use anyhow::{Context, anyhow, bail};

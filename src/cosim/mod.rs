@@ -1,5 +1,6 @@
 //! The co-simulation master: SSP scenes (`ssp`), made runnable and checked (`system`), stepped by
-//! an algorithm (`master`), recorded to CSV (`recorder`).
+//! an algorithm (`master`), recorded to CSV (`recorder`); where each algorithm is stable in theory
+//! (`stability`).
 
 pub mod acceleration;
 mod checks;
@@ -8,6 +9,7 @@ pub mod error;
 pub mod master;
 pub mod recorder;
 pub mod ssp;
+pub mod stability;
 pub mod system;
 pub mod unit;
 pub mod xml;

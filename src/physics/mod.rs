@@ -8,8 +8,6 @@ pub mod drivetrain;
 pub mod gearbox;
 pub mod generator;
 pub mod hertz;
-pub mod modes;
-pub mod response;
 pub mod rotor;
 pub mod torsional;
 pub mod turbulence;

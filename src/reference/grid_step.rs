@@ -2,7 +2,7 @@
 //! its generator spring to ground, rotor torque stepped at t = 0), and a run of the scene through the
 //! master measured against it.
 
-use crate::physics::modes::{Boundary, undamped_step_response};
+use crate::linear::modes::{Boundary, undamped_step_response};
 use crate::slaves::torsional::Params;
 
 /// Rotor torque the scene applies at t = 0, N·m (scenes/d-grid-step/torsional.ssv).
@@ -61,7 +61,7 @@ pub fn compare(scene_dir: &std::path::Path, opts: crate::cosim::Options) -> Resu
     });
     let wall_s = wall.elapsed().as_secs_f64();
     let stats = master.stats.clone();
-    let error = crate::analysis::metrics::trajectory_error(&y, &exact_generator_torque(&t));
+    let error = crate::analysis::signal::metrics::trajectory_error(&y, &exact_generator_torque(&t));
     Ok(Outcome {
         error: result.is_ok().then_some(error),
         failure: result.err().map(|e| e.to_string()),

@@ -7,7 +7,6 @@
 //!   the master compared with it (the coupling benchmark's work–precision chart).
 //! - [`shaft_cut`]: the exact two-mass solution of the d-shaft-cut scene (a drivetrain cut in its
 //!   main shaft across two FMUs).
-//! - [`split`]: where each coupling scheme is stable on those two splits, from their exact maps.
 //!
 //! What needs the master or FMI import is behind the `cli` feature, as those are.
 
@@ -16,7 +15,6 @@ pub mod modes;
 #[cfg(feature = "cli")]
 pub mod scene;
 pub mod shaft_cut;
-pub mod split;
 pub mod step;
 
 /// Errors of the reference runs, naming the preset, variable or time at fault.

@@ -1,7 +1,7 @@
 //! Natural frequencies of a preset's monolithic model: what the scenes' spectra are checked against.
 
 use super::ReferenceError;
-use crate::physics::modes::{Boundary, modes};
+use crate::linear::modes::{Boundary, modes};
 
 /// Lowest non-zero natural frequency of a preset at full fidelity under `boundary`, Hz.
 pub fn lowest_mode(preset: &str, boundary: Boundary) -> Result<f64, ReferenceError> {

@@ -9,7 +9,7 @@
 //! quantities of interest are what `windrive chart work-precision` and `windrive fidelity` measure
 //! every run against.
 
-use crate::analysis::quantities::{self, Quantity};
+use crate::analysis::signal::quantities::{self, Quantity};
 use crate::cosim::master::{ColumnRun, run_columns_with};
 use crate::cosim::{Acceleration, Algorithm, Options, Override, Scene};
 

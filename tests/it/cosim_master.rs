@@ -45,7 +45,7 @@ fn every_algorithm_converges_to_the_modal_solution_at_its_order() {
 /// at H·ω = 0.037); linear extrapolation holds to H·ω ≈ 0.19 and fails by 0.37; Gauss–Seidel with
 /// hold stays bounded to H·ω = 1.85; iterative coupling with linear interpolation to 1.85 and fails
 /// at 3.7, where its fixed-point iteration no longer contracts. The theory of this split
-/// (src/reference/split.rs, docs/SPEED-ACCURACY.md) draws the same picture.
+/// (src/cosim/stability.rs, docs/SPEED-ACCURACY.md) draws the same picture.
 #[test]
 fn stability_limits_of_the_coupling_algorithms() {
     let stable = |a, p, h| error(a, p, h, 10.0).is_some();

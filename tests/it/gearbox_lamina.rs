@@ -238,7 +238,8 @@ fn a_carrier_revolution_shows_the_once_per_rev_swing_and_the_roller_passage() {
     }
     let hss_load = r.probe;
     let time: Vec<f64> = (1..=hss_load.len()).map(|k| k as f64 * H).collect();
-    let (f, _, _) = windrive::analysis::spectrum::dominant_in_window(&time, &hss_load, 0.5, 2.5, 100.0).unwrap();
+    let (f, _, _) =
+        windrive::analysis::signal::spectrum::dominant_in_window(&time, &hss_load, 0.5, 2.5, 100.0).unwrap();
     let shaft = r.output_speed / std::f64::consts::TAU;
     let expected = 22.0 * shaft * (1.0 - 22.0 / 160.0) / 2.0;
     assert!(

@@ -2,12 +2,12 @@
 //! the classical modal structure of a planetary stage, load sharing and face load under errors,
 //! and the rotating-frame terms on a spinning carrier.
 
+use windrive::linear::gearbox_modes::{Family, modes};
+use windrive::linear::modes::{Boundary, linearised, modal_analysis};
 use windrive::physics::drivetrain::preset_d;
 use windrive::physics::gearbox::description::{BearingModel, Description, PRESETS};
-use windrive::physics::gearbox::modal::{Family, modes};
 use windrive::physics::gearbox::model::{Gearbox, INPUT_GENERATOR_TORQUE, INPUT_ROTOR_TORQUE};
 use windrive::physics::gearbox::statics::equilibrium;
-use windrive::physics::modes::{Boundary, linearised, modal_analysis};
 use windrive::physics::torsional::{Fidelity, ModelOptions, TorsionalModel};
 
 fn grc() -> Gearbox {
@@ -421,10 +421,11 @@ fn varying_mesh_stiffness_excites_the_mesh_frequency() {
         time.push((k + 1) as f64 * h);
         force.push(g.loads(&st.q, &st.v).meshes[m].force);
     }
-    let (f, freq, amp) = windrive::analysis::spectrum::dominant_in_window(&time, &force, 0.5, 2.0, 10.0).unwrap();
+    let (f, freq, amp) =
+        windrive::analysis::signal::spectrum::dominant_in_window(&time, &force, 0.5, 2.0, 10.0).unwrap();
     let ims = 82.0 * 18.6 * (1.0 + 99.0 / 21.0) / 60.0;
     assert!((f / ims - 1.0).abs() < 0.02, "{f} vs {ims}");
-    let (f, _) = windrive::analysis::spectrum::peaks(&freq, &amp, 10.0, 100.0, 1)[0];
+    let (f, _) = windrive::analysis::signal::spectrum::peaks(&freq, &amp, 10.0, 100.0, 1)[0];
     let expected = 99.0 * 18.6 / 60.0;
     let mean = force.iter().sum::<f64>() / force.len() as f64;
     let constant = {

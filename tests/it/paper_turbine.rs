@@ -9,8 +9,8 @@
 //!   more damage at 14 than at 11.5 m/s, and next to nothing at 9 m/s.
 
 use crate::common;
-use windrive::analysis::gear::MeshForce;
-use windrive::analysis::gear_set::{self, paper_1p5mw};
+use windrive::analysis::rating::gear::MeshForce;
+use windrive::analysis::rating::gear_set::{self, paper_1p5mw};
 use windrive::physics::drivetrain::Drivetrain;
 
 const CHANNELS: [&str; 3] = ["torsional.rotor_speed", "rotor.aerodynamic_power", "rotor.pitch"];

@@ -1,8 +1,8 @@
 //! Modal analysis against the thesis's published 2-mass values (its §6.1, from Table 4.2) and agreement of
 //! the three fidelities built from one description.
 
+use windrive::linear::modes::{Boundary, modes};
 use windrive::physics::drivetrain::{Drivetrain, PRESETS};
-use windrive::physics::modes::{Boundary, modes};
 use windrive::physics::torsional::{Fidelity, ModelOptions, TorsionalModel};
 
 fn model(preset: &str, fidelity: Fidelity) -> (Drivetrain, TorsionalModel) {

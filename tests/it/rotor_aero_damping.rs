@@ -23,11 +23,11 @@
 use crate::common;
 
 use windrive::cosim::{Algorithm, Master, Options, Record, Scene, System};
+use windrive::linear::modes::{Boundary, eigenpairs_of, linearised};
 use windrive::physics::aero::AIR_DENSITY;
 use windrive::physics::bem::BemRotor;
 use windrive::physics::blade::Blade;
 use windrive::physics::drivetrain::Drivetrain;
-use windrive::physics::modes::{Boundary, eigenpairs_of, linearised};
 use windrive::physics::rotor::preset_rotor;
 use windrive::physics::torsional::{Fidelity, ModelOptions, TorsionalModel};
 

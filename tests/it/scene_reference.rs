@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use windrive::analysis::quantities::{self, relative_error};
+use windrive::analysis::signal::quantities::{self, relative_error};
 use windrive::cosim::{Algorithm, Options, Scene};
 use windrive::reference::grid_step::exact_generator_torque;
 use windrive::reference::scene::{compute, run_quantities};

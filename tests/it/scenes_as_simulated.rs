@@ -117,8 +117,8 @@ fn drivetrain_c_events() {
     let run = |scene: &str| common::run_scene(scene, &[], &channels, Some(60.0));
     let at = |t: &[f64], x: f64| t.iter().position(|&ti| ti >= x).unwrap();
     let del = |lss: &[f64], t: &[f64]| {
-        let cycles = windrive::analysis::rainflow::cycles(lss);
-        windrive::analysis::damage::damage_equivalent_load(&cycles, 6.0, t[t.len() - 1] - t[0])
+        let cycles = windrive::analysis::fatigue::rainflow::cycles(lss);
+        windrive::analysis::fatigue::damage::damage_equivalent_load(&cycles, 6.0, t[t.len() - 1] - t[0])
     };
 
     let s = run("c-startup");

@@ -13,9 +13,9 @@
 
 use crate::common;
 
-use windrive::analysis::metrics::range;
-use windrive::analysis::spectrum::dominant_in_window;
-use windrive::physics::modes::Boundary;
+use windrive::analysis::signal::metrics::range;
+use windrive::analysis::signal::spectrum::dominant_in_window;
+use windrive::linear::modes::Boundary;
 use windrive::reference::modes::lowest_mode;
 
 struct Run {

@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use windrive::analysis::metrics::trajectory_error;
+use windrive::analysis::signal::metrics::trajectory_error;
 use windrive::cosim::master::run_columns_with;
 use windrive::cosim::{Acceleration, Algorithm, Options, Scene, param};
 use windrive::reference::shaft_cut::exact_lss_torque;

@@ -1,5 +1,5 @@
 //! The 6-DOF-per-body gearbox (thesis ch. 5 and 7; the SIMPACK model with sliced gear meshes):
-//! description files, involute geometry, the sliced mesh, the assembled model and its modes.
+//! description files, involute geometry, the sliced mesh, the assembled model and its statics (its modes: `crate::linear::gearbox_modes`).
 
 pub mod beam;
 pub mod bearing;
@@ -8,7 +8,6 @@ pub mod description;
 pub mod involute;
 pub mod loads;
 pub mod mesh;
-pub mod modal;
 pub mod model;
 mod ninth_root;
 pub mod row;

@@ -5,12 +5,15 @@
 //! tooth (stress bins with their load cycles from the speed, ISO 6336-6 style), and the ISO 281 Miner
 //! damage of a bearing over its load spectrum.
 
-use super::gear::{self, Factors, GearPair, MeshForce, Tooth, ToothStress};
-use super::limits::{BENDING_LIMIT_EH_MQ, CONTACT_LIMIT_EH_MQ};
-use super::series::{self, SeriesError};
-use super::tooth_root::{BasicRack, LoadPoint, root_form};
-use super::wind::{WindDistribution, time_factor};
-use super::{damage, ldd, life, rainflow};
+use crate::analysis::fatigue::damage;
+use crate::analysis::fatigue::ldd;
+use crate::analysis::fatigue::operating_hours::{WindDistribution, time_factor};
+use crate::analysis::fatigue::rainflow;
+use crate::analysis::fatigue::sn_curve;
+use crate::analysis::rating::gear::{self, Factors, GearPair, MeshForce, Tooth, ToothStress};
+use crate::analysis::rating::limits::{BENDING_LIMIT_EH_MQ, CONTACT_LIMIT_EH_MQ};
+use crate::analysis::rating::tooth_root::{BasicRack, LoadPoint, root_form};
+use crate::analysis::signal::series::{self, SeriesError};
 use serde::Serialize;
 use std::path::Path;
 
@@ -249,7 +252,7 @@ impl Lifetime {
                 .zip(&case.load)
                 .map(|((_, revolutions), load)| (load.abs(), revolutions))
                 .collect();
-            let d = life::bearing_damage(capacity, &spectrum, roller) * repeat;
+            let d = sn_curve::bearing_damage(capacity, &spectrum, roller) * repeat;
             let n: f64 = spectrum.iter().map(|(_, n)| n).sum::<f64>() * repeat;
             weighted += spectrum.iter().map(|(load, n)| n * load.powf(p)).sum::<f64>() * repeat;
             let max_load = case.load.iter().map(|v| v.abs()).fold(0.0, f64::max);
@@ -271,7 +274,7 @@ impl Lifetime {
             cases,
             revolutions,
             equivalent_load,
-            l10_revolutions: life::bearing_l10(capacity, equivalent_load, roller) * 1e6,
+            l10_revolutions: sn_curve::bearing_l10(capacity, equivalent_load, roller) * 1e6,
             damage,
             shutdown_share: shutdown_damage / damage.max(1e-300),
             l10_years: self.years / damage.max(1e-300),
@@ -452,7 +455,7 @@ pub struct GearLife {
     pub cycles_per_revolution: f64,
     /// The root geometry the factors came from (None when they were given).
     #[serde(skip)]
-    pub root: Option<super::tooth_root::RootForm>,
+    pub root: Option<crate::analysis::rating::tooth_root::RootForm>,
     /// σ_Hlim·Z_NT and σ_FE·Y_M·Y_NT, Pa.
     #[serde(skip)]
     pub allowable_contact_stress: f64,

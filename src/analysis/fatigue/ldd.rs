@@ -2,7 +2,7 @@
 //! load dwelt in each load bin, and how many revolutions (load cycles of a tooth) it did there,
 //! n_i = Σ_j t_j·|ω_j|/2π over the samples j of bin i.
 
-use super::matrix::Bins;
+use crate::analysis::fatigue::matrix::Bins;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct LoadDuration {

@@ -5,7 +5,7 @@
 //!
 //! Lengths in units of the normal module unless named otherwise.
 
-use super::gear::GearPair;
+use crate::analysis::rating::gear::GearPair;
 use std::f64::consts::PI;
 
 fn inv(a: f64) -> f64 {
@@ -269,7 +269,7 @@ mod tests {
 
     #[test]
     fn the_ring_is_refused_by_name() {
-        let pair = crate::analysis::gear::tests::spur(20, 80, true);
+        let pair = crate::analysis::rating::gear::tests::spur(20, 80, true);
         assert!(
             root_form(&pair, 2, &BasicRack::ISO_53_A, LoadPoint::Tip)
                 .unwrap_err()

@@ -3,8 +3,8 @@
 //! turn, planets move alike), translational (central members translate), planet (only planets
 //! move), axial/tilting (out of the plane), with its torsional projection.
 
-use super::model::{BodyKind, Gearbox, SPIN, TX, TY, UX, UY, UZ};
-use crate::physics::modes::eigenpairs_of;
+use crate::linear::modes::eigenpairs_of;
+use crate::physics::gearbox::model::{BodyKind, Gearbox, SPIN, TX, TY, UX, UY, UZ};
 use serde::Serialize;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

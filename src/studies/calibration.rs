@@ -7,9 +7,9 @@
 //! statistic's size: zero inside a bound the thesis states as "more than" or "between", the distance
 //! to the bound outside it. The objective is their sum of squares.
 
-use super::damage::damage_equivalent_load;
-use super::metrics::range;
-use super::rainflow::cycles;
+use crate::analysis::fatigue::damage::damage_equivalent_load;
+use crate::analysis::fatigue::rainflow::cycles;
+use crate::analysis::signal::metrics::range;
 
 /// What the thesis states about a statistic.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -17,10 +17,10 @@
 //! # f_min = 0.3                      # dominant-frequency: lowest frequency considered, Hz
 //! ```
 
-use super::damage::DamageSums;
-use super::metrics;
-use super::rainflow::Counter;
-use super::spectrum::dominant_in_window;
+use crate::analysis::fatigue::damage::DamageSums;
+use crate::analysis::fatigue::rainflow::Counter;
+use crate::analysis::signal::metrics;
+use crate::analysis::signal::spectrum::dominant_in_window;
 use serde::Deserialize;
 use std::path::Path;
 

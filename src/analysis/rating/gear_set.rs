@@ -7,11 +7,11 @@
 //! The gear table of the paper's 1.5 MW gearbox is [`paper_1p5mw`]; its channels are the outputs of the
 //! torsional FMU with preset P or of the gearbox6dof FMU with `paper1p5mw`.
 
-use super::gear::{BENDING_LIFE_KNOTS, CONTACT_LIFE_KNOTS, GearPair, MeshForce, Tooth, ToothStress};
-use super::ldd::sample_revolutions;
-use super::limits::{BENDING_LIMIT_EH_MQ, CONTACT_LIMIT_EH_MQ};
-use super::series::{self, SeriesError};
-use super::tooth_root::{BasicRack, LoadPoint, root_form};
+use crate::analysis::fatigue::ldd::sample_revolutions;
+use crate::analysis::rating::gear::{BENDING_LIFE_KNOTS, CONTACT_LIFE_KNOTS, GearPair, MeshForce, Tooth, ToothStress};
+use crate::analysis::rating::limits::{BENDING_LIMIT_EH_MQ, CONTACT_LIMIT_EH_MQ};
+use crate::analysis::rating::tooth_root::{BasicRack, LoadPoint, root_form};
+use crate::analysis::signal::series::{self, SeriesError};
 use crate::physics::gearbox::description::{Description, Stage, Toothing};
 use serde::Serialize;
 use std::path::Path;
@@ -188,7 +188,7 @@ impl RatedTooth {
         };
         let stress = ToothStress::steel(
             self.pair,
-            super::gear::Factors {
+            crate::analysis::rating::gear::Factors {
                 k_a: 1.0,
                 y_f,
                 y_s,
@@ -465,7 +465,7 @@ pub fn gear_table(name: &str, component: &str, force_kind: MeshForce) -> Result<
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::ldd::load_duration;
+    use crate::analysis::fatigue::ldd::load_duration;
 
     /// The curve passes through ISO's knots, and below the knee falls with the paper's second slope:
     /// halving the stress there multiplies the life by 2^(2m−1).
@@ -553,7 +553,7 @@ mod tests {
         let (y_f, y_s) = tooth.form_factors().unwrap();
         let st = ToothStress::steel(
             tooth.pair,
-            crate::analysis::gear::Factors {
+            crate::analysis::rating::gear::Factors {
                 k_a: 1.0,
                 y_f,
                 y_s,
@@ -593,7 +593,7 @@ mod tests {
         let (y_f, y_s) = tooth.form_factors().unwrap();
         let st = ToothStress::steel(
             tooth.pair,
-            crate::analysis::gear::Factors {
+            crate::analysis::rating::gear::Factors {
                 k_a: 1.0,
                 y_f,
                 y_s,

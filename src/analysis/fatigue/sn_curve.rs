@@ -1,6 +1,6 @@
 //! Life and damage: S-N curves with Palmgren–Miner summation, and ISO 281 basic bearing life.
 
-use super::rainflow::Cycle;
+use crate::analysis::fatigue::rainflow::Cycle;
 
 /// A Wöhler (S-N) curve N(S) = N_ref·(S_ref/S)^m, optionally with a second slope m₂ below the knee
 /// (the paper's two-slope curve uses m₂ = 2m − 1, Haibach).
@@ -61,7 +61,7 @@ pub fn bearing_damage(dynamic_capacity: f64, spectrum: &[(f64, f64)], roller: bo
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::rainflow::cycles;
+    use crate::analysis::fatigue::rainflow::cycles;
 
     /// Miner over a spectrum equals one L10 at the spectrum's equivalent load
     /// P_eq = (Σ n_i P_i^p / Σ n_i)^(1/p), the ISO 281 rule for variable load.

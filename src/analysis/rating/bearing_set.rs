@@ -6,10 +6,10 @@
 //! thesis's count (its ch. 5.4): rainflow cycles of the load, each a load cycle at its range, over the
 //! same life law, which weighs a shutdown's few large swings far above hours of turning.
 
-use super::ldd::sample_revolutions;
-use super::life::bearing_l10;
-use super::rainflow::cycles;
-use super::series::{self, SeriesError};
+use crate::analysis::fatigue::ldd::sample_revolutions;
+use crate::analysis::fatigue::rainflow::cycles;
+use crate::analysis::fatigue::sn_curve::bearing_l10;
+use crate::analysis::signal::series::{self, SeriesError};
 use crate::physics::gearbox::Gearbox;
 use crate::physics::gearbox::description::{Contact, Description, Rollers};
 use serde::Serialize;

@@ -2,7 +2,7 @@
 //! solved by the Cholesky reduction M = L·Lᵀ, A = L⁻¹ K L⁻ᵀ symmetric, modes x = L⁻ᵀ y
 //! (M-orthonormal; no QZ for a symmetric pencil), and the torsional drivetrain's boundaries.
 
-use super::torsional::TorsionalModel;
+use crate::physics::torsional::TorsionalModel;
 use crate::solver::system::{Linearisation, SecondOrderSystem};
 
 use nalgebra::DMatrix;

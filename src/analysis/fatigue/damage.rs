@@ -2,7 +2,7 @@
 //! damage of the counted cycles under a Wöhler curve of slope m (Palmgren–Miner):
 //! DEL = (Σ n_i S_i^m / N_eq)^(1/m).
 
-use super::rainflow::Cycle;
+use crate::analysis::fatigue::rainflow::Cycle;
 
 /// Σ n_i S_i^m for several Wöhler slopes, accumulated one cycle at a time, so a streaming count
 /// needs no cycle list.
@@ -108,7 +108,7 @@ pub fn damage_equivalent_load(cycles: &[Cycle], m: f64, equivalent_cycles: f64) 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::rainflow::cycles;
+    use crate::analysis::fatigue::rainflow::cycles;
 
     /// MLife's Goodman correction: a cycle at mean 0 with fixed mean 0 is unchanged; at mean L_ult/2
     /// it counts double; the DEL then follows the corrected ranges.

@@ -359,7 +359,7 @@ impl Tooth {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::analysis::hertz::{LineContact, effective_modulus};
+    use crate::physics::hertz::{LineContact, effective_modulus};
 
     /// A spur pair of module 10 mm, 20°, face width 100 mm, no profile shift.
     pub(crate) fn spur(z1: u32, z2: u32, internal: bool) -> GearPair {

@@ -3,7 +3,7 @@
 //! a speed or a shaft torque out, from the dynamic stiffness K − ω²M + jωC (every mesh at its mean
 //! stiffness, no backlash) with the generator boundary of the modal analysis (locked = DOF removed).
 
-use crate::physics::modes::{Boundary, linearised};
+use crate::linear::modes::{Boundary, linearised};
 use crate::physics::torsional::TorsionalModel;
 use crate::solver::system::Linearisation;
 use nalgebra::{DMatrix, DVector};
@@ -137,8 +137,8 @@ pub fn frequency_response(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linear::modes::modes;
     use crate::physics::drivetrain::Drivetrain;
-    use crate::physics::modes::modes;
     use crate::physics::torsional::{Fidelity, ModelOptions};
 
     /// Drivetrain D free–free, rotor torque → generator speed: at low frequency the drivetrain turns

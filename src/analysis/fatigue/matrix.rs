@@ -1,7 +1,7 @@
 //! Rainflow matrices: counts binned by (range, mean) or by (from, to) level, the forms load spectra
 //! are exchanged in (Markov / from–to matrices of the FVA and of MLife's output).
 
-use super::rainflow::Cycle;
+use crate::analysis::fatigue::rainflow::Cycle;
 
 /// `n` equal bins over [lo, hi]; values outside are put in the end bins.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -100,7 +100,7 @@ pub fn from_to(cycles: &[Cycle], series: &[f64], bins: usize) -> Matrix {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::rainflow::cycles;
+    use crate::analysis::fatigue::rainflow::cycles;
 
     /// The ASTM E1049 example (the `rainflow` package's test vector −2, 1, −3, 5, −1, 3, −4, 4, −2):
     /// ranges 3: 0.5, 4: 1.5, 6: 0.5, 8: 1.0, 9: 0.5. Nine range bins of width 1 over [0, 9] put each
