@@ -21,7 +21,7 @@ pub struct BearingsArgs {
     #[arg(long, default_value = "gearbox")]
     pub component: String,
     #[command(flatten)]
-    pub rating: super::RatingOptions,
+    pub rating: super::rating::RatingOptions,
 }
 
 /// The bearing table of `--gearbox` read by `component`'s channels; an error naming the gearbox when it
@@ -47,7 +47,7 @@ pub fn run(args: &BearingsArgs) -> anyhow::Result<()> {
     }
     let series = args.series.as_ref().expect("clap requires it without --channels");
     let rated = table.rate_series(series, args.rating.transient)?;
-    super::print_rated(&rated, args.rating.json, text)
+    super::rating::print_rated(&rated, args.rating.json, text)
 }
 
 fn text(rated: &[BearingDamage]) -> String {

@@ -26,7 +26,7 @@ pub struct GearsArgs {
     #[arg(long)]
     pub component: Option<String>,
     #[command(flatten)]
-    pub rating: super::RatingOptions,
+    pub rating: super::rating::RatingOptions,
 }
 
 pub fn run(args: &GearsArgs) -> anyhow::Result<()> {
@@ -48,7 +48,7 @@ pub fn run(args: &GearsArgs) -> anyhow::Result<()> {
     }
     let series = args.series.as_ref().expect("clap requires it without --channels");
     let rated = rate_series(series, &teeth, args.rating.transient)?;
-    super::print_rated(&rated, args.rating.json, text)
+    super::rating::print_rated(&rated, args.rating.json, text)
 }
 
 fn text(rated: &[ToothDamage]) -> String {
