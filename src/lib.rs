@@ -1,7 +1,12 @@
 //! windrive: wind-turbine drivetrain models as FMI 2.0 Co-Simulation FMUs, the master that couples
 //! them, and the analysis drivetrain engineers run on the results.
 //!
-//! Data flows one way: `physics` ← `solver` ← `fmi2::fmu::export` ← `fmus/*`. Physics never sees FFI.
+//! Layers (ARCHITECTURE.md, held by tests/python/test_architecture.py): `solver` integrates any
+//! `SecondOrderSystem` and knows no model; `physics` implements it and never sees FFI; `slaves` put
+//! a model, the driver and the generated interface together and `fmi2::fmu` turns a slave into the
+//! C symbols `fmus/*` export. On the host side `cosim` drives FMUs through `fmi2::host`; `linear`
+//! analyses the models, `analysis` reads recorded series, `reference` holds exact solutions,
+//! `studies` the research studies, and `cli` parses, calls and prints.
 //! Determinism: every model is a pure function of its parameters, inputs and step sizes; the same
 //! calls give bit-identical results, and a restored FMU state continues bit-identically.
 

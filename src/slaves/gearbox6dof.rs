@@ -453,6 +453,9 @@ impl Slave for Gearbox6dofSlave {
 
     fn do_step(&mut self, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
         self.ensure()?;
+        if let Some(built) = &self.built {
+            check_torques(&self.inputs, &built.model, h)?;
+        }
         self.stepped = true;
         self.loads = None;
         self.apply_rotor_loads();
@@ -461,6 +464,38 @@ impl Slave for Gearbox6dofSlave {
         self.built = Some(built);
         result
     }
+}
+
+/// Largest rotor or generator torque, in multiples of the gearbox's rated torque, a step accepts.
+/// An estimate with a wide margin: a drivetrain's worst transients (emergency stops, a generator's
+/// short circuit) reach a few times rated torque; at thousands of times rated the contacts deform
+/// beyond their laws and the step would halve for minutes before failing.
+pub const MAX_TORQUE_OVER_RATED: f64 = 20.0;
+
+/// Refuses a torque input beyond [`MAX_TORQUE_OVER_RATED`] times its rating over the step from 0 to
+/// `h` (the input polynomial at both ends), naming the input; a description without a rated point
+/// has no limit.
+fn check_torques(inputs: &Inputs, model: &Gearbox, h: f64) -> SlaveResult<()> {
+    let Some(rated) = model.rated_rotor_torque.filter(|r| *r > 0.0) else {
+        return Ok(());
+    };
+    let rated_generator = rated / model.gear_ratio;
+    for (name, input, rating) in [
+        ("rotor_torque", &inputs.rotor_torque, rated),
+        ("generator_torque", &inputs.generator_torque, rated_generator),
+    ] {
+        for dt in [0.0, h] {
+            let value = input.at(dt);
+            if value.abs() > MAX_TORQUE_OVER_RATED * rating {
+                return Err(err(format!(
+                    "input {name} = {value:e} N·m is {:.0} times the gearbox's rated {rating:.6e} N·m, beyond the \
+                     {MAX_TORQUE_OVER_RATED}× any load case of a drivetrain reaches: refused before stepping",
+                    value.abs() / rating
+                )));
+            }
+        }
+    }
+    Ok(())
 }
 
 impl Gearbox6dofSlave {

@@ -13,6 +13,13 @@ use super::system::{Linearity, Mass, SecondOrderSystem, external_forces};
 /// 2⁻¹² of a sub-step (0.24 µs at 1 ms) resolves any mesh contact event of these drivetrains.
 pub const MAX_HALVINGS: u32 = 12;
 
+/// Newton iterations one `advance` may spend per internal step, plus a spare for a contact event's
+/// halvings: a communication step's work stays proportional to its length, whatever its inputs.
+/// The implicit steps of these drivetrains take 1 to 6 iterations, a contact event a few halvings;
+/// an input thousands of times a model's rating makes every step iterate and halve, for minutes.
+const ITERATIONS_PER_STEP: u64 = 32;
+const ITERATIONS_SPARE: u64 = 1 << MAX_HALVINGS;
+
 /// The integration method.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Method {
@@ -54,6 +61,9 @@ pub struct Driver {
     /// Most internal steps one `advance` may take: a host's absurd communication step (1e6 s) is
     /// refused at once instead of running for minutes.
     pub max_steps_per_call: f64,
+    /// The Newton-iteration count (`stats.newton_iterations`) at which the running `advance` stops
+    /// (see [`ITERATIONS_PER_STEP`]).
+    iteration_limit: u64,
 }
 
 impl Driver {
@@ -77,6 +87,7 @@ impl Driver {
             friction_a: Vec::new(),
             mass: MassSolver::default(),
             max_steps_per_call: 1e6,
+            iteration_limit: u64::MAX,
         }
     }
 
@@ -123,11 +134,28 @@ impl Driver {
         inputs(0.0, &mut self.u0);
         self.consistent_acceleration(sys, st, t);
         let n = substeps as usize;
+        let budget = ITERATIONS_PER_STEP * n as u64 + ITERATIONS_SPARE;
+        let first_iteration = self.stats.newton_iterations;
+        self.iteration_limit = first_iteration.saturating_add(budget);
         let mut start = 0.0;
         for i in 0..n {
             let end = if i + 1 == n { h } else { (i + 1) as f64 * hs };
             let was_locked = st.locked;
-            self.substep(sys, st, t, (start, end), &inputs, 0)?;
+            self.substep(sys, st, t, (start, end), &inputs, 0)
+                .map_err(|e| match e {
+                    SolverError::OverBudget { .. } => SolverError::OverBudget {
+                        time: t,
+                        step: h,
+                        iterations: self.stats.newton_iterations - first_iteration,
+                        budget,
+                    },
+                    other => other,
+                })?;
+            // a state gone non-finite stays so: stop here rather than step (and halve) on through
+            // the rest of the communication step, which an absurd input made minutes long
+            if !st.is_finite() {
+                return Err(SolverError::NonFinite { time: t });
+            }
             if st.locked != was_locked {
                 self.events.push(Event {
                     time: t + end,
@@ -160,6 +188,15 @@ impl Driver {
             inputs(span.0, &mut self.u0);
         }
         inputs(span.1, &mut self.u1);
+        if self.stats.newton_iterations > self.iteration_limit {
+            // filled in by `advance`, which knows the communication step
+            return Err(SolverError::OverBudget {
+                time: t,
+                step: 0.0,
+                iterations: 0,
+                budget: 0,
+            });
+        }
         let h = span.1 - span.0;
         let result = match self.method {
             Method::Implicit(_) => {

@@ -106,6 +106,17 @@ pub enum SolverError {
          take shorter communication steps or raise the limit"
     )]
     TooManySteps { step: f64, steps: f64, limit: f64 },
+    #[error(
+        "{iterations} Newton iterations in the communication step from t = {time} s, more than its budget of \
+         {budget} (steps iterating and halving on and on): the model cannot follow its inputs (an input far beyond \
+         its rating?)"
+    )]
+    OverBudget {
+        time: f64,
+        step: f64,
+        iterations: u64,
+        budget: u64,
+    },
 }
 
 impl SolverError {

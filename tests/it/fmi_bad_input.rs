@@ -597,3 +597,52 @@ fn every_string_parameter_is_checked_in_every_mode() {
     }
     assert_eq!(checked, 33);
 }
+
+/// A finite torque thousands of times rated (found by fuzzing: 1e9 N·m into the GRC, a 2 s step)
+/// ran for 44 s before failing. It is refused before stepping, naming the input and the rating; the
+/// generator torque likewise. CPU time, not wall time: a busy machine must not fail it.
+#[test]
+fn an_absurd_torque_into_the_gearbox_is_refused_at_once() {
+    let fmu = Fmu::open(&fmu_path("gearbox6dof")).unwrap();
+    for (input, value) in [("rotor_torque", 1e9), ("generator_torque", -2e7)] {
+        let mut inst = initialised(&fmu, &[], &[]);
+        set(&fmu, &mut inst, input, value);
+        let start = cpu_now();
+        let e = inst.do_step(0.0, 2.0).unwrap_err().to_string();
+        let took = cpu_now().saturating_sub(start);
+        assert!(took.as_secs_f64() < 1.0, "{input}: took {took:?} of CPU");
+        assert!(
+            e.contains(&format!("input {input} = ")) && e.contains("times the gearbox's rated"),
+            "{e}"
+        );
+    }
+    // 15× rated is a load the model takes (inside the 20× limit): a short step runs
+    let mut inst = initialised(&fmu, &[], &[]);
+    let rated = get(&fmu, &mut inst, "rated_rotor_torque");
+    set(&fmu, &mut inst, "rotor_torque", 15.0 * rated);
+    inst.do_step(0.0, 0.01).unwrap();
+}
+
+/// Without a rated point (a user's description may give none) nothing refuses the torque, and the
+/// step's work is what bounds it: Newton iterations in proportion to the step's length, then an
+/// error that says so, instead of minutes of halving.
+#[test]
+fn a_step_the_model_cannot_follow_ends_within_its_iteration_budget() {
+    let dir = windrive::fmi2::host::archive::TempDir::new("norated").unwrap();
+    let preset = std::fs::read_to_string("fmus/gearbox6dof/resources/grc750.toml").unwrap();
+    let text: String = preset
+        .lines()
+        .filter(|l| !l.starts_with("rated_power") && !l.starts_with("rated_rotor_speed_rpm"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let path = dir.path().join("no-rated-point.toml");
+    std::fs::write(&path, text).unwrap();
+    let fmu = Fmu::open(&fmu_path("gearbox6dof")).unwrap();
+    let mut inst = initialised(&fmu, &[("gearbox", path.to_str().unwrap())], &[]);
+    assert_eq!(get(&fmu, &mut inst, "rated_rotor_torque"), 0.0);
+    set(&fmu, &mut inst, "rotor_torque", 1e9);
+    // the GRC follows 1e9 N·m for about a second, then every step iterates and halves
+    let e = inst.do_step(0.0, 1.5).unwrap_err().to_string();
+    // 1.5 s of 1 ms steps: 32 iterations each and 4096 spare
+    assert!(e.contains("more than its budget of 52096"), "{e}");
+}
