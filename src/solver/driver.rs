@@ -151,11 +151,6 @@ impl Driver {
                     },
                     other => other,
                 })?;
-            // a state gone non-finite stays so: stop here rather than step (and halve) on through
-            // the rest of the communication step, which an absurd input made minutes long
-            if !st.is_finite() {
-                return Err(SolverError::NonFinite { time: t });
-            }
             if st.locked != was_locked {
                 self.events.push(Event {
                     time: t + end,
