@@ -8,6 +8,7 @@ campaign stopped by Ctrl-C, a crash or a lost node is finished by running the sa
 from __future__ import annotations
 
 import dataclasses
+import errno
 import json
 import sys
 import time
@@ -19,7 +20,7 @@ from . import cases as cases_mod
 from . import cluster as cluster_mod
 from . import store
 from .errors import CampaignError
-from .runner import RunSpec, run_case, warm_up
+from .runner import RunSpec, check_windrive, remove_work_dirs, run_case, warm_up
 from .schema import Campaign
 
 PROGRESS_INTERVAL_S = 1.0  # at most one progress line a second, besides failures and the last case
@@ -67,13 +68,14 @@ class Progress:
         print(line, file=self.stream, flush=True)
 
 
-def prepare(c: Campaign, opts: Options) -> tuple[list[cases_mod.Case], str, list[str]]:
-    """The cases, the windrive copy they run (cases.snapshot_windrive) and the channels they record."""
+def prepare(c: Campaign, opts: Options) -> tuple[list[cases_mod.Case], str, str, list[str]]:
+    """The cases, the windrive copy they run (cases.snapshot_windrive) and its digest, and the
+    channels they record."""
     opts.out.mkdir(parents=True, exist_ok=True)
     store.write_atomic(opts.out / "campaign.toml", c.path.read_bytes())
     scenes, record = snapshot_scenes(c, opts.windrive, opts.out)
     windrive, digest = cases_mod.snapshot_windrive(opts.windrive, opts.out)
-    return cases_mod.expand(c, scenes, digest), windrive, record
+    return cases_mod.expand(c, scenes, digest), windrive, digest, record
 
 
 def snapshot_scenes(c: Campaign, windrive: str, out: Path) -> tuple[dict[Path, tuple[str, str]], list[str]]:
@@ -107,7 +109,19 @@ def recorded(c: Campaign, windrive: str | None = None) -> list[str]:
 
 def run(c: Campaign, opts: Options, stream=sys.stderr) -> int:
     """Returns the exit status: 0 when every case is ok, 1 when some failed, 130 when interrupted."""
-    all_cases, windrive, record = prepare(c, opts)
+    try:
+        return _run(c, opts, stream)
+    except OSError as e:
+        if e.errno == errno.ENOSPC:
+            raise CampaignError(
+                f"{e.filename or opts.out}: no space left on the device: free some and run the same command "
+                "again (every finished case's result is kept)"
+            ) from None
+        raise
+
+
+def _run(c: Campaign, opts: Options, stream) -> int:
+    all_cases, windrive, digest, record = prepare(c, opts)
     results = store.load_results(opts.out)
     todo = [k for k in all_cases if not store.is_done(k, results.get(k.id), opts.retry_failed)]
     already = len(all_cases) - len(todo)
@@ -131,7 +145,7 @@ def run(c: Campaign, opts: Options, stream=sys.stderr) -> int:
     cost = None
     if todo:
         try:
-            cost = _run_cases(c, opts, todo, spec, len(all_cases), already, stream)
+            cost = _run_cases(c, opts, todo, spec, digest, len(all_cases), already, stream)
         except KeyboardInterrupt:
             interrupted = True
             print("interrupted: finished cases are kept; run the same command again to resume", file=stream)
@@ -152,7 +166,7 @@ def run(c: Campaign, opts: Options, stream=sys.stderr) -> int:
     return 0 if counts.get("ok", 0) == len(all_cases) else 1
 
 
-def _run_cases(c, opts, todo, spec, total, already, stream) -> dict | None:
+def _run_cases(c, opts, todo, spec, digest, total, already, stream) -> dict | None:
     from distributed import Client, as_completed
 
     t_cluster = time.perf_counter()
@@ -168,7 +182,7 @@ def _run_cases(c, opts, todo, spec, total, already, stream) -> dict | None:
             cluster.scale(jobs=c.slurm.jobs)
         client = Client(cluster)
     try:
-        client.run(warm_up)
+        _check_workers(client, spec.windrive, digest, opts)
         threads = cluster_mod.total_threads(client)
         startup = time.perf_counter() - t_cluster
         progress = Progress(total, already, len(todo), stream)
@@ -195,17 +209,50 @@ def _run_cases(c, opts, todo, spec, total, already, stream) -> dict | None:
         threads = max(threads, cluster_mod.total_threads(client))
         return _cost(finished, wall, threads, startup)
     finally:
+        # series folders of cases whose worker was killed mid-case: on the workers still there and here
+        ids = [k.id for k in todo]
+        try:
+            client.run(remove_work_dirs, ids)
+        except Exception:  # a cluster already gone: what is local is removed below
+            pass
         client.close()
         if cluster is not None:
             cluster.close()
+        remove_work_dirs(ids)
+
+
+def _check_workers(client, windrive: str, digest: str, opts: Options) -> None:
+    """Before any case runs, every worker can import this package, and sees the campaign's windrive
+    copy: each failure is one line naming the cause and the fix instead of a traceback per case."""
+    where = f"--scheduler {opts.scheduler}" if opts.scheduler else ("the Slurm workers" if opts.slurm else "the workers")
+    try:
+        client.run(warm_up)
+        found = client.run(check_windrive, windrive, digest)
+    except Exception as e:  # raised on a worker and re-raised here: whatever it is, it stops every case
+        text = f"{type(e).__name__}: {e}"
+        if "windrive_campaign" in text and ("No module" in text or "ModuleNotFound" in text):
+            raise CampaignError(
+                f"{where}: a worker cannot import windrive_campaign: start the scheduler and every worker "
+                f"with PYTHONPATH={cluster_mod.PACKAGE_PARENT} (the same path on every node; docs/CAMPAIGNS.md)"
+            ) from None
+        raise CampaignError(f"{where}: a worker failed its start-up check: {text.splitlines()[0]}") from None
+    wrong = {w: why for w, why in found.items() if why}
+    if wrong:
+        w, why = next(iter(wrong.items()))
+        more = f" (and {len(wrong) - 1} more workers)" if len(wrong) > 1 else ""
+        raise CampaignError(f"{where}: worker {w}: {why}{more}")
 
 
 def _lost(case, error) -> dict:
+    if isinstance(error, OSError) and error.errno == errno.ENOSPC:
+        why = f"no space left on the device for its result ({error.filename}): free some and run the same command again"
+    else:
+        why = f"{type(error).__name__}: {error}"
     return {
         "case": dataclasses.asdict(case),
         "analysis_digest": case.analysis_digest,
         "status": "lost",
-        "error": f"the cluster could not run the case (left pending): {type(error).__name__}: {error}",
+        "error": f"the cluster could not run the case (left pending): {why}",
         "returncode": None,
         "run_s": float("nan"),
         "analysis_s": float("nan"),

@@ -25,6 +25,7 @@ from pathlib import Path
 
 from . import analysis, bearings, gears, store
 from .cases import Case
+from .errors import CampaignError
 from .schema import Channel
 
 ERROR_CHARS = 4000  # of windrive's stderr kept in a failed case's result
@@ -57,6 +58,41 @@ def _die_with_parent():
         _LIBC.prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
 
 
+WORK_PREFIX = "windrive-case-"
+
+
+def work_dirs(case_ids) -> list[Path]:
+    """The temporary series folders of these cases on this machine (run_case's, named by case id)."""
+    tmp = Path(tempfile.gettempdir())
+    return [p for i in case_ids for p in tmp.glob(f"{WORK_PREFIX}{i}-*")]
+
+
+def remove_work_dirs(case_ids) -> int:
+    """Removes what run_case left in the temporary folder for these cases: nothing when it finished,
+    its series when its worker was killed mid-case (no `finally` runs then). Run by the driver on its
+    machine and on every worker once the cases are done; returns how many folders it removed."""
+    found = work_dirs(case_ids)
+    for p in found:
+        shutil.rmtree(p, ignore_errors=True)
+    return len(found)
+
+
+def check_windrive(path: str, digest: str) -> str | None:
+    """On a worker: None when `path` is the binary the campaign snapshotted, else why not (a worker
+    that does not share the campaign folder, or sees another file at its path)."""
+    from .cases import windrive_digest
+
+    if not Path(path).is_file():
+        return f"no windrive at {path}: every worker must see the campaign folder at the same path"
+    try:
+        found = windrive_digest(path)
+    except CampaignError as e:
+        return str(e)
+    if found != digest:
+        return f"{path} differs from the binary the campaign snapshotted (digest {found[:12]}, not {digest[:12]})"
+    return None
+
+
 def warm_up() -> None:
     """Run once on each worker before the campaign's clock starts: the first CSV read and rainflow count
     in a fresh process cost a third of a second of imports and set-up, a per-worker cost (like the
@@ -75,7 +111,7 @@ def run_case(case: Case, spec: RunSpec) -> dict:
         work = store.series_dir(out_dir, case.id)
         work.mkdir(parents=True, exist_ok=True)
     else:
-        work = Path(tempfile.mkdtemp(prefix=f"windrive-case-{case.id}-"))
+        work = Path(tempfile.mkdtemp(prefix=f"{WORK_PREFIX}{case.id}-"))
     csv = work / "series.csv"
     result = {
         "case": dataclasses.asdict(case),

@@ -24,7 +24,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python"))
 
 from campaign_cli import write_campaign  # noqa: E402
-from windrive_campaign import analysis, cases, climate, cluster, schema  # noqa: E402
+from windrive_campaign import analysis, cases, climate, cluster, runner, schema  # noqa: E402
 from windrive_campaign.errors import CampaignError  # noqa: E402
 
 TINY = ROOT / "campaigns" / "tiny.toml"
@@ -412,6 +412,8 @@ params = {{ "rotor.seed" = 4 }}
     while (running := _windrive_running(out)) and time.monotonic() < deadline:
         time.sleep(0.1)
     assert not running, f"windrive still running after the driver stopped: {running}"
+    # the held case's series folder went with its killed worker's `finally`: the driver removed it
+    assert not runner.work_dirs(t.id), runner.work_dirs(t.id)
     held.unlink()
     held.write_text("0,1\n10,1\n")  # rated torque, per unit
     r = campaign_cli("run", path, "--out", out, "--workers", 2, check_rc=0, timeout=600)
@@ -453,3 +455,82 @@ def test_joins_a_running_scheduler(tmp_path):
         assert "on 1 worker " in r.stderr, r.stderr
         assert len(running.scheduler_info["workers"]) == 1  # still there after the driver left
     assert (pd.read_parquet(tmp_path / "out" / "c.parquet").status == "ok").all()
+
+
+# ---------------------------------------------------------------------------------------------------
+# Failures a user meets, each one line naming the cause and the fix
+
+
+def test_a_full_disk_writing_the_table_is_one_line(tmp_path, monkeypatch, capsys):
+    """The table is written after the cases: a full disk there says so and how to go on, and keeps
+    every result already written."""
+    import errno
+
+    from windrive_campaign import __main__ as cli
+    from windrive_campaign import store
+
+    path = write_campaign(tmp_path, minimal())
+    out = tmp_path / "out"
+    campaign_cli("run", path, "--out", out, "--workers", 1, check_rc=0)
+    results = sorted(p.name for p in (out / "cases").glob("*.json"))
+
+    def full(table_path, *_):
+        raise OSError(errno.ENOSPC, "No space left on device", str(table_path))
+
+    monkeypatch.setattr(store, "write_table", full)
+    assert cli.main(["run", str(path), "--out", str(out), "--workers", "1"]) == 2
+    err = capsys.readouterr().err
+    lines = [x for x in err.splitlines() if x.startswith("error:")]
+    assert len(lines) == 1 and "no space left on the device" in lines[0] and "run the same command again" in lines[0]
+    assert "Traceback" not in err
+    assert sorted(p.name for p in (out / "cases").glob("*.json")) == results
+
+
+def test_a_worker_without_the_package_is_one_line(tmp_path):
+    """A scheduler and worker started as a user starts them, without PYTHONPATH: the driver stops
+    before any case with one line naming PYTHONPATH, instead of a traceback per case."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    dask = pathlib.Path(sys.executable).with_name("dask")
+    info = tmp_path / "scheduler.json"
+    scheduler = subprocess.Popen(
+        [str(dask), "scheduler", "--scheduler-file", str(info), "--host", "127.0.0.1", "--port", "0",
+         "--no-dashboard"],
+        cwd=tmp_path, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+    )  # fmt: skip
+    worker = None
+    try:
+        deadline = time.monotonic() + 120  # a bound against a hang only
+        while not info.exists() and time.monotonic() < deadline:
+            time.sleep(0.1)
+        address = json.loads(info.read_text())["address"]
+        worker = subprocess.Popen(
+            [str(dask), "worker", address, "--nthreads", "1", "--no-dashboard"],
+            cwd=tmp_path, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+        )  # fmt: skip
+        from distributed import Client
+
+        with Client(address, timeout="60s") as c:
+            c.wait_for_workers(1, timeout=120)
+        r = campaign_cli("run", write_campaign(tmp_path, minimal()), "--out", tmp_path / "out",
+                         "--scheduler", address, check_rc=2)  # fmt: skip
+        lines = r.stderr.strip().splitlines()
+        assert lines[-1].startswith("error: --scheduler") and "PYTHONPATH=" in lines[-1], r.stderr
+        assert "Traceback" not in r.stderr
+        assert not list((tmp_path / "out" / "cases").glob("*.json"))
+    finally:
+        for p in (worker, scheduler):
+            if p is not None:
+                p.kill()
+                p.wait()
+
+
+def test_a_worker_that_sees_another_windrive_is_named(tmp_path, windrive):
+    """What a worker's start-up check says when the campaign's windrive copy is missing or another
+    file stands at its path (a node without the shared file system, a rebuilt binary)."""
+    digest = cases.windrive_digest(windrive)
+    assert runner.check_windrive(windrive, digest) is None
+    assert "no windrive at" in runner.check_windrive(str(tmp_path / "nowhere"), digest)
+    other = tmp_path / "windrive-other"
+    other.write_bytes(pathlib.Path(windrive).read_bytes() + b"\0")
+    other.chmod(0o755)
+    assert "differs from the binary the campaign snapshotted" in runner.check_windrive(str(other), digest)
