@@ -61,9 +61,10 @@ pub struct Driver {
     /// Most internal steps one `advance` may take: a host's absurd communication step (1e6 s) is
     /// refused at once instead of running for minutes.
     pub max_steps_per_call: f64,
-    /// The Newton-iteration count (`stats.newton_iterations`) at which the running `advance` stops
+    /// `stats.newton_iterations` when the running `advance` began, and the iterations it may spend
     /// (see [`ITERATIONS_PER_STEP`]).
-    iteration_limit: u64,
+    iteration_start: u64,
+    iteration_budget: u64,
 }
 
 impl Driver {
@@ -87,7 +88,8 @@ impl Driver {
             friction_a: Vec::new(),
             mass: MassSolver::default(),
             max_steps_per_call: 1e6,
-            iteration_limit: u64::MAX,
+            iteration_start: 0,
+            iteration_budget: u64::MAX,
         }
     }
 
@@ -134,23 +136,13 @@ impl Driver {
         inputs(0.0, &mut self.u0);
         self.consistent_acceleration(sys, st, t);
         let n = substeps as usize;
-        let budget = ITERATIONS_PER_STEP * n as u64 + ITERATIONS_SPARE;
-        let first_iteration = self.stats.newton_iterations;
-        self.iteration_limit = first_iteration.saturating_add(budget);
+        self.iteration_start = self.stats.newton_iterations;
+        self.iteration_budget = ITERATIONS_PER_STEP * n as u64 + ITERATIONS_SPARE;
         let mut start = 0.0;
         for i in 0..n {
             let end = if i + 1 == n { h } else { (i + 1) as f64 * hs };
             let was_locked = st.locked;
-            self.substep(sys, st, t, (start, end), &inputs, 0)
-                .map_err(|e| match e {
-                    SolverError::OverBudget { .. } => SolverError::OverBudget {
-                        time: t,
-                        step: h,
-                        iterations: self.stats.newton_iterations - first_iteration,
-                        budget,
-                    },
-                    other => other,
-                })?;
+            self.substep(sys, st, t, (start, end), &inputs, 0)?;
             if st.locked != was_locked {
                 self.events.push(Event {
                     time: t + end,
@@ -183,13 +175,12 @@ impl Driver {
             inputs(span.0, &mut self.u0);
         }
         inputs(span.1, &mut self.u1);
-        if self.stats.newton_iterations > self.iteration_limit {
-            // filled in by `advance`, which knows the communication step
+        let spent = self.stats.newton_iterations - self.iteration_start;
+        if spent > self.iteration_budget {
             return Err(SolverError::OverBudget {
                 time: t,
-                step: 0.0,
-                iterations: 0,
-                budget: 0,
+                iterations: spent,
+                budget: self.iteration_budget,
             });
         }
         let h = span.1 - span.0;

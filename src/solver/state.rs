@@ -111,12 +111,7 @@ pub enum SolverError {
          {budget} (steps iterating and halving on and on): the model cannot follow its inputs (an input far beyond \
          its rating?)"
     )]
-    OverBudget {
-        time: f64,
-        step: f64,
-        iterations: u64,
-        budget: u64,
-    },
+    OverBudget { time: f64, iterations: u64, budget: u64 },
 }
 
 impl SolverError {
