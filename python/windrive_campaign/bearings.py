@@ -1,11 +1,11 @@
-"""`[bearings]`: every rolling bearing of the case's gearbox6dof gearbox rated by `windrive bearings` on
-the case's series (src/cli/bearings.rs, src/analysis/rating/bearing_set.rs): ISO 281's basic dynamic load rating
-C_r from each roller set, the equivalent load P = X·F_r + Y·F_a per sample, the rings' revolutions from
-the gearbox's kinematics and Miner's sum of revolutions over L10 per day.
+"""`[bearings]`: every rolling bearing of the case's gearbox6dof gearbox rated on the case's series, inside
+the case's own `windrive run --analyse` (src/analysis/case.rs through src/analysis/rating/bearing_set.rs, as
+`windrive bearings` rates a series): ISO 281's basic dynamic load rating C_r from each roller set, the
+equivalent load P = X·F_r + Y·F_a per sample, the rings' revolutions from the gearbox's kinematics and
+Miner's sum of revolutions over L10 per day.
 
-As with `[gears]`, the rating stays in Rust, run as a second subprocess on the series the case just
-wrote, so the campaign's figures are exactly what `windrive bearings` prints for that series (tested to
-1e-12). Each bearing with a roller set becomes six columns of the table, `bearing.<name>.<column>`.
+The campaign's figures are exactly what `windrive bearings` prints for the same series (tested to 1e-12).
+Each bearing with a roller set becomes six columns of the table, `bearing.<name>.<column>`.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ DEFAULT_COMPONENT = "gearbox"
 
 
 class BearingsError(Exception):
-    """`windrive bearings` failed; the message is its stderr."""
+    """`windrive bearings --channels` failed; the message is its stderr."""
 
 
 @dataclass(frozen=True)
@@ -37,7 +37,7 @@ class Bearings:
         return rating.channels(cmd, BearingsError)
 
 
-# table column suffix -> the field of `windrive bearings --json`. The window's L10h is left out: it is
+# table column suffix (as the analysis names it) -> the field of `windrive bearings --json`. The window's L10h is left out: it is
 # 24 / day hours, and infinite (JSON null) for a bearing that did not turn.
 COLUMNS = {
     "day": "damage_per_day",
@@ -50,12 +50,8 @@ COLUMNS = {
 
 
 def command(windrive: str, series: str, bearings: Bearings, transient: float) -> list[str]:
+    """`windrive bearings` on a series: the scene's probe is rated with it before any case runs."""
     return [
         windrive, "bearings", series, "--gearbox", bearings.gearbox, "--component", bearings.component,
         "--transient", repr(transient), "--json",
     ]  # fmt: skip
-
-
-def rate(windrive: str, series: str, bearings: Bearings, transient: float, timeout: float) -> dict[str, float]:
-    """The table's columns for one series; BearingsError with windrive's stderr when it fails."""
-    return rating.rate(command(windrive, series, bearings, transient), "bearing", COLUMNS, timeout, BearingsError)

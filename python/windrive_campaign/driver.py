@@ -15,12 +15,12 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from . import analysis, bearings, gears
+from . import bearings, gears
 from . import cases as cases_mod
 from . import cluster as cluster_mod
 from . import store
 from .errors import CampaignError
-from .runner import RunSpec, check_windrive, remove_work_dirs, run_case, warm_up
+from .runner import RunSpec, check_windrive, run_case
 from .schema import Campaign
 
 PROGRESS_INTERVAL_S = 1.0  # at most one progress line a second, besides failures and the last case
@@ -104,7 +104,8 @@ def recorded(c: Campaign, windrive: str | None = None) -> list[str]:
         except (gears.GearsError, bearings.BearingsError) as e:
             raise CampaignError(f"{c.path}: {cases_mod.section(section)}: windrive {tool} cannot rate it: "
                                 f"{e}") from None  # fmt: skip
-    return list(dict.fromkeys([*analysis.needed_columns(c.channels), *rated, *c.record]))
+    analysed = [n for ch in c.channels for n in (ch.name, *([ch.ldd.speed] if ch.ldd else []))]
+    return list(dict.fromkeys([*analysed, *rated, *c.record]))
 
 
 def run(c: Campaign, opts: Options, stream=sys.stderr) -> int:
@@ -209,16 +210,9 @@ def _run_cases(c, opts, todo, spec, digest, total, already, stream) -> dict | No
         threads = max(threads, cluster_mod.total_threads(client))
         return _cost(finished, wall, threads, startup)
     finally:
-        # series folders of cases whose worker was killed mid-case: on the workers still there and here
-        ids = [k.id for k in todo]
-        try:
-            client.run(remove_work_dirs, ids)
-        except Exception:  # a cluster already gone: what is local is removed below
-            pass
         client.close()
         if cluster is not None:
             cluster.close()
-        remove_work_dirs(ids)
 
 
 def _check_workers(client, windrive: str, digest: str, opts: Options) -> None:
@@ -226,7 +220,6 @@ def _check_workers(client, windrive: str, digest: str, opts: Options) -> None:
     copy: each failure is one line naming the cause and the fix instead of a traceback per case."""
     where = f"--scheduler {opts.scheduler}" if opts.scheduler else ("the Slurm workers" if opts.slurm else "the workers")
     try:
-        client.run(warm_up)
         found = client.run(check_windrive, windrive, digest)
     except Exception as e:  # raised on a worker and re-raised here: whatever it is, it stops every case
         text = f"{type(e).__name__}: {e}"

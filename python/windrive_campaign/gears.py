@@ -1,9 +1,10 @@
-"""`[gears]`: every gear tooth of the case's gearbox rated by `windrive gears` on the case's series
-(src/cli/gears.rs, src/analysis/rating/gear_set.rs): ISO 6336 contact and root stress from the mesh forces, load
-cycles from the speeds, a two-slope S-N curve and Miner's sum per day, as the paper does it (its §1.3).
+"""`[gears]`: every gear tooth of the case's gearbox rated on the case's series, inside the case's own
+`windrive run --analyse` (src/analysis/case.rs through src/analysis/rating/gear_set.rs, as `windrive gears`
+rates a series): ISO 6336 contact and root stress from the mesh forces, load cycles from the speeds, a
+two-slope S-N curve and Miner's sum per day, as the paper does it (its §1.3).
 
-The rating stays in Rust, run as a second subprocess on the series the case just wrote, so the campaign's
-figures are exactly what `windrive gears` prints for that series (tested to 1e-12). The gear table is P
+The campaign's figures are exactly what `windrive gears` prints for the same series (tested to 1e-12). The
+gear table is P
 (the paper's, hand-built) or any gearbox6dof description (a preset or a file), whose planetary stage k
 has the teeth s<k>, p<k>, ps<k>, pr<k>, r<k> and parallel stage k p<k>, g<k>. Each tooth becomes five
 columns of the table, `gear.<tooth>.<column>`, NaN where windrive rates no such thing (a planet's root is
@@ -22,7 +23,7 @@ DEFAULT_FMU = "torsional"
 
 
 class GearsError(Exception):
-    """`windrive gears` failed; the message is its stderr."""
+    """`windrive gears --channels` failed; the message is its stderr."""
 
 
 @dataclass(frozen=True)
@@ -44,7 +45,7 @@ class Gears:
         return rating.channels([windrive, "gears", "--channels", *self.options()], GearsError)
 
 
-# table column suffix -> the field of `windrive gears --json`
+# table column suffix (as the analysis names it) -> the field of `windrive gears --json`
 COLUMNS = {
     "flank_day": "flank_damage_per_day",
     "root_day": "root_damage_per_day",
@@ -55,9 +56,5 @@ COLUMNS = {
 
 
 def command(windrive: str, series: str, gears: Gears, transient: float) -> list[str]:
+    """`windrive gears` on a series: the scene's probe is rated with it before any case runs."""
     return [windrive, "gears", series, *gears.options(), "--transient", repr(transient), "--json"]
-
-
-def rate(windrive: str, series: str, gears: Gears, transient: float, timeout: float) -> dict[str, float]:
-    """The table's columns for one series; GearsError with windrive's stderr when it fails."""
-    return rating.rate(command(windrive, series, gears, transient), "gear", COLUMNS, timeout, GearsError)

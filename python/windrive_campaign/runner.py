@@ -1,9 +1,11 @@
-"""One case on a worker: `windrive run` as a subprocess, the analysis of its series, the result file.
+"""One case on a worker: one `windrive run … --analyse SPEC` subprocess that simulates the case and
+analyses its series in the same process (src/analysis/case.rs: statistics, DELs, LDD, and with [gears] or
+[bearings] every tooth's or bearing's rating), then the result file.
 
 Runs inside a dask worker process (one thread each: the work is the subprocess). Never raises for a
-case's own failure: a non-zero exit, a timeout, a series the analysis cannot read, `windrive gears`
-([gears]) or `windrive bearings` ([bearings]) failing on it become a result with status `failed` or
-`timeout` and the error text, so one bad case does not stop the campaign.
+case's own failure: a non-zero exit (the simulation or the analysis of its series failing), a timeout or
+an output it cannot read become a result with status `failed` or `timeout` and the error text, so one bad
+case does not stop the campaign. The series reaches the disk only when the campaign keeps it.
 """
 
 from __future__ import annotations
@@ -11,19 +13,19 @@ from __future__ import annotations
 import ctypes
 import dataclasses
 import datetime
+import json
+import math
 import os
-import shutil
 import signal
 import socket
 import subprocess
 import sys
-import tempfile
 import time
 import traceback
 from dataclasses import dataclass
 from pathlib import Path
 
-from . import analysis, bearings, gears, store
+from . import bearings, gears, store
 from .cases import Case
 from .errors import CampaignError
 from .schema import Channel
@@ -42,8 +44,17 @@ class RunSpec:
     keep_series: bool
     record: tuple[str, ...]  # every channel recorded (driver.recorded)
     timeout: float
-    gears: gears.Gears | None = None  # what `windrive gears` rates each series with, if anything
-    bearings: bearings.Bearings | None = None  # what `windrive bearings` rates each series with, if anything
+    gears: gears.Gears | None = None  # the gear table each series is rated with, if any
+    bearings: bearings.Bearings | None = None  # the gearbox whose bearings each series rates, if any
+
+    def analysis(self, transient: float) -> dict:
+        """The `--analyse` spec of a case (src/analysis/case.rs reads it)."""
+        spec: dict = {"transient": transient, "feq": self.feq, "channels": [dataclasses.asdict(c) for c in self.channels]}
+        if self.gears is not None:
+            spec["gears"] = dataclasses.asdict(self.gears)
+        if self.bearings is not None:
+            spec["bearings"] = dataclasses.asdict(self.bearings)
+        return spec
 
 
 # loaded here, not in the forked child: dlopen between fork and exec of a threaded process can deadlock
@@ -56,25 +67,6 @@ def _die_with_parent():
     running on, orphaned, to the end of a long case."""
     if _LIBC is not None:
         _LIBC.prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
-
-
-WORK_PREFIX = "windrive-case-"
-
-
-def work_dirs(case_ids) -> list[Path]:
-    """The temporary series folders of these cases on this machine (run_case's, named by case id)."""
-    tmp = Path(tempfile.gettempdir())
-    return [p for i in case_ids for p in tmp.glob(f"{WORK_PREFIX}{i}-*")]
-
-
-def remove_work_dirs(case_ids) -> int:
-    """Removes what run_case left in the temporary folder for these cases: nothing when it finished,
-    its series when its worker was killed mid-case (no `finally` runs then). Run by the driver on its
-    machine and on every worker once the cases are done; returns how many folders it removed."""
-    found = work_dirs(case_ids)
-    for p in found:
-        shutil.rmtree(p, ignore_errors=True)
-    return len(found)
 
 
 def check_windrive(path: str, digest: str) -> str | None:
@@ -93,26 +85,13 @@ def check_windrive(path: str, digest: str) -> str | None:
     return None
 
 
-def warm_up() -> None:
-    """Run once on each worker before the campaign's clock starts: the first CSV read and rainflow count
-    in a fresh process cost a third of a second of imports and set-up, a per-worker cost (like the
-    cluster's start) that would otherwise be booked to the first cases."""
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "warm.csv"
-        path.write_text("time,a.x\n0,0\n0.5,1\n1,0\n")
-        s = analysis.read_series(str(path), ["a.x"])
-        analysis.analyse(s, (Channel("a.x", (3.0,)),), 1.0, 0.0)
-
-
 def run_case(case: Case, spec: RunSpec) -> dict:
     started = time.perf_counter()
     out_dir = Path(spec.out_dir)
+    csv = None
     if spec.keep_series:
-        work = store.series_dir(out_dir, case.id)
-        work.mkdir(parents=True, exist_ok=True)
-    else:
-        work = Path(tempfile.mkdtemp(prefix=f"{WORK_PREFIX}{case.id}-"))
-    csv = work / "series.csv"
+        csv = store.series_dir(out_dir, case.id) / "series.csv"
+        csv.parent.mkdir(parents=True, exist_ok=True)
     result = {
         "case": dataclasses.asdict(case),
         "analysis_digest": case.analysis_digest,
@@ -125,7 +104,8 @@ def run_case(case: Case, spec: RunSpec) -> dict:
         "stats": {},
     }
     try:
-        cmd = case.command(spec.windrive, str(csv), list(spec.record))
+        cmd = case.command(spec.windrive, None if csv is None else str(csv), list(spec.record))
+        cmd += ["--analyse", json.dumps(spec.analysis(case.transient))]
         t0 = time.perf_counter()
         try:
             r = subprocess.run(cmd, capture_output=True, text=True, timeout=spec.timeout, preexec_fn=_die_with_parent)
@@ -136,31 +116,30 @@ def run_case(case: Case, spec: RunSpec) -> dict:
         except subprocess.TimeoutExpired:
             result["status"] = "timeout"
             result["error"] = f"windrive run gave no result within the timeout of {spec.timeout} s"
-        result["run_s"] = time.perf_counter() - t0
+        wall = time.perf_counter() - t0
+        result["run_s"] = wall
         if result["status"] == "ok":
-            t1 = time.perf_counter()  # the ratings count as analysis: they are work on the finished series
             try:
-                series = analysis.read_series(str(csv), analysis.needed_columns(spec.channels))
-                stats = analysis.analyse(series, spec.channels, spec.feq, case.transient)
-                if spec.gears is not None:
-                    stats.update(gears.rate(spec.windrive, str(csv), spec.gears, case.transient, spec.timeout))
-                if spec.bearings is not None:
-                    stats.update(bearings.rate(spec.windrive, str(csv), spec.bearings, case.transient, spec.timeout))
-                result["stats"] = stats
-            except analysis.AnalysisError as e:
+                out = json.loads(r.stdout)
+                result["stats"] = {k: _number(v) for k, v in out["statistics"].items()}
+                # the analysis ran inside the subprocess: its time is the analysis, the rest the run
+                result["analysis_s"] = float(out["analysis_s"])
+                result["run_s"] = wall - result["analysis_s"]
+            except (ValueError, KeyError, TypeError) as e:
                 result["status"] = "failed"
-                result["error"] = f"analysis: {e}"
-            except (gears.GearsError, bearings.BearingsError) as e:
-                result["status"] = "failed"
-                result["error"] = str(e)
-            result["analysis_s"] = time.perf_counter() - t1
+                result["error"] = f"windrive run --analyse: unexpected output ({type(e).__name__}: {e}): {r.stdout[:200]!r}"
     except Exception:  # a bug here must not stop the campaign either: recorded with its traceback
         result["status"] = "failed"
         result["error"] = traceback.format_exc()[-ERROR_CHARS:]
-    finally:
-        if not spec.keep_series:
-            shutil.rmtree(work, ignore_errors=True)
     result["case_s"] = time.perf_counter() - started
     result["finished"] = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     store.write_result(out_dir, case.id, result)
     return result
+
+
+def _number(value):
+    """A statistic from windrive's JSON: null (not a number, e.g. a tooth it does not rate) as NaN; a
+    list (an LDD's bins) element by element."""
+    if isinstance(value, list):
+        return [_number(v) for v in value]
+    return math.nan if value is None else float(value)

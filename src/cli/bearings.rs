@@ -2,9 +2,7 @@
 //! FMU (ISO 281 rating from the roller sets, equivalent load, revolutions from the kinematics, Miner)
 //! through [`crate::analysis::rating::bearing_set`].
 
-use crate::analysis::rating::bearing_set::{BearingDamage, BearingTable, bearing_table};
-use crate::physics::gearbox::description::Description;
-use anyhow::Context;
+use crate::analysis::rating::bearing_set::{BearingDamage, BearingSetError, BearingTable};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -27,15 +25,10 @@ pub struct BearingsArgs {
 /// The bearing table of `--gearbox` read by `component`'s channels; an error naming the gearbox when it
 /// cannot be read or has no roller set (`windrive life --bearing-of` uses it too).
 pub fn load_table(gearbox: &str, component: &str) -> anyhow::Result<BearingTable> {
-    let description = Description::load(gearbox).map_err(|e| anyhow::anyhow!("--gearbox: {e}"))?;
-    let table = bearing_table(&description, component).context("--gearbox")?;
-    if table.bearings.is_empty() {
-        anyhow::bail!(
-            "--gearbox {gearbox}: no bearing has a roller set (`rollers = {{ count, diameter_mm, length_mm, \
-             pitch_diameter_mm }}`), so none has an ISO 281 rating"
-        );
-    }
-    Ok(table)
+    BearingTable::load(gearbox, component).map_err(|e| match e {
+        BearingSetError::Gearbox(name, message) => anyhow::anyhow!("--gearbox {name}: {message}"),
+        e => anyhow::anyhow!("--gearbox: {e}"),
+    })
 }
 
 pub fn run(args: &BearingsArgs) -> anyhow::Result<()> {

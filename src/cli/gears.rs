@@ -1,8 +1,7 @@
 //! `windrive gears`: every gear tooth of a gearbox rated from one series (ISO 6336 stresses, load
 //! cycles from the speeds, two-slope S-N, Miner) through [`crate::analysis::rating::gear_set`].
 
-use crate::analysis::rating::gear::MeshForce;
-use crate::analysis::rating::gear_set::{ToothDamage, channels, gear_table, rate_series};
+use crate::analysis::rating::gear_set::{ToothDamage, channels, fmu_mesh_force, gear_table, rate_series};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -30,10 +29,7 @@ pub struct GearsArgs {
 }
 
 pub fn run(args: &GearsArgs) -> anyhow::Result<()> {
-    let (kind, default_component) = match args.fmu.as_str() {
-        "gearbox6dof" => (MeshForce::Normal, "gearbox"),
-        _ => (MeshForce::Transverse, "torsional"),
-    };
+    let (kind, default_component) = fmu_mesh_force(&args.fmu).expect("clap allows only the FMUs it knows");
     let component = args.component.as_deref().unwrap_or(default_component);
     let teeth = gear_table(&args.gearbox, component, kind).map_err(|e| {
         anyhow::anyhow!(

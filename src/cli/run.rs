@@ -1,5 +1,7 @@
 //! `windrive run` and `windrive pack-scene`: SSP scenes through the co-simulation master.
 
+use crate::analysis::case::CaseSpec;
+use crate::cosim::recorder::Recorder;
 use crate::cosim::{Acceleration, Algorithm, Master, Options, Record, Scene, System};
 use anyhow::{Context, anyhow, bail};
 use std::io::IsTerminal;
@@ -56,9 +58,16 @@ pub struct RunArgs {
     /// Worker threads for the jacobi algorithm
     #[arg(long, default_value_t = 1)]
     pub threads: usize,
-    /// Results CSV [default: results/<scene name>.csv]
+    /// Results CSV [default: results/<scene name>.csv; with --analyse, none unless given]
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// After the run, analyse the recorded series in this process and print one JSON object on stdout:
+    /// {"statistics": {...}, "simulation_s": ..., "analysis_s": ...}. SPEC is a JSON file or inline JSON
+    /// naming the transient, f_eq, the channels with their Wöhler slopes and LDD bins, and optionally
+    /// [gears] and [bearings] tables to rate (format: docs/CAMPAIGNS.md, "One case, one process"). The
+    /// series stays in memory: no CSV is written unless --out is given
+    #[arg(long, value_name = "SPEC")]
+    pub analyse: Option<String>,
     /// Record only these variables (component.variable, comma-separated) [default: every output]
     #[arg(long, value_delimiter = ',')]
     pub record: Vec<String>,
@@ -230,12 +239,15 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     opts.threads = args.threads.max(1);
     opts.divergence_growth = args.divergence_growth;
 
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("results").join(format!("{}.csv", scene.name)));
+    let analyse = args.analyse.as_deref().map(read_case_spec).transpose()?;
+    let out = match (&args.out, &analyse) {
+        (Some(o), _) => Some(o.clone()),
+        (None, Some(_)) => None,
+        (None, None) => Some(PathBuf::from("results").join(format!("{}.csv", scene.name))),
+    };
     system.initialize(Some(stop))?;
-    let mut recorder = crate::cosim::recorder::Recorder::create(&out, &system, args.every)?;
+    let mut recorder = Recorder::new(out.as_deref(), analyse.is_some(), &system, args.every)?;
+    let shown = || out.as_ref().map_or("memory".to_string(), |o| o.display().to_string());
     let progress = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = indicatif::ProgressBar::new(1000);
         bar.set_style(
@@ -311,7 +323,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         );
         eprintln!(
             "results     {} ({} rows × {} columns)",
-            out.display(),
+            shown(),
             recorder.rows,
             system.recorded.len() + 1
         );
@@ -321,15 +333,50 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
             );
         }
     }
-    flushed.with_context(|| format!("writing {}", out.display()))?;
+    flushed.with_context(|| format!("writing {}", shown()))?;
     if let Err(e) = result {
-        bail!(
-            "{e}\n(results up to t = {} s are in {})",
-            recorder.last_time(),
-            out.display()
-        );
+        match &out {
+            Some(o) => bail!(
+                "{e}\n(results up to t = {} s are in {})",
+                recorder.last_time(),
+                o.display()
+            ),
+            None => bail!("{e}"),
+        }
+    }
+    if let Some(spec) = analyse {
+        let series = recorder.take_series().expect("kept in memory with --analyse");
+        let started = Instant::now();
+        let statistics = crate::analysis::case::analyse(&series.time, &series.names, &series.columns, &spec)
+            .map_err(|e| anyhow!("analysis: {e}"))?;
+        // a struct, not json!: the row keeps its order (channels as the spec lists them, then teeth, bearings)
+        #[derive(serde::Serialize)]
+        struct Report<'a> {
+            statistics: &'a crate::analysis::case::Statistics,
+            simulation_s: f64,
+            analysis_s: f64,
+        }
+        let report = Report {
+            statistics: &statistics,
+            simulation_s: elapsed,
+            analysis_s: started.elapsed().as_secs_f64(),
+        };
+        println!("{}", serde_json::to_string(&report)?);
     }
     Ok(())
+}
+
+/// `--analyse SPEC`: inline JSON (starting with `{`) or a JSON file, checked before the run starts.
+fn read_case_spec(text: &str) -> anyhow::Result<CaseSpec> {
+    let (json, source) = if text.trim_start().starts_with('{') {
+        (text.to_string(), "--analyse".to_string())
+    } else {
+        let json = std::fs::read_to_string(text).with_context(|| format!("--analyse {text}"))?;
+        (json, format!("--analyse {text}"))
+    };
+    let spec: CaseSpec = serde_json::from_str(&json).map_err(|e| anyhow!("{source}: {e}"))?;
+    spec.check().map_err(|e| anyhow!("{source}: {e}"))?;
+    Ok(spec)
 }
 
 pub fn pack_scene(args: &PackSceneArgs) -> anyhow::Result<()> {

@@ -3,7 +3,8 @@
 //! flush), and the buffer reaches the file at least every quarter second of wall time, on finish and
 //! on drop: a run that fails keeps every row up to its last good step, and a run whose process an
 //! FMU crashes loses at most the last quarter second. [`CsvWriter`] is the one writer of
-//! that layout; every command that writes a CSV goes through it.
+//! that layout; every command that writes a CSV goes through it. A recorder can also keep its rows in
+//! memory ([`Recorder::in_memory`]), for an analysis in the same process that needs no file.
 
 use super::master::{MasterError, read_recorded};
 use super::system::System;
@@ -69,9 +70,18 @@ impl CsvWriter {
     }
 }
 
+/// Rows a recorder kept in memory: the time and each recorded variable's values, one per row.
+#[derive(Debug, Clone, Default)]
+pub struct Series {
+    pub time: Vec<f64>,
+    pub names: Vec<String>,
+    pub columns: Vec<Vec<f64>>,
+}
+
 pub struct Recorder {
-    out: CsvWriter,
-    path: PathBuf,
+    out: Option<(CsvWriter, PathBuf)>,
+    /// With [`Recorder::in_memory`]: the time, then each recorded variable, one value per row kept.
+    memory: Option<Series>,
     every: u64,
     seen: u64,
     pub rows: u64,
@@ -82,10 +92,25 @@ impl Recorder {
     /// Creates the file and writes the header. `every` = keep one communication point in `every`
     /// (the last one is always kept by [`Recorder::finish`]).
     pub fn create(path: &Path, system: &System, every: u64) -> std::io::Result<Self> {
-        let out = CsvWriter::create(path, system.recorded.iter().map(|(name, _, _)| name.as_str()))?;
+        Self::new(Some(path), false, system, every)
+    }
+
+    /// As [`Recorder::create`], writing the CSV only when `path` is given, and keeping every row in
+    /// memory too when `in_memory` ([`Recorder::take_series`]).
+    pub fn new(path: Option<&Path>, in_memory: bool, system: &System, every: u64) -> std::io::Result<Self> {
+        let names = || system.recorded.iter().map(|(name, _, _)| name.as_str());
+        let out = match path {
+            Some(p) => Some((CsvWriter::create(p, names())?, p.to_path_buf())),
+            None => None,
+        };
+        let memory = in_memory.then(|| Series {
+            time: Vec::new(),
+            names: names().map(str::to_string).collect(),
+            columns: vec![Vec::new(); system.recorded.len()],
+        });
         Ok(Self {
             out,
-            path: path.to_path_buf(),
+            memory,
             every: every.max(1),
             seen: 0,
             rows: 0,
@@ -98,8 +123,14 @@ impl Recorder {
         self.last_time
     }
 
-    pub fn path(&self) -> &Path {
-        &self.path
+    /// The CSV written, if any.
+    pub fn path(&self) -> Option<&Path> {
+        self.out.as_ref().map(|(_, p)| p.as_path())
+    }
+
+    /// The rows kept in memory ([`Recorder::new`] with `in_memory`), leaving none behind.
+    pub fn take_series(&mut self) -> Option<Series> {
+        self.memory.take()
     }
 
     /// Offers one communication point; reads the recorder-only variables and writes the row if
@@ -116,7 +147,13 @@ impl Recorder {
 
     fn write(&mut self, time: f64, system: &System) -> std::io::Result<()> {
         let values = system.recorded.iter().map(|(_, u, i)| system.units[*u].values[*i]);
-        self.out.row(time, values)?;
+        if let Some(m) = &mut self.memory {
+            m.time.push(time);
+            m.columns.iter_mut().zip(values.clone()).for_each(|(c, v)| c.push(v));
+        }
+        if let Some((out, _)) = &mut self.out {
+            out.row(time, values)?;
+        }
         self.rows += 1;
         self.last_time = time;
         Ok(())
@@ -128,12 +165,15 @@ impl Recorder {
             read_recorded(system, time)?;
             self.write(time, system)?;
         }
-        Ok(self.out.flush()?)
+        Ok(self.flush()?)
     }
 
     /// After a failed run: flushes the rows written so far. The units may hold values from the
     /// failed step, so no final row is added.
     pub fn flush(&mut self) -> std::io::Result<()> {
-        self.out.flush()
+        match &mut self.out {
+            Some((out, _)) => out.flush(),
+            None => Ok(()),
+        }
     }
 }

@@ -271,7 +271,7 @@ impl BearingTable {
     /// more than 5 %: rated with another gearbox's rollers and kinematics, its damage would be wrong.
     /// The ratio is read where the rotor turns at half its fastest or more: a stopped, braked rotor
     /// rocks on the shafts' compliance while the generator is held, which says nothing about the gears.
-    fn check(&self, path: &Path, rotor: &[f64], generator: &[f64]) -> Result<(), BearingSetError> {
+    fn check(&self, source: &str, rotor: &[f64], generator: &[f64]) -> Result<(), BearingSetError> {
         let fastest = rotor.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let (mut rotor_sum, mut generator_sum) = (0.0, 0.0);
         for (r, g) in rotor.iter().zip(generator) {
@@ -285,7 +285,7 @@ impl BearingTable {
             let measured = generator_sum / rotor_sum;
             if (measured / self.gear_ratio - 1.0).abs() > 0.05 {
                 return Err(BearingSetError::WrongGearbox {
-                    path: path.display().to_string(),
+                    path: source.to_string(),
                     gearbox: self.gearbox.clone(),
                     measured,
                     expected: self.gear_ratio,
@@ -300,14 +300,42 @@ impl BearingTable {
     pub fn rate_series(&self, path: &Path, transient: f64) -> Result<Vec<BearingDamage>, BearingSetError> {
         let names = self.channels();
         let (t, columns) = series::read_after(path, &names, transient)?;
-        let column = |name: &str| &columns[names.iter().position(|n| *n == name).expect("listed above")];
+        let column = |name: &str| &columns[names.iter().position(|n| *n == name).expect("listed above")][..];
+        self.rate_columns(&path.display().to_string(), &t, column)
+    }
+
+    /// As [`BearingTable::rate_series`] over a series already in memory: `column` gives each of
+    /// [`BearingTable::channels`]'s columns, sampled at `t`; `source` names the series in errors.
+    pub fn rate_columns<'a>(
+        &self,
+        source: &str,
+        t: &[f64],
+        column: impl Fn(&str) -> &'a [f64],
+    ) -> Result<Vec<BearingDamage>, BearingSetError> {
         let rotor = column(&self.rotor_speed);
-        self.check(path, rotor, column(&self.generator_speed))?;
+        self.check(source, rotor, column(&self.generator_speed))?;
         Ok(self
             .bearings
             .iter()
-            .map(|b| b.rate(&t, column(&b.radial), column(&b.axial), rotor))
+            .map(|b| b.rate(t, column(&b.radial), column(&b.axial), rotor))
             .collect())
+    }
+
+    /// The bearing table of a gearbox6dof preset or description file read by `component`'s channels;
+    /// an error when it cannot be read or no bearing has a roller set (nothing to rate).
+    pub fn load(gearbox: &str, component: &str) -> Result<BearingTable, BearingSetError> {
+        let description =
+            Description::load(gearbox).map_err(|e| BearingSetError::Gearbox(gearbox.into(), e.to_string()))?;
+        let table = bearing_table(&description, component)?;
+        if table.bearings.is_empty() {
+            return Err(BearingSetError::Gearbox(
+                gearbox.into(),
+                "no bearing has a roller set (`rollers = { count, diameter_mm, length_mm, pitch_diameter_mm }`), \
+                 so none has an ISO 281 rating"
+                    .into(),
+            ));
+        }
+        Ok(table)
     }
 
     /// Bearing `b`'s series in `path`, checked as [`BearingTable::rate_series`] checks: time, its dynamic
@@ -321,7 +349,7 @@ impl BearingTable {
             self.generator_speed.as_str(),
         ];
         let (t, columns) = series::read_channels(path, &names)?;
-        self.check(path, &columns[2], &columns[3])?;
+        self.check(&path.display().to_string(), &columns[2], &columns[3])?;
         let load = columns[0]
             .iter()
             .zip(&columns[1])
@@ -506,7 +534,7 @@ mod tests {
             .enumerate()
             .map(|(i, w)| if i < 500 { ratio * w } else { 0.0 })
             .collect();
-        let path = Path::new("stop.csv");
+        let path = "stop.csv";
         table.check(path, &rotor, &generator).unwrap();
         let other: Vec<f64> = generator.iter().map(|g| 1.1 * g).collect();
         assert!(matches!(

@@ -261,11 +261,31 @@ pub fn channels(teeth: &[RatedTooth]) -> Vec<&str> {
 pub fn rate_series(path: &Path, teeth: &[RatedTooth], transient: f64) -> Result<Vec<ToothDamage>, GearSetError> {
     let names = channels(teeth);
     let (t, columns) = series::read_after(path, &names, transient)?;
-    let column = |name: &str| &columns[names.iter().position(|n| *n == name).expect("listed above")];
+    let column = |name: &str| &columns[names.iter().position(|n| *n == name).expect("listed above")][..];
+    rate_columns(teeth, &t, column)
+}
+
+/// Rates every tooth over a series already in memory: `column` gives each of [`channels`]'s columns,
+/// sampled at `t`.
+pub fn rate_columns<'a>(
+    teeth: &[RatedTooth],
+    t: &[f64],
+    column: impl Fn(&str) -> &'a [f64],
+) -> Result<Vec<ToothDamage>, GearSetError> {
     teeth
         .iter()
-        .map(|tooth| tooth.rate(&t, column(&tooth.force), column(&tooth.cycles.speed)))
+        .map(|tooth| tooth.rate(t, column(&tooth.force), column(&tooth.cycles.speed)))
         .collect()
+}
+
+/// Which FMU's mesh forces a series holds: the kind of force and the name the repository's scenes give
+/// that FMU. `fmu` is `torsional` (transverse forces, preset P) or `gearbox6dof` (normal forces).
+pub fn fmu_mesh_force(fmu: &str) -> Option<(MeshForce, &'static str)> {
+    match fmu {
+        "torsional" => Some((MeshForce::Transverse, "torsional")),
+        "gearbox6dof" => Some((MeshForce::Normal, "gearbox")),
+        _ => None,
+    }
 }
 
 /// The paper's gearbox (paper Table 4) as the scene's `component` outputs it: the
