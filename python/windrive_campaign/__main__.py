@@ -125,7 +125,9 @@ def main(argv=None) -> int:
             return paper_report.report(args.campaign, args.out)
         campaign = schema.load(args.campaign)
         if args.command == "job-script":
-            cluster = cluster_mod.slurm(campaign.slurm, campaign.path)
+            # the job logs' folder of a `run` without --out
+            logs = (Path("results") / "campaigns" / campaign.name / "slurm").resolve()
+            cluster = cluster_mod.slurm(campaign.slurm, campaign.path, logs)
             try:
                 print(cluster.job_script())
             finally:

@@ -35,22 +35,28 @@ def local(workers: int | None):
     )
 
 
-def slurm(profile: Slurm | None, path: Path):
-    """A dask-jobqueue SLURMCluster from the profile; jobs are submitted when it is scaled."""
+def slurm(profile: Slurm | None, path: Path, log_directory: Path | None = None):
+    """A dask-jobqueue SLURMCluster from the profile; jobs are submitted when it is scaled. With
+    `log_directory` (the campaign folder's slurm/, which the caller creates), each job writes its output,
+    the workers' logs, to JOBNAME-JOBID.out there rather than to slurm-JOBID.out in the driver's current
+    folder; an `--output` among the profile's job_extra_directives comes later in the script and wins."""
     if profile is None:
         raise CampaignError(f"{path}: --slurm needs a [slurm] table in the campaign file (docs/CAMPAIGNS.md)")
     from dask_jobqueue import SLURMCluster
 
+    directives = [f"--output={log_directory}/%x-%j.out"] if log_directory is not None else []
     prologue = [f"export PYTHONPATH={PACKAGE_PARENT}${{PYTHONPATH:+:$PYTHONPATH}}", *profile.job_script_prologue]
     kwargs = dict(
         cores=profile.cores,
         processes=profile.cores,  # one single-threaded worker per core, as locally
         memory=profile.memory,
         walltime=profile.walltime,
-        job_extra_directives=list(profile.job_extra_directives),
+        job_extra_directives=[*directives, *profile.job_extra_directives],
         job_script_prologue=prologue,
         python=profile.python or sys.executable,
-        dashboard_address=None,
+        # any free port: jobqueue's default 8787 is taken by a second campaign (or any dask) on this
+        # machine, and the scheduler then warns on stderr
+        scheduler_options={"dashboard_address": ":0"},
         silence_logs=logging.ERROR,
     )
     if profile.queue:

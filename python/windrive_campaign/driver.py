@@ -178,11 +178,19 @@ def _run_cases(c, opts, todo, spec, digest, total, already, stream) -> dict | No
         except OSError as e:
             raise CampaignError(f"--scheduler {opts.scheduler}: cannot connect: {e}") from None
     else:
-        cluster = cluster_mod.slurm(c.slurm, c.path) if opts.slurm else cluster_mod.local(opts.workers)
         if opts.slurm:
+            (opts.out / "slurm").mkdir(exist_ok=True)
+            cluster = cluster_mod.slurm(c.slurm, c.path, opts.out / "slurm")
             cluster.scale(jobs=c.slurm.jobs)
+        else:
+            cluster = cluster_mod.local(opts.workers)
         client = Client(cluster)
     try:
+        if opts.slurm:
+            # the start-up check needs a worker to run on; the cases could not start before one anyway
+            print(f"waiting for the first of {c.slurm.jobs} Slurm jobs to start (squeue lists them; their "
+                  f"logs: {opts.out / 'slurm'})", file=stream, flush=True)  # fmt: skip
+            client.wait_for_workers(1)
         _check_workers(client, spec.windrive, digest, opts)
         threads = cluster_mod.total_threads(client)
         startup = time.perf_counter() - t_cluster

@@ -1,7 +1,8 @@
 """The load-case campaign driver (python/windrive_campaign, docs/CAMPAIGNS.md): the campaign file's
 errors, case expansion and climate weights against scipy and the thesis's operating hours, each case's
 in-process analysis against `windrive del` and numpy, and real campaigns on a 2-worker LocalCluster: results,
-a failing case, resume after completion, after a deleted result and after SIGINT, the Slurm job script.
+a failing case, resume after completion, after a deleted result and after SIGINT, the Slurm job script
+(test_slurm.py runs a campaign on a real Slurm).
 Kept under a minute on a 2-core machine: cases simulate 2 to 10 s."""
 
 import dataclasses
@@ -388,7 +389,7 @@ def _windrive_running(out: pathlib.Path) -> str:
 
 def test_slurm_profile_writes_a_job_script():
     c = schema.load(ROOT / "campaigns" / "c-dlc12.toml")
-    slurm = cluster.slurm(c.slurm, c.path)
+    slurm = cluster.slurm(c.slurm, c.path, pathlib.Path("/campaign/slurm"))
     try:
         script = slurm.job_script()
     finally:
@@ -396,6 +397,7 @@ def test_slurm_profile_writes_a_job_script():
     assert script.startswith("#!/usr/bin/env bash")
     for line in ("#SBATCH -p compute", "#SBATCH --cpus-per-task=32", "#SBATCH -t 02:00:00", "#SBATCH --mem="):
         assert line in script, script
+    assert "#SBATCH --output=/campaign/slurm/%x-%j.out" in script  # the job logs in the campaign folder
     assert f"export PYTHONPATH={ROOT / 'python'}" in script
     assert "--nthreads 1" in script and "--nworkers 32" in script  # one single-threaded worker per core
     with pytest.raises(CampaignError, match=r"--slurm needs a \[slurm\] table"):
