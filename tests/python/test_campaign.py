@@ -5,7 +5,6 @@ a failing case, resume after completion, after a deleted result and after SIGINT
 (test_slurm.py runs a campaign on a real Slurm).
 Kept under a minute on a 2-core machine: cases simulate 2 to 10 s."""
 
-import dataclasses
 import json
 import math
 import os
