@@ -52,6 +52,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Bench(args) => windrive::cli::bench::run(&args),
         Command::Rainflow(args) => windrive::cli::fatigue::run_rainflow(&args),
         Command::Life(args) => windrive::cli::life::run(&args),
+        Command::Climate(args) => windrive::cli::climate::run(&args),
         Command::Gears(args) => windrive::cli::gears::run(&args),
         Command::Bearings(args) => windrive::cli::bearings::run(&args),
         Command::Bode(args) => windrive::cli::bode::run(&args),

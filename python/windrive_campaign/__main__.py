@@ -164,7 +164,7 @@ def _windrive(given: str | None) -> str:
 def _list_cases(campaign, windrive: str) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         scenes, _ = driver.snapshot_scenes(campaign, windrive, Path(tmp))
-        found = cases_mod.expand(campaign, scenes, cases_mod.windrive_digest(windrive))
+        found = cases_mod.expand(campaign, scenes, cases_mod.windrive_digest(windrive), windrive)
     hours = sum(k.hours for k in found if not math.isnan(k.hours))
     print(f"{'id':16}  {'name':32}  {'weight':>14}  parameters")
     for k in found:

@@ -171,7 +171,7 @@ def snapshot_windrive(windrive: str, out_dir: Path) -> tuple[str, str]:
     return str(target), digest
 
 
-def expand(c: Campaign, scenes: dict[Path, tuple[str, str]], windrive_id: str) -> list[Case]:
+def expand(c: Campaign, scenes: dict[Path, tuple[str, str]], windrive_id: str, windrive: str | None = None) -> list[Case]:
     """Every case of the campaign, DLC 1.2 first (bins ascending, then seeds), then the grids (each
     grid's cartesian product in the file's order of axes, the grids in the file's order), then the
     events. `scenes` maps each scene path to its snapshot (path, digest).
@@ -210,10 +210,12 @@ def expand(c: Campaign, scenes: dict[Path, tuple[str, str]], windrive_id: str) -
     if c.dlc12 is not None:
         d = c.dlc12
         cl = c.climate
-        for b in climate_mod.wind_bins(d.cut_in, d.cut_out, d.bin_width, cl.k, cl.a):
+        if windrive is None:
+            raise ValueError("expand: a campaign with [dlc12] needs the windrive binary for its wind bins")
+        for b in climate_mod.wind_bins(windrive, d, cl):
             ti = d.turbulence_intensity
             if ti is None:
-                ti = climate_mod.ntm_turbulence_intensity(b.speed, d.turbulence_class)
+                ti = b.ntm_turbulence_intensity
             for seed in d.seeds:
                 own = {
                     f"{d.rotor}.turbulence": "ntm",
@@ -233,7 +235,7 @@ def expand(c: Campaign, scenes: dict[Path, tuple[str, str]], windrive_id: str) -
                         seed=seed,
                         turbulence_intensity=ti,
                         probability=b.probability / len(d.seeds),
-                        hours=b.probability / len(d.seeds) * climate_mod.HOURS_PER_YEAR * cl.years,
+                        hours=b.hours / len(d.seeds),
                     )
                 )
     grid_ids: set[str] = set()

@@ -1,21 +1,19 @@
-"""The wind climate's weights of DLC 1.2 bins and the IEC normal turbulence model.
-
-Bins: the simulated speeds are cut_in, cut_in + w, cut_in + 2w, … (w = bin_width); bin j covers
-[v_j − w/2, v_j + w/2] clipped to [cut_in, cut_out], so the bins tile cut-in to cut-out exactly and their
-probabilities add up to the hub-height wind lying between cut-in and cut-out, F(cut_out) − F(cut_in). A
-last bin cut short by cut_out is simulated at cut_out, never above it.
+"""The wind climate's DLC 1.2 bins, asked of `windrive climate` (src/analysis/fatigue/operating_hours.rs):
+the simulated speeds are cut_in, cut_in + w, cut_in + 2w, … (w = bin_width); bin j covers
+[v_j − w/2, v_j + w/2] clipped to [cut_in, cut_out], so the bins tile cut-in to cut-out exactly. Each bin
+comes with its probability, its hours in the design life and the IEC normal turbulence model's intensity
+for the campaign's turbulence class. Asked of the binary rather than computed here, so the campaign's
+weights and `windrive life`'s hours are one computation.
 """
 
 from __future__ import annotations
 
-import math
+import json
+import subprocess
 from dataclasses import dataclass
 
-# 8760 h a year, as `windrive life` (src/analysis/fatigue/lifetime.rs) and thesis Table 7.1 count hours
-HOURS_PER_YEAR = 8760.0
-
-# IEC 61400-1 ed. 3 Table 1: reference turbulence intensity at 15 m/s per turbulence class
-IREF = {"A": 0.16, "B": 0.14, "C": 0.12}
+from .errors import CampaignError
+from .schema import Climate, Dlc12
 
 
 @dataclass(frozen=True)
@@ -24,26 +22,17 @@ class WindBin:
     lo: float
     hi: float
     probability: float  # of the hub-height wind lying in [lo, hi]
+    hours: float  # in the climate's design life
+    ntm_turbulence_intensity: float  # IEC NTM at `speed` for the [dlc12] turbulence class (A without one)
 
 
-def weibull_cdf(v: float, k: float, a: float) -> float:
-    return 1.0 - math.exp(-((v / a) ** k)) if v > 0 else 0.0
-
-
-def ntm_turbulence_intensity(speed: float, turbulence_class: str) -> float:
-    """IEC 61400-1 ed. 3 normal turbulence model: σ1 = I_ref·(0.75·V_hub + 5.6), TI = σ1 / V_hub."""
-    return IREF[turbulence_class] * (0.75 * speed + 5.6) / speed
-
-
-def wind_bins(cut_in: float, cut_out: float, width: float, k: float, a: float) -> list[WindBin]:
-    edges = [cut_in]
-    e = cut_in + width / 2
-    while e < cut_out - 1e-9 * width:  # no sliver bin from rounding
-        edges.append(e)
-        e += width
-    edges.append(cut_out)
-    bins = []
-    for j, (lo, hi) in enumerate(zip(edges, edges[1:])):
-        speed = min(cut_in + j * width, cut_out)
-        bins.append(WindBin(speed, lo, hi, weibull_cdf(hi, k, a) - weibull_cdf(lo, k, a)))
-    return bins
+def wind_bins(windrive: str, d: Dlc12, climate: Climate) -> list[WindBin]:
+    command = [
+        windrive, "climate", "--weibull", f"{climate.k!r},{climate.a!r}", "--cut-in", repr(d.cut_in),
+        "--cut-out", repr(d.cut_out), "--bin-width", repr(d.bin_width), "--years", repr(climate.years),
+        "--class", d.turbulence_class or "A", "--json",
+    ]  # fmt: skip
+    r = subprocess.run(command, capture_output=True, text=True)
+    if r.returncode != 0:
+        raise CampaignError(f"windrive climate: {r.stderr.strip() or r.returncode}")
+    return [WindBin(**b) for b in json.loads(r.stdout)]

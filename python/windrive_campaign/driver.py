@@ -75,7 +75,7 @@ def prepare(c: Campaign, opts: Options) -> tuple[list[cases_mod.Case], str, str,
     store.write_atomic(opts.out / "campaign.toml", c.path.read_bytes())
     scenes, record = snapshot_scenes(c, opts.windrive, opts.out)
     windrive, digest = cases_mod.snapshot_windrive(opts.windrive, opts.out)
-    return cases_mod.expand(c, scenes, digest), windrive, digest, record
+    return cases_mod.expand(c, scenes, digest, windrive), windrive, digest, record
 
 
 def snapshot_scenes(c: Campaign, windrive: str, out: Path) -> tuple[dict[Path, tuple[str, str]], list[str]]:

@@ -28,7 +28,6 @@ import numpy as np
 import pandas as pd
 
 from . import bearing_lifetime, gear_lifetime
-from .climate import HOURS_PER_YEAR
 from .errors import CampaignError
 
 DEL_COLUMN = re.compile(r"^(?P<channel>.+)\.del_m(?P<m>[0-9.eE+-]+)$")
@@ -36,6 +35,9 @@ DEL_COLUMN = re.compile(r"^(?P<channel>.+)\.del_m(?P<m>[0-9.eE+-]+)$")
 # Thesis §3.4.3 ("3.65"; docs/SOURCES.md §Thesis): the DEL of the measured shutdown series over the DEL of
 # each other measured series, each over its own duration at 1 Hz, m = 6, the same for HSS and LSS torque.
 THESIS_M = 6.0
+
+# 8760 h a year, as `windrive life` (src/analysis/fatigue/lifetime.rs) and thesis Table 7.1 count hours
+HOURS_PER_YEAR = 8760.0
 THESIS_RATIOS = {"normal operation": 3.65, "start-up": 1.43, "normal stop": 1.1}
 
 

@@ -21,7 +21,7 @@ from . import bearings as bearings_mod
 from . import gears as gears_mod
 from .errors import CampaignError
 
-TURBULENCE_CLASSES = ("A", "B", "C")  # IEC 61400-1 ed. 3; I_ref in climate.IREF
+TURBULENCE_CLASSES = ("A", "B", "C")  # IEC 61400-1 ed. 3; I_ref: src/physics/turbulence.rs
 
 ParamValue = str | int | float | bool
 

@@ -6,6 +6,7 @@ pub mod bench;
 pub mod bode;
 pub mod calibrate;
 pub mod campbell;
+pub mod climate;
 pub mod coupling;
 pub mod fatigue;
 pub mod fidelity;
@@ -114,6 +115,9 @@ pub enum Command {
     /// from the wind climate, shutdowns per year, lifetime DELs with the shutdowns' share, and with
     /// --gear the ISO 6336 flank and root stresses, allowables and Miner damage.
     Life(Box<life::LifeArgs>),
+    /// The DLC 1.2 wind bins of a wind climate (Weibull or Rayleigh): each bin's speed, extent,
+    /// probability, hours in the design life and IEC normal-turbulence intensity.
+    Climate(climate::ClimateArgs),
     /// Every gear tooth of a gearbox rated from one series, as the paper does it (its §1.3; docs/SOURCES.md §Paper).
     ///
     /// Per tooth: ISO 6336-2 contact and ISO 6336-3 root stress from the mesh force (nominal, no load

@@ -30,6 +30,17 @@ pub enum TurbulenceModel {
     Etm,
 }
 
+/// I_ref of an IEC 61400-1 ed. 3 turbulence class (Table 1: A 0.16, B 0.14, C 0.12); `None` for
+/// another letter. Case is ignored.
+pub fn class_reference_intensity(class: &str) -> Option<f64> {
+    match class.trim().to_ascii_uppercase().as_str() {
+        "A" => Some(0.16),
+        "B" => Some(0.14),
+        "C" => Some(0.12),
+        _ => None,
+    }
+}
+
 /// σ1 of the IEC models for class reference intensity `i_ref` (A 0.16, B 0.14, C 0.12) and
 /// reference speed `v_ref` (I 50, II 42.5, III 37.5 m/s).
 pub fn iec_sigma(model: TurbulenceModel, v_hub: f64, i_ref: f64, v_ref: f64) -> f64 {

@@ -13,7 +13,9 @@ use crate::physics::rotor::{
     Aerodynamics, CONTROL_STEP, PitchTarget, RotorModel, RotorOutputs, SequenceState, Shutdown, Source, Startup,
     TiltModel, TorqueSeries, preset_rotor, rated_wind_speed, trim_pitch,
 };
-use crate::physics::turbulence::{TurbulenceModel, TurbulenceSeries, iec_sigma, kaimal_length};
+use crate::physics::turbulence::{
+    TurbulenceModel, TurbulenceSeries, class_reference_intensity, iec_sigma, kaimal_length,
+};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -201,12 +203,8 @@ impl Params {
         let class = self.turbulence_class.trim().to_ascii_uppercase();
         let source_preset = self.source_preset.trim();
         Ok(Choices {
-            i_ref: match class.as_str() {
-                "A" => 0.16,
-                "B" => 0.14,
-                "C" => 0.12,
-                other => return Err(ParameterError::invalid("turbulence_class", &other, "use A, B or C")),
-            },
+            i_ref: class_reference_intensity(&class)
+                .ok_or_else(|| ParameterError::invalid("turbulence_class", &class.as_str(), "use A, B or C"))?,
             turbulence: match self.turbulence.trim() {
                 "none" => None,
                 "ntm" => Some(TurbulenceModel::Ntm),

@@ -122,21 +122,28 @@ def test_the_example_campaigns_are_valid():
 # cases and weights
 
 
-def test_weibull_bins_tile_cut_in_to_cut_out_as_scipy_counts():
+def test_weibull_bins_tile_cut_in_to_cut_out_as_scipy_counts(windrive):
     k, a = 2.3, 9.7
-    bins = climate.wind_bins(4.0, 25.0, 2.0, k, a)
+    cl = schema.Climate(k, a, 20.0, "test")
+
+    def bins_to(cut_out):
+        return climate.wind_bins(windrive, schema.Dlc12(4.0, cut_out, 2.0, (1,), "B", None, "rotor"), cl)
+
+    bins = bins_to(25.0)
     assert [b.speed for b in bins] == [4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24]
     assert bins[0].lo == 4.0 and bins[-1].hi == 25.0
     assert all(b.hi == n.lo for b, n in zip(bins, bins[1:]))
     w = scipy.stats.weibull_min(k, scale=a)
     for b in bins:
         assert b.probability == pytest.approx(w.cdf(b.hi) - w.cdf(b.lo), rel=1e-12)
+        assert b.hours == pytest.approx(b.probability * 8760 * 20, rel=1e-12)
+        assert b.ntm_turbulence_intensity == pytest.approx(0.14 * (0.75 * b.speed + 5.6) / b.speed, rel=1e-14)
     assert sum(b.probability for b in bins) == pytest.approx(w.cdf(25.0) - w.cdf(4.0), rel=1e-12)
     # a last bin cut short by cut_out is simulated at cut_out, never above
-    assert climate.wind_bins(4.0, 23.5, 2.0, k, a)[-1].speed == 23.5
+    assert bins_to(23.5)[-1].speed == 23.5
 
 
-def test_rayleigh_hours_are_the_thesis_operating_hours(tmp_path):
+def test_rayleigh_hours_are_the_thesis_operating_hours(tmp_path, windrive):
     """Thesis Table 7.1 (and `windrive life`): 161 950 h in 20 years between 3 and 25 m/s at a Rayleigh
     mean of 10 m/s; the seeds share their bin's hours."""
     text = minimal(
@@ -146,7 +153,7 @@ def test_rayleigh_hours_are_the_thesis_operating_hours(tmp_path):
     )
     c = schema.load(write_campaign(tmp_path, text))
     r = scipy.stats.rayleigh(scale=10.0 * math.sqrt(2 / math.pi))  # mean 10 m/s
-    found = cases.expand(c, {c.scene: ("s.ssp", "d")}, "w")
+    found = cases.expand(c, {c.scene: ("s.ssp", "d")}, "w", windrive)
     assert len(found) == 12 * 3 and {k.seed for k in found} == {7, 8, 9}
     total = sum(k.hours for k in found)
     assert total == pytest.approx(161950, abs=1)

@@ -31,6 +31,43 @@ impl WindDistribution {
     }
 }
 
+/// One DLC 1.2 wind bin: simulated at `speed`, standing for the hub-height wind in [lo, hi].
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct WindBin {
+    pub speed: f64,
+    pub lo: f64,
+    pub hi: f64,
+    /// Of the hub-height wind lying in [lo, hi].
+    pub probability: f64,
+}
+
+impl WindDistribution {
+    /// The DLC 1.2 bins of a campaign: speeds cut_in, cut_in + w, cut_in + 2w, … (w = `width`); bin j
+    /// covers [v_j − w/2, v_j + w/2] clipped to [cut_in, cut_out], so the bins tile cut-in to cut-out
+    /// and their probabilities add up to F(cut_out) − F(cut_in). A last bin cut short by cut_out is
+    /// simulated at cut_out, never above it.
+    pub fn dlc_bins(&self, cut_in: f64, cut_out: f64, width: f64) -> Vec<WindBin> {
+        let mut edges = vec![cut_in];
+        let mut e = cut_in + width / 2.0;
+        while e < cut_out - 1e-9 * width {
+            // no sliver bin from rounding
+            edges.push(e);
+            e += width;
+        }
+        edges.push(cut_out);
+        edges
+            .windows(2)
+            .enumerate()
+            .map(|(j, lh)| WindBin {
+                speed: (cut_in + j as f64 * width).min(cut_out),
+                lo: lh[0],
+                hi: lh[1],
+                probability: self.cdf(lh[1]) - self.cdf(lh[0]),
+            })
+            .collect()
+    }
+}
+
 /// Scales a simulated load case to real time: hours · 3600 / simulated seconds.
 pub fn time_factor(hours: f64, simulated_seconds: f64) -> f64 {
     hours * 3600.0 / simulated_seconds
@@ -38,6 +75,24 @@ pub fn time_factor(hours: f64, simulated_seconds: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
+    /// 4 to 25 m/s in 2 m/s bins: 4 (4–5), 6 (5–7), …, 24 (23–25): eleven bins that tile the range,
+    /// their probabilities adding up to F(25) − F(4); a cut-out of 23.5 simulates the last bin at 23.5.
+    #[test]
+    fn dlc_bins_tile_cut_in_to_cut_out() {
+        let w = super::WindDistribution::Weibull {
+            shape: 2.0,
+            scale: 11.0,
+        };
+        let bins = w.dlc_bins(4.0, 25.0, 2.0);
+        assert_eq!(bins.len(), 11);
+        assert_eq!((bins[0].speed, bins[0].lo, bins[0].hi), (4.0, 4.0, 5.0));
+        assert_eq!((bins[10].speed, bins[10].lo, bins[10].hi), (24.0, 23.0, 25.0));
+        let total: f64 = bins.iter().map(|b| b.probability).sum();
+        approx::assert_relative_eq!(total, w.cdf(25.0) - w.cdf(4.0), max_relative = 1e-12);
+        assert!(bins.windows(2).all(|p| p[0].hi == p[1].lo));
+        assert_eq!(w.dlc_bins(4.0, 23.5, 2.0).last().unwrap().speed, 23.5);
+    }
+
     use super::*;
 
     /// Thesis Table 7.1 (20 years = 175 200 h, cut-in 4, cut-out 25 m/s): a Rayleigh distribution with
