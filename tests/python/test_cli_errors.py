@@ -19,6 +19,9 @@ import pytest
     (["gearbox", "--bearings", "balls"], ["balls", "linear or lamina"]),
     (["gearbox", "--gearbox", "planetary-spur", "--fit-webs", "1.4"], ["planetary-spur", "carrier_webs"]),
     (["gearbox", "--fit-webs", "0.5"], ["0.5", "outside what the webs can give"]),
+    (["climate", "--weibull", "2", "--cut-in", "4", "--cut-out", "25"], ["--weibull", "shape,scale"]),
+    (["climate", "--rayleigh", "10", "--cut-in", "25", "--cut-out", "4"], ["--cut-in 25", "cut-in < cut-out"]),
+    (["climate", "--rayleigh", "10", "--cut-in", "4", "--cut-out", "25", "--class", "D"], ["\"D\"", "A, B or C"]),
 ])
 def test_bad_arguments_are_named(windrive, tmp_path, args, words):
     out = subprocess.run([windrive, *args], capture_output=True, text=True, cwd=tmp_path)
@@ -67,6 +70,11 @@ GRID_STEP = str(ROOT / "scenes" / "d-grid-step")
     (["run", GRID_STEP, "--param", "torsional.fidelity"], ["torsional.fidelity", "component.variable=value"]),
     (["run", GRID_STEP, "--param", "torsional.damping_scale=soft"], ["damping_scale", "not a number"]),
     (["run", GRID_STEP, "--record", "generator.nosuch"], ["generator.nosuch", "no variable nosuch"]),
+    (["run", GRID_STEP, "--analyse", '{"channels": [{"name": "a.x", "m": [0]}]}'], ["--analyse", "a.x", "m = 0"]),
+    (["run", GRID_STEP, "--analyse", '{"feq": 1, "chanels": []}'], ["--analyse", "unknown field `chanels`"]),
+    (["run", GRID_STEP, "--analyse", "/nonexistent/spec.json"], ["/nonexistent/spec.json"]),
+    (["run", GRID_STEP, "--stop-time", "0.1", "--analyse", '{"channels": [{"name": "generator.nosuch"}]}'],
+     ["analysis: generator.nosuch not in the series"]),
     (["pack-scene", GRID_STEP + "/SystemStructure.ssd"], ["SystemStructure.ssd", "scene folder"]),
     (["shutdown", "--preset", "Z"], ["Z", "C, D or P"]),
     (["shutdown", "--preset", "A", "--spring"], ["a-normal-spring", "spring scenes for C and D"]),
