@@ -392,14 +392,23 @@ unsafe extern "C" {
         format: *const c_char,
         ...
     );
+    fn windrive_set_log_sink(sink: LogSink);
+}
+
+type LogSink = unsafe extern "C" fn(*mut c_void, *const c_char, c_int, *const c_char, *const c_char);
+
+/// Hands the C shim its sink, once per process, before the first instance can log.
+fn register_log_sink() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    // SAFETY: the shim stores the pointer; windrive_log_sink has the signature it calls.
+    ONCE.call_once(|| unsafe { windrive_set_log_sink(windrive_log_sink) });
 }
 
 /// Called by the C shim with the formatted message.
 ///
 /// # Safety
 /// `env` is the `LogTarget` an [`Instance`] registered; strings are NUL-terminated or null.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn windrive_log_sink(
+unsafe extern "C" fn windrive_log_sink(
     env: *mut c_void,
     instance: *const c_char,
     status: c_int,
@@ -569,6 +578,7 @@ impl InProcess {
             records: Mutex::new(LogRecords::default()),
             echo: std::env::var_os("WINDRIVE_FMU_LOG").is_some(),
         });
+        register_log_sink();
         let callbacks = Box::new(Fmi2CallbackFunctions {
             // the C shim has exactly the fmi2CallbackLogger signature
             logger: Some(windrive_fmi2_logger),
