@@ -1,5 +1,6 @@
-"""Where the campaign driver finds `windrive`, in a developer checkout (target/) and as the windrive wheel
-installs it (the venv's bin/); the installed case is simulated here by patching the checkout test."""
+"""Where the campaign driver finds `windrive` and `windrive_fmus.fmu_path` finds the FMUs, in a developer
+checkout (target/) and as the windrive wheel installs them (the venv's bin/, the package's fmus/); the
+installed case is simulated here by patching the checkout test, scripts/check-wheel runs the real one."""
 
 import os
 import pathlib
@@ -11,6 +12,7 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python"))
 
+import windrive_fmus  # noqa: E402
 from windrive_campaign import __main__ as cli  # noqa: E402
 from windrive_campaign import cluster, schema  # noqa: E402
 from windrive_campaign.errors import CampaignError  # noqa: E402
@@ -21,6 +23,39 @@ def executable(path: pathlib.Path) -> pathlib.Path:
     path.write_text("#!/bin/sh\n")
     path.chmod(path.stat().st_mode | stat.S_IXUSR)
     return path
+
+
+def test_the_names_are_the_fmu_crates():
+    assert sorted(windrive_fmus.NAMES) == sorted(p.parent.name for p in ROOT.glob("fmus/*/Cargo.toml"))
+
+
+def test_in_the_checkout_fmu_path_is_what_pack_wrote(fmu_path, monkeypatch):
+    monkeypatch.delenv("CARGO_TARGET_DIR", raising=False)
+    assert windrive_fmus.in_checkout()
+    assert windrive_fmus.fmu_path("torsional") == str(ROOT / "target" / "fmu" / "torsional.fmu") == fmu_path
+
+
+def test_fmu_path_follows_cargo_target_dir_and_says_how_to_pack(tmp_path, monkeypatch):
+    monkeypatch.setenv("CARGO_TARGET_DIR", str(tmp_path))
+    pack = r"fmu/rotor.fmu: no rotor FMU: pack it with `cargo run --release -- pack rotor`"
+    with pytest.raises(FileNotFoundError, match=pack):
+        windrive_fmus.fmu_path("rotor")
+
+
+def test_fmu_path_refuses_another_name():
+    names = r"\(one of generator, gearbox6dof, rotor, torsional\)"
+    with pytest.raises(ValueError, match=r"'gearbox': no such windrive FMU " + names):
+        windrive_fmus.fmu_path("gearbox")
+
+
+def test_installed_fmu_path_is_in_the_package(tmp_path, monkeypatch):
+    monkeypatch.setattr(windrive_fmus, "in_checkout", lambda: False)
+    monkeypatch.setattr(windrive_fmus, "_HERE", tmp_path)
+    (tmp_path / "fmus").mkdir()
+    (tmp_path / "fmus" / "generator.fmu").write_bytes(b"PK")
+    assert windrive_fmus.fmu_path("generator") == str(tmp_path / "fmus" / "generator.fmu")
+    with pytest.raises(FileNotFoundError, match="the windrive wheel installed here is incomplete"):
+        windrive_fmus.fmu_path("rotor")
 
 
 def test_in_the_checkout_the_driver_runs_target_release(windrive, monkeypatch):
