@@ -1,12 +1,15 @@
 """Command line: `python -m windrive_campaign run|cases|job-script|report|paper CAMPAIGN.toml`
-(scripts/campaign wraps it with the virtual environment and the windrive build)."""
+(scripts/campaign wraps it with the virtual environment and the windrive build in a checkout; installed
+from the windrive wheel it runs as it is, with the wheel's windrive binary)."""
 
 from __future__ import annotations
 
 import argparse
 import math
 import os
+import shutil
 import sys
+import sysconfig
 import tempfile
 from pathlib import Path
 
@@ -14,8 +17,6 @@ from . import cases as cases_mod
 from . import cluster as cluster_mod
 from . import driver, schema
 from .errors import CampaignError
-
-REPO = Path(cluster_mod.PACKAGE_PARENT).parent
 
 EPILOG = """\
 examples (from the repository's root):
@@ -56,6 +57,11 @@ examples (from the repository's root):
 """
 
 
+WINDRIVE_DEFAULT = (
+    "$WINDRIVE, else target/release/windrive in a checkout, the wheel's windrive beside this Python once installed"
+)
+
+
 def finished_campaign_arguments(parser: argparse.ArgumentParser, files: str):
     """The arguments of the commands that read a finished campaign: where it is and where `files` go."""
     parser.add_argument("campaign", type=Path, help="campaign folder, its .parquet table, or the campaign file")
@@ -64,7 +70,7 @@ def finished_campaign_arguments(parser: argparse.ArgumentParser, files: str):
 
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(
-        prog="scripts/campaign",
+        prog="scripts/campaign" if cluster_mod.IN_CHECKOUT else "python -m windrive_campaign",
         description="Load-case campaigns of `windrive run` jobs on dask.distributed: one result per case, "
         "resumable, one Parquet table per campaign.",
         epilog=EPILOG,
@@ -84,10 +90,10 @@ def main(argv=None) -> int:
     where.add_argument("--scheduler", metavar="ADDRESS", help="join a running dask scheduler instead")
     where.add_argument("--slurm", action="store_true", help="submit Slurm jobs from the [slurm] profile")
     r.add_argument("--retry-failed", action="store_true", help="run failed and timed-out cases again")
-    r.add_argument("--windrive", help="windrive binary [default: $WINDRIVE or target/release/windrive]")
+    r.add_argument("--windrive", help=f"windrive binary [default: {WINDRIVE_DEFAULT}]")
     c = sub.add_parser("cases", help="list the cases and their weights without running them")
     c.add_argument("campaign", type=Path)
-    c.add_argument("--windrive", help="windrive binary [default: $WINDRIVE or target/release/windrive]")
+    c.add_argument("--windrive", help=f"windrive binary [default: {WINDRIVE_DEFAULT}]")
     j = sub.add_parser("job-script", help="print the Slurm job script of the [slurm] profile")
     j.add_argument("campaign", type=Path)
     rep = sub.add_parser(
@@ -155,10 +161,37 @@ def main(argv=None) -> int:
 
 
 def _windrive(given: str | None) -> str:
-    path = Path(given or os.environ.get("WINDRIVE") or REPO / "target" / "release" / "windrive").resolve()
-    if not (path.is_file() and os.access(path, os.X_OK)):
-        raise CampaignError(f"{path}: no windrive binary (cargo build --release builds it; or --windrive PATH)")
-    return str(path)
+    """The binary the cases run: --windrive, $WINDRIVE, then target/release/windrive in a developer
+    checkout, or the `windrive` the wheel installed into this Python's scripts folder (its bin/)."""
+    chosen = given or os.environ.get("WINDRIVE")
+    if chosen or cluster_mod.IN_CHECKOUT:
+        path = Path(chosen or cluster_mod.REPO / "target" / "release" / "windrive").resolve()
+        if not _executable(path):
+            raise CampaignError(f"{path}: no windrive binary (cargo build --release builds it; or --windrive PATH)")
+        return str(path)
+    for path in _installed_windrive():
+        if _executable(path):
+            return str(path.resolve())
+    raise CampaignError(
+        f"no windrive binary beside {sys.executable} nor on PATH: the windrive wheel installs one "
+        "(pip install windrive-*.whl); or --windrive PATH"
+    )
+
+
+def _installed_windrive() -> list[Path]:
+    """Where pip puts the wheel's binary: this Python's scripts folder (a venv's bin/), the user scheme's
+    (pip install --user), then whatever `windrive` PATH finds."""
+    found = [Path(sysconfig.get_path("scripts")) / "windrive", Path(sys.executable).parent / "windrive"]
+    try:
+        found.append(Path(sysconfig.get_path("scripts", f"{os.name}_user")) / "windrive")
+    except KeyError:  # an interpreter without a user scheme
+        pass
+    on_path = shutil.which("windrive")
+    return found + ([Path(on_path)] if on_path else [])
+
+
+def _executable(path: Path) -> bool:
+    return path.is_file() and os.access(path, os.X_OK)
 
 
 def _list_cases(campaign, windrive: str) -> int:

@@ -4,8 +4,9 @@
 Every worker has one thread: a case is one `windrive run` subprocess plus a short analysis, so a
 worker's thread waits on its child and one worker per core keeps every core busy. Workers elsewhere than
 this machine need the campaign folder, the scene snapshot and the windrive binary at the same paths (a
-shared file system), and this package on their PYTHONPATH (the Slurm profile exports it). So does a
-scheduler started by hand: it unpickles the tasks, which name this package's functions.
+shared file system), and this package importable: on their PYTHONPATH in a developer checkout (the Slurm
+profile exports it), or the windrive wheel installed into the Python they run. So does a scheduler started
+by hand: it unpickles the tasks, which name this package's functions.
 """
 
 from __future__ import annotations
@@ -19,6 +20,17 @@ from .errors import CampaignError
 from .schema import Slurm
 
 PACKAGE_PARENT = str(Path(__file__).resolve().parents[1])
+# A developer checkout (python/ beside the workspace's Cargo.toml) rather than the windrive wheel installed
+# into site-packages: it decides which windrive binary runs and how workers are told to import this package.
+REPO = Path(PACKAGE_PARENT).parent
+IN_CHECKOUT = (REPO / "Cargo.toml").is_file() and (REPO / "fmus").is_dir()
+
+
+def import_fix() -> str:
+    """How a worker that cannot import this package gets it, as an error message ends."""
+    if IN_CHECKOUT:
+        return f"with PYTHONPATH={PACKAGE_PARENT} (the same path on every node; docs/CAMPAIGNS.md)"
+    return f"from a Python with the windrive wheel installed (this one: {sys.executable})"
 
 
 def local(workers: int | None):
@@ -45,7 +57,9 @@ def slurm(profile: Slurm | None, path: Path, log_directory: Path | None = None):
     from dask_jobqueue import SLURMCluster
 
     directives = [f"--output={log_directory}/%x-%j.out"] if log_directory is not None else []
-    prologue = [f"export PYTHONPATH={PACKAGE_PARENT}${{PYTHONPATH:+:$PYTHONPATH}}", *profile.job_script_prologue]
+    # from a checkout the workers import this package from its python/ folder; an installed wheel brings it
+    exports = [f"export PYTHONPATH={PACKAGE_PARENT}${{PYTHONPATH:+:$PYTHONPATH}}"] if IN_CHECKOUT else []
+    prologue = [*exports, *profile.job_script_prologue]
     kwargs = dict(
         cores=profile.cores,
         processes=profile.cores,  # one single-threaded worker per core, as locally

@@ -234,7 +234,7 @@ def _check_workers(client, windrive: str, digest: str, opts: Options) -> None:
         if "windrive_campaign" in text and ("No module" in text or "ModuleNotFound" in text):
             raise CampaignError(
                 f"{where}: a worker cannot import windrive_campaign: start the scheduler and every worker "
-                f"with PYTHONPATH={cluster_mod.PACKAGE_PARENT} (the same path on every node; docs/CAMPAIGNS.md)"
+                f"{cluster_mod.import_fix()}"
             ) from None
         raise CampaignError(f"{where}: a worker failed its start-up check: {text.splitlines()[0]}") from None
     wrong = {w: why for w, why in found.items() if why}
