@@ -6,6 +6,11 @@
 //! `alpha_deg,cl,cd`, angles of attack rising and covering −180…180°). Lines starting with `#` are
 //! comments. Without `tip_radius_m` the tip is the last node (hub radius + its span), as in files
 //! written before the field existed. Every error names the file and the line.
+//!
+//! `aerodyn` reads OpenFAST AeroDyn v15 blade and airfoil files into such a folder, `write` writes one.
+
+pub mod aerodyn;
+pub mod write;
 
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -21,6 +26,8 @@ pub enum BladeError {
     Line { path: PathBuf, line: usize, what: String },
     #[error("blade data {}: {what}", path.display())]
     File { path: PathBuf, what: String },
+    #[error("blade data {}: cannot write: {cause}", path.display())]
+    Write { path: PathBuf, cause: std::io::Error },
 }
 
 /// Lift and drag coefficients over the angle of attack, interpolated linearly (as AeroDyn's
