@@ -32,7 +32,7 @@ pub struct ImportArgs {
     pub blade_file: PathBuf,
     /// AeroDyn's primary input file: its AFNames number the airfoils, its InCol_Alfa, InCol_Cl and
     /// InCol_Cd say which table columns to read
-    #[arg(long, required_unless_present = "airfoils", conflicts_with = "airfoils")]
+    #[arg(long, conflicts_with = "airfoils")]
     pub aerodyn: Option<PathBuf>,
     /// The airfoil files in BlAFID order (1, 2, ...), comma-separated; columns 1, 2, 3 are alpha, Cl, Cd
     #[arg(long, value_delimiter = ',')]
@@ -68,6 +68,18 @@ pub fn run(command: &BladeCommand) -> anyhow::Result<()> {
 }
 
 fn import(args: &ImportArgs) -> anyhow::Result<()> {
+    if args.aerodyn.is_none() && args.airfoils.is_empty() {
+        bail!(
+            "BlAFID numbers the airfoils by their place in AeroDyn's primary file: give --aerodyn AeroDyn.dat (its \
+             AFNames) or --airfoils A.dat,B.dat,... in that order"
+        );
+    }
+    if args.out.join("blade.csv").exists() && !args.force {
+        bail!(
+            "{} already holds a blade.csv: give --force to replace it, or another --out",
+            args.out.display()
+        );
+    }
     let rotor = args.elastodyn.as_deref().map(read_elastodyn).transpose()?;
     let hub_radius = match (args.hub_radius, rotor) {
         (Some(r), _) => r,
@@ -87,12 +99,6 @@ fn import(args: &ImportArgs) -> anyhow::Result<()> {
     // --airfoils already carry the folder; --polars then only redirects a primary file's AFNames
     let polars = args.aerodyn.as_ref().and(args.polars.as_deref());
     let imported = import_files(&args.blade_file, &airfoils, polars, hub_radius, blades)?;
-    if args.out.join("blade.csv").exists() && !args.force {
-        bail!(
-            "{} already holds a blade.csv: give --force to replace it, or another --out",
-            args.out.display()
-        );
-    }
     let written = imported.folder.write(&args.out)?;
     // the folder must read back as the rotor reads it
     let blade = Blade::load(&args.out).with_context(|| format!("reading back {}", args.out.display()))?;

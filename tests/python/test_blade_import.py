@@ -242,6 +242,10 @@ def test_import_errors_name_file_line_and_field(windrive, tmp_path):
     r = subprocess.run([windrive, "blade", "import", str(BLADE), "--aerodyn", str(PRIMARY),
                         "--out", str(tmp_path / "out")], capture_output=True, text=True, cwd=ROOT)
     assert r.returncode != 0 and "--hub-radius" in r.stderr, r.stderr
+    # nor are the airfoils' numbers: BlAFID counts the primary file's AFNames
+    r = subprocess.run([windrive, "blade", "import", str(BLADE), "--polars", str(DATA / "5MW_Baseline" / "Airfoils"),
+                        "--hub-radius", "1.5", "--out", str(tmp_path / "out")], capture_output=True, text=True, cwd=ROOT)
+    assert r.returncode != 0 and "--aerodyn" in r.stderr and "--airfoils" in r.stderr, r.stderr
 
 
 def test_rotor_fmu_uses_the_imported_blade_as_stored_or_scaled(windrive, imported):
