@@ -3,6 +3,7 @@
 pub mod aero;
 pub mod bearings;
 pub mod bench;
+pub mod blade;
 pub mod bode;
 pub mod calibrate;
 pub mod campbell;
@@ -212,6 +213,9 @@ pub enum Command {
     ///   windrive aero --radius 35 --rated-power 1.5e6 --rated-rpm 17.5    the paper's 1.5 MW rotor's rated wind
     #[command(verbatim_doc_comment)]
     Aero(aero::AeroArgs),
+    /// Blade data of the rotor's blade-element momentum model: importing an OpenFAST AeroDyn blade.
+    #[command(subcommand)]
+    Blade(blade::BladeCommand),
     /// Packs a scene folder into an .ssp archive, with our FMUs freshly built into its resources/.
     PackScene(run::PackSceneArgs),
     /// Damage-equivalent loads of one CSV channel: DEL = (Σ n_i S_i^m / N_eq)^(1/m), N_eq = feq × duration,

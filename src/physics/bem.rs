@@ -465,6 +465,7 @@ mod tests {
         let blade = Blade {
             name: "plate".into(),
             hub_radius: 1.0,
+            tip: None,
             blades: 3,
             nodes,
             polars: vec![polar],

@@ -140,18 +140,40 @@ fn blade_dir(name: &str, resources: Option<&Path>) -> SlaveResult<PathBuf> {
 }
 
 impl Params {
-    /// The rotor's aerodynamics at tip radius `radius`.
-    fn aerodynamics(&self, radius: f64, resources: Option<&Path>) -> SlaveResult<Aerodynamics> {
+    /// The rotor's aerodynamics and its tip radius: `radius` (the preset's `preset_radius` when 0), the
+    /// BEM's blade scaled to it; or with `scale_blade_to_radius` false the blade as its files give it,
+    /// whose tip radius is then the rotor's (`radius` must be 0 or that).
+    fn aerodynamics(&self, preset_radius: f64, resources: Option<&Path>) -> SlaveResult<(Aerodynamics, f64)> {
+        let radius = if self.radius > 0.0 { self.radius } else { preset_radius };
         match self.aerodynamics.trim() {
             "bem" => {
                 let dir = blade_dir(self.blade.trim(), resources)?;
                 let blade = Blade::load(&dir).map_err(|e| SlaveError::new(e.to_string()))?;
-                Ok(Aerodynamics::Bem(BemRotor::new(blade.scaled(radius), AIR_DENSITY)))
+                if self.scale_blade_to_radius {
+                    return Ok((
+                        Aerodynamics::Bem(BemRotor::new(blade.scaled(radius), AIR_DENSITY)),
+                        radius,
+                    ));
+                }
+                let tip = blade.tip_radius();
+                if self.radius > 0.0 && (self.radius - tip).abs() > 1e-9 * tip {
+                    return Err(ParameterError::Conflict(format!(
+                        "radius = {} m, but scale_blade_to_radius = false keeps the blade {} as stored, tip radius \
+                         {tip} m: set radius = 0 (or {tip}), or scale_blade_to_radius = true",
+                        self.radius,
+                        dir.display()
+                    ))
+                    .into());
+                }
+                Ok((Aerodynamics::Bem(BemRotor::new(blade, AIR_DENSITY)), tip))
             }
-            "analytic" => Ok(Aerodynamics::Analytic(Rotor {
+            "analytic" => Ok((
+                Aerodynamics::Analytic(Rotor {
+                    radius,
+                    lambda_min: 0.5,
+                }),
                 radius,
-                lambda_min: 0.5,
-            })),
+            )),
             other => Err(ParameterError::invalid("aerodynamics", &other, "use bem or analytic").into()),
         }
     }
@@ -257,9 +279,8 @@ impl Params {
         }
         let (r0, h0) = preset_rotor(&drivetrain, preset);
         let pick = |x: f64, default: f64| if x > 0.0 { x } else { default };
-        let radius = pick(self.radius, r0);
         let hub_height = pick(self.hub_height, h0);
-        let rotor = self.aerodynamics(radius, resources)?;
+        let (rotor, radius) = self.aerodynamics(r0, resources)?;
         let rated_speed = drivetrain.rated_rotor_speed;
         let rated_torque = drivetrain.rated_rotor_torque();
         let rated_wind =
@@ -550,6 +571,9 @@ impl Slave for RotorSlave {
     }
 
     fn get_boolean(&mut self, r: u32) -> SlaveResult<bool> {
+        if let Some(v) = xml::get_boolean(&self.params, &self.inputs, r) {
+            return Ok(v);
+        }
         match r {
             vr::GENERATOR_CONNECTED => {
                 let b = self.ensure()?;
@@ -557,6 +581,10 @@ impl Slave for RotorSlave {
             }
             _ => Err(xml::no_getter(VarType::Boolean, r)),
         }
+    }
+
+    fn set_boolean(&mut self, r: u32, value: bool, log: &mut dyn Log) -> SlaveResult<()> {
+        xml::set_boolean(&mut self.params, &mut self.inputs, r, value, log).map(|what| self.changed(what))
     }
 
     fn get_string(&mut self, r: u32) -> SlaveResult<String> {

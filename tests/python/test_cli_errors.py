@@ -124,6 +124,7 @@ def one_fmu_scene(tmp_path, name):
     ("gearbox6dof", ["bearing_model=balls"], ["bearing_model", "balls", "linear or lamina"]),
     ("rotor", ["aerodynamics=vortex"], ["aerodynamics", "vortex", "bem or analytic"]),
     ("rotor", ["blade=no-such-blade"], ["no-such-blade/blade.csv"]),
+    ("rotor", ["scale_blade_to_radius=false", "radius=40"], ["radius = 40 m", "scale_blade_to_radius = false", "tip radius 35 m"]),
     ("rotor", ["initial_pitch=2"], ["initial_pitch = 2", "pitch_max"]),
 ])
 def test_bad_fmu_parameters_are_named(windrive, tmp_path, fmu, params, words):

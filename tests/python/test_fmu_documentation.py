@@ -583,6 +583,7 @@ DEFAULTS = [
     ("rotor", r"With wind_averaging = rotor \(default\)", "wind_averaging", "rotor"),
     ("rotor", r"Aerodynamics, aerodynamics = bem \(default\)", "aerodynamics", "bem"),
     ("rotor", r"on the blade named by blade \(default (\S+),", "blade", str),
+    ("rotor", r"while scale_blade_to_radius = true \(the start value\)", "scale_blade_to_radius", "true"),
     ("rotor", r"initial_pitch negative \(default\) starts at the trim pitch", "initial_pitch", "-1"),
     ("rotor", r"the paper's gains for its 1\.5 MW turbine by default", None, None),
     ("rotor", r"Its pitch gains are this FMU's defaults\.", None, None),

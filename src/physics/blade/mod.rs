@@ -1,9 +1,16 @@
 //! Blade geometry and airfoil polars of the blade-element momentum rotor, read from CSV files.
 //!
-//! A blade is a folder: `blade.csv` (`hub_radius_m,<m>` and `blades,<n>` lines, then the header
-//! `span_m,chord_m,twist_deg,airfoil` and one line per node, span measured from the blade root) and one
-//! `<airfoil>.csv` per airfoil named there (header `alpha_deg,cl,cd`, angles of attack rising and
-//! covering −180…180°). Lines starting with `#` are comments. Every error names the file and the line.
+//! A blade is a folder: `blade.csv` (`hub_radius_m,<m>`, optionally `tip_radius_m,<m>`, and
+//! `blades,<n>` lines, then the header `span_m,chord_m,twist_deg,airfoil` and one line per node, span
+//! measured from the blade root) and one `<airfoil>.csv` per airfoil named there (header
+//! `alpha_deg,cl,cd`, angles of attack rising and covering −180…180°). Lines starting with `#` are
+//! comments. Without `tip_radius_m` the tip is the last node (hub radius + its span), as in files
+//! written before the field existed. Every error names the file and the line.
+//!
+//! `aerodyn` reads OpenFAST AeroDyn v15 blade and airfoil files into such a folder, `write` writes one.
+
+pub mod aerodyn;
+pub mod write;
 
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -19,6 +26,8 @@ pub enum BladeError {
     Line { path: PathBuf, line: usize, what: String },
     #[error("blade data {}: {what}", path.display())]
     File { path: PathBuf, what: String },
+    #[error("blade data {}: cannot write: {cause}", path.display())]
+    Write { path: PathBuf, cause: std::io::Error },
 }
 
 /// Lift and drag coefficients over the angle of attack, interpolated linearly (as AeroDyn's
@@ -77,6 +86,8 @@ pub struct Node {
 pub struct Blade {
     pub name: String,
     pub hub_radius: f64,
+    /// Tip radius as blade.csv's `tip_radius_m` gives it, m; None: the last node's radius.
+    pub tip: Option<f64>,
     pub blades: u32,
     pub nodes: Vec<Node>,
     pub polars: Vec<Polar>,
@@ -91,10 +102,16 @@ pub struct Station {
     pub airfoil: usize,
 }
 
+/// A node within this fraction of the tip radius from it is at the tip (a `tip_radius_m` written with
+/// fewer digits than hub radius + span carries).
+const AT_TIP: f64 = 1e-9;
+
 impl Blade {
-    /// Tip radius: hub radius plus the span of the last node.
+    /// Tip radius: `tip_radius_m` when the file gives it, otherwise hub radius plus the span of the
+    /// last node.
     pub fn tip_radius(&self) -> f64 {
-        self.hub_radius + self.nodes.last().map_or(0.0, |n| n.span)
+        self.tip
+            .unwrap_or_else(|| self.hub_radius + self.nodes.last().map_or(0.0, |n| n.span))
     }
 
     /// The same blade scaled geometrically to tip radius `radius`: hub radius, spans and chords by
@@ -104,6 +121,7 @@ impl Blade {
         Blade {
             name: format!("{} scaled to R = {radius} m", self.name),
             hub_radius: self.hub_radius * s,
+            tip: self.tip.map(|_| radius),
             nodes: self
                 .nodes
                 .iter()
@@ -118,21 +136,30 @@ impl Blade {
     }
 
     /// Stations at the nodes. A node at the hub or the tip has a vanishing Prandtl loss factor, which
-    /// makes the momentum balance degenerate there; such an end node is moved inward to 1 % of the span
-    /// (or half-way to its neighbour if closer), keeping its chord and twist. CCBlade does the same,
-    /// so the two models see the same stations. Loads fall to zero at the hub and tip radii.
+    /// makes the momentum balance degenerate there, so such an end node is moved inward, keeping its
+    /// chord and twist, by CCBlade's rule (wisdem 4.2.9, `ccblade.py`, `CCBlade.__init__`): with
+    /// x = (r − r_first)/(r_last − r_first) each node's place on the first-to-last-node distance, a
+    /// first node at the hub radius moves to x = min(0.01, x₂/2), a last node at the tip radius to
+    /// x = max(0.99, (x_{n−1} + 1)/2), both measured from the first node over that same distance.
+    /// (CCBlade tests the ends for exact equality; here the tip within `AT_TIP`·R.) The two models thus
+    /// see the same stations, with or without a node at the hub. Loads fall to zero at the hub and
+    /// tip radii.
     pub fn stations(&self) -> Vec<Station> {
-        let (r0, r1) = (self.hub_radius, self.tip_radius());
+        let (hub, tip) = (self.hub_radius, self.tip_radius());
         let n = self.nodes.len();
-        let x: Vec<f64> = self.nodes.iter().map(|nd| nd.span / (r1 - r0)).collect();
-        let mut r: Vec<f64> = self.nodes.iter().map(|nd| r0 + nd.span).collect();
+        let mut r: Vec<f64> = self.nodes.iter().map(|nd| hub + nd.span).collect();
         if n >= 2 {
-            let at = |xi: f64| r0 + xi * (r1 - r0);
-            if x[0] <= 0.0 {
-                r[0] = at(0.01f64.min(0.5 * (x[0] + x[1])));
+            let (first, last) = (r[0], r[n - 1]);
+            let length = last - first;
+            // spans rather than radii: the same numbers to the last bit for a blade whose first node
+            // is at the root (span 0), as before this rule was CCBlade's
+            let x = |i: usize| (self.nodes[i].span - self.nodes[0].span) / length;
+            let at = |xi: f64| first + xi * length;
+            if self.nodes[0].span <= 0.0 {
+                r[0] = at(0.01f64.min(0.5 * (x(0) + x(1))));
             }
-            if x[n - 1] >= 1.0 {
-                r[n - 1] = at(0.99f64.max(0.5 * (x[n - 2] + x[n - 1])));
+            if (last - tip).abs() <= AT_TIP * tip {
+                r[n - 1] = at(0.99f64.max(0.5 * (x(n - 2) + x(n - 1))));
             }
         }
         self.nodes
@@ -156,13 +183,14 @@ impl Blade {
             line,
             what,
         };
-        let (mut hub_radius, mut blades, mut header) = (None, None, false);
+        let (mut hub_radius, mut tip, mut blades, mut header) = (None, None, None, false);
         let mut nodes = Vec::new();
         let mut names: Vec<String> = Vec::new();
         for (k, fields) in data_lines(&text) {
             if !header {
                 match fields.as_slice() {
                     ["hub_radius_m", v] => hub_radius = Some(number(v, "hub_radius_m").map_err(|w| err(k, w))?),
+                    ["tip_radius_m", v] => tip = Some((k, number(v, "tip_radius_m").map_err(|w| err(k, w))?)),
                     ["blades", v] => {
                         blades = Some(
                             v.parse::<u32>()
@@ -175,7 +203,8 @@ impl Blade {
                     _ => {
                         return Err(err(
                             k,
-                            "expected hub_radius_m,<m> or blades,<n> or the header span_m,chord_m,twist_deg,airfoil"
+                            "expected hub_radius_m,<m>, tip_radius_m,<m>, blades,<n> or the header \
+                             span_m,chord_m,twist_deg,airfoil"
                                 .into(),
                         ));
                     }
@@ -232,6 +261,15 @@ impl Blade {
         if hub_radius < 0.0 {
             return Err(file("hub_radius_m must be ≥ 0"));
         }
+        let last = hub_radius + nodes[nodes.len() - 1].span;
+        if let Some((k, r)) = tip
+            && r < last * (1.0 - AT_TIP)
+        {
+            return Err(err(
+                k,
+                format!("tip_radius_m = {r} m lies inside the last node (hub radius + span = {last} m)"),
+            ));
+        }
         let polars = names
             .iter()
             .map(|n| load_polar(&dir.join(format!("{n}.csv")), n))
@@ -242,6 +280,7 @@ impl Blade {
         Ok(Blade {
             name,
             hub_radius,
+            tip: tip.map(|(_, r)| r),
             blades,
             nodes,
             polars,
@@ -386,5 +425,84 @@ mod tests {
         // 1 % and 99 % of the 8 m span
         assert!((st[0].radius - 2.08).abs() < 1e-12 && (st[2].radius - 9.92).abs() < 1e-12);
         assert_eq!(st[1].radius, 6.0);
+    }
+
+    #[test]
+    fn tip_radius_field_is_optional_and_checked() {
+        let d = dir("tip");
+        std::fs::write(d.join("p.csv"), POLAR).unwrap();
+        let blade = |tip: &str| {
+            std::fs::write(
+                d.join("blade.csv"),
+                format!(
+                    "hub_radius_m,2\n{tip}blades,3\nspan_m,chord_m,twist_deg,airfoil\n0,2,10,p\n4,1.5,5,p\n8,1,0,p\n"
+                ),
+            )
+            .unwrap();
+            Blade::load(&d)
+        };
+        let b = blade("tip_radius_m,12\n").unwrap();
+        assert_eq!((b.tip, b.tip_radius()), (Some(12.0), 12.0));
+        // the last node is 2 m short of the tip: it stays where it is
+        assert_eq!(b.stations()[2].radius, 10.0);
+        let s = b.scaled(24.0);
+        assert_eq!((s.tip_radius(), s.hub_radius, s.nodes[2].span), (24.0, 4.0, 16.0));
+        assert_eq!(blade("").unwrap().tip_radius(), 10.0);
+        let e = blade("tip_radius_m,9.5\n").unwrap_err().to_string();
+        assert!(
+            e.contains("blade.csv line 2") && e.contains("inside the last node"),
+            "{e}"
+        );
+    }
+
+    /// CCBlade's rule: the end nodes move over the first-to-last-node distance, so a blade without a
+    /// node at the hub keeps its first node and moves its tip node to first + 0.99·(last − first).
+    #[test]
+    fn end_stations_follow_ccblade_without_a_hub_node() {
+        let d = dir("nohub");
+        std::fs::write(d.join("p.csv"), POLAR).unwrap();
+        std::fs::write(
+            d.join("blade.csv"),
+            "hub_radius_m,2\nblades,3\nspan_m,chord_m,twist_deg,airfoil\n1,2,10,p\n4,1.5,5,p\n8,1,0,p\n",
+        )
+        .unwrap();
+        let st = Blade::load(&d).unwrap().stations();
+        assert_eq!(st[0].radius, 3.0);
+        // 3 + 0.99·7, not the hub-to-tip 2 + 0.99·8 = 9.92
+        assert!((st[2].radius - 9.93).abs() < 1e-12, "{}", st[2].radius);
+    }
+
+    /// The rule before it was CCBlade's (hub-to-tip distance), which every shipped blade was run with.
+    fn hub_to_tip_stations(b: &Blade) -> Vec<f64> {
+        let (r0, r1) = (b.hub_radius, b.tip_radius());
+        let n = b.nodes.len();
+        let x: Vec<f64> = b.nodes.iter().map(|nd| nd.span / (r1 - r0)).collect();
+        let mut r: Vec<f64> = b.nodes.iter().map(|nd| r0 + nd.span).collect();
+        let at = |xi: f64| r0 + xi * (r1 - r0);
+        if x[0] <= 0.0 {
+            r[0] = at(0.01f64.min(0.5 * (x[0] + x[1])));
+        }
+        if x[n - 1] >= 1.0 {
+            r[n - 1] = at(0.99f64.max(0.5 * (x[n - 2] + x[n - 1])));
+        }
+        r
+    }
+
+    /// On a blade with nodes at the hub and the tip the two rules agree to the last bit: the WindPACT
+    /// blade as shipped and scaled to every preset's radius keeps its stations.
+    #[test]
+    fn windpact_stations_are_unchanged_to_the_bit() {
+        use crate::physics::drivetrain::Drivetrain;
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fmus/rotor/resources/blades/windpact-1.5mw");
+        let b = Blade::load(&dir).unwrap();
+        let mut radii = vec![b.tip_radius()];
+        for p in ["A", "B", "C", "D", "P"] {
+            radii.push(crate::physics::rotor::preset_rotor(&Drivetrain::preset(p).unwrap(), p).0);
+        }
+        for radius in radii {
+            let s = b.scaled(radius);
+            let now: Vec<f64> = s.stations().iter().map(|st| st.radius).collect();
+            assert_eq!(now, hub_to_tip_stations(&s), "R = {radius}");
+        }
     }
 }
