@@ -1,9 +1,10 @@
 //! `windrive campbell --preset C`: natural frequencies against rotor speed with the excitation orders,
 //! and the crossings inside the operating range.
 
-use crate::cli::{modes, plot};
+use super::modes;
 use crate::linear::campbell::{crossings, distinct_modes, excitation_orders};
 use crate::physics::drivetrain::operating_speed_range_rpm;
+use crate::plot;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]

@@ -71,7 +71,7 @@ fn run_gearbox(args: &ModesArgs, name: &str) -> anyhow::Result<()> {
                 None => clouds.push((label, vec![point])),
             }
         }
-        super::plot::scatter(
+        crate::plot::scatter(
             path,
             &format!("{}: natural frequencies", d.name),
             "torsional share of kinetic energy",
@@ -121,7 +121,7 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
     }
     let (dt, m) = compute(&args.preset, &args.fidelity, &args.generator, &args.lumping)?;
     if let Some(path) = &args.plot {
-        super::plot::mode_shapes(
+        crate::plot::mode_shapes(
             path,
             &format!(
                 "Drivetrain {} ({} fidelity, generator {})",

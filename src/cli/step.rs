@@ -113,17 +113,17 @@ pub fn run(args: &StepArgs) -> anyhow::Result<()> {
     if let Some(plot) = &args.plot {
         let lss: Vec<(f64, f64)> = rows.iter().map(|r| (r[0], r[col("lss_torque")] / t_rotor)).collect();
         let hss: Vec<(f64, f64)> = rows.iter().map(|r| (r[0], r[col("hss_torque")] / t_gen)).collect();
-        super::plot::lines(
+        crate::plot::lines(
             plot,
             &format!("Drivetrain {}: rated-torque step", args.preset),
             "time / s",
             "torque / rated",
             &[
-                super::plot::Series {
+                crate::plot::Series {
                     label: "LSS".into(),
                     points: &lss,
                 },
-                super::plot::Series {
+                crate::plot::Series {
                     label: "HSS".into(),
                     points: &hss,
                 },
