@@ -221,14 +221,14 @@ fn work_precision(base: &Scenario, reference: &[f64], rk4_limit: f64, path: &std
         }
         curves.push((integrator.to_string(), points));
     }
-    let series: Vec<super::plot::Series> = curves
+    let series: Vec<crate::plot::Series> = curves
         .iter()
-        .map(|(label, p)| super::plot::Series {
+        .map(|(label, p)| crate::plot::Series {
             label: label.clone(),
             points: p,
         })
         .collect();
-    match super::plot::lines(
+    match crate::plot::lines(
         path,
         &work_precision_title(&base.preset, base.stop_time),
         "log10 CPU time / s",

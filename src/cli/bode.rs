@@ -1,12 +1,12 @@
 //! `windrive bode`: frequency response of the linear drivetrain between a torque and a speed or
 //! shaft torque (the thesis's eigenfrequency analysis: LSS torque in, generator speed out).
 
-use crate::cli::plot;
 use crate::linear::bode::{Bode, log_spaced};
 use crate::linear::modes::{Boundary, modes};
 use crate::linear::response::{Input, Output, frequency_response};
 use crate::physics::drivetrain::Drivetrain;
 use crate::physics::torsional::{Fidelity, ModelOptions, TorsionalModel};
+use crate::plot;
 use anyhow::{anyhow, bail};
 use std::path::PathBuf;
 

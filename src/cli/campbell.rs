@@ -1,9 +1,10 @@
 //! `windrive campbell --preset C`: natural frequencies against rotor speed with the excitation orders,
 //! and the crossings inside the operating range.
 
-use crate::cli::{modes, plot};
 use crate::linear::campbell::{crossings, distinct_modes, excitation_orders};
 use crate::physics::drivetrain::operating_speed_range_rpm;
+use crate::plot;
+use crate::studies::preset_modes::preset_modes;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -36,7 +37,7 @@ pub fn run(args: &CampbellArgs) -> anyhow::Result<()> {
     if args.harmonics == 0 {
         anyhow::bail!("--harmonics 0: at least the mesh frequency itself (1)");
     }
-    let (dt, m) = modes::compute(&args.preset, &args.fidelity, &args.generator, "physical")?;
+    let (dt, m) = preset_modes(&args.preset, &args.fidelity, &args.generator, "physical")?;
     let (lo, hi) = operating_speed_range_rpm(&dt.name).expect("every preset has a speed range");
     let orders = excitation_orders(&dt, args.harmonics);
     let top = orders.iter().map(|o| o.order).fold(0.0, f64::max) * hi / 60.0;

@@ -90,14 +90,14 @@ pub fn run(stop_time: f64, plot: Option<&Path>) -> anyhow::Result<()> {
         }
     }
     if let Some(path) = plot {
-        let series: Vec<super::plot::Series> = series
+        let series: Vec<crate::plot::Series> = series
             .iter()
-            .map(|(label, points)| super::plot::Series {
+            .map(|(label, points)| crate::plot::Series {
                 label: label.clone(),
                 points,
             })
             .collect();
-        super::plot::lines(
+        crate::plot::lines(
             path,
             "d-grid-step (drivetrain D + generator spring): co-simulation error vs wall time",
             "log10 wall time / s",

@@ -7,7 +7,7 @@ use crate::analysis::fatigue::matrix;
 use crate::analysis::fatigue::rainflow;
 use crate::analysis::signal::series;
 use crate::analysis::signal::spectrum;
-use crate::cli::plot;
+use crate::plot;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]

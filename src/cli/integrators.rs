@@ -72,9 +72,9 @@ pub fn run(args: &IntegratorsArgs) -> anyhow::Result<()> {
         );
     })?;
     let mut csv = String::from("method,mesh_stiffness_factor,step_s,h_omega_max,stable\n");
-    let mut panels: Vec<super::plot::StabilityPanel> = methods
+    let mut panels: Vec<crate::plot::StabilityPanel> = methods
         .iter()
-        .map(|(name, _)| super::plot::StabilityPanel {
+        .map(|(name, _)| crate::plot::StabilityPanel {
             title: name.to_string(),
             stable: Vec::new(),
             unstable: Vec::new(),

@@ -20,7 +20,6 @@ pub mod life;
 pub mod modes;
 pub mod nonsmooth;
 pub mod overhead;
-pub mod plot;
 pub mod rating;
 pub mod reproduce;
 pub mod run;

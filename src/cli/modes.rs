@@ -1,8 +1,7 @@
 //! `windrive modes`.
 
-use crate::linear::modes::{Boundary, Modes, modes};
-use crate::physics::drivetrain::Drivetrain;
-use crate::physics::torsional::{Fidelity, Lumping, ModelOptions, TorsionalModel};
+use crate::studies::preset_modes::preset_modes;
+use crate::studies::reproduce::thesis_values;
 use anyhow::{Context, anyhow};
 use std::path::PathBuf;
 
@@ -35,22 +34,6 @@ pub struct ModesArgs {
     pub plot: Option<PathBuf>,
 }
 
-pub fn compute(preset: &str, fidelity: &str, generator: &str, lumping: &str) -> anyhow::Result<(Drivetrain, Modes)> {
-    let dt = Drivetrain::preset(preset).ok_or_else(|| anyhow!("unknown preset {preset:?}: use A, B, C, D or P"))?;
-    let f = Fidelity::parse(fidelity).ok_or_else(|| anyhow!("unknown fidelity {fidelity:?}: use 2, 5 or full"))?;
-    let b = Boundary::parse(generator)
-        .ok_or_else(|| anyhow!("unknown --generator {generator:?}: use connected, disconnected or locked"))?;
-    let lumping =
-        Lumping::parse(lumping).ok_or_else(|| anyhow!("unknown --lumping {lumping:?}: use physical or thesis"))?;
-    let options = ModelOptions {
-        lumping,
-        ..ModelOptions::default()
-    };
-    let model = TorsionalModel::new(&dt, f, &options).map_err(|e| anyhow!(e))?;
-    let m = modes(&model, b, dt.k_generator);
-    Ok((dt, m))
-}
-
 /// `--gearbox`: the 6-DOF gearbox's modes, a table or JSON, and a plot of frequency against torsional share.
 fn run_gearbox(args: &ModesArgs, name: &str) -> anyhow::Result<()> {
     use crate::linear::gearbox_modes;
@@ -71,7 +54,7 @@ fn run_gearbox(args: &ModesArgs, name: &str) -> anyhow::Result<()> {
                 None => clouds.push((label, vec![point])),
             }
         }
-        super::plot::scatter(
+        crate::plot::scatter(
             path,
             &format!("{}: natural frequencies", d.name),
             "torsional share of kinetic energy",
@@ -119,9 +102,9 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
     if let Some(name) = &args.gearbox {
         return run_gearbox(args, name);
     }
-    let (dt, m) = compute(&args.preset, &args.fidelity, &args.generator, &args.lumping)?;
+    let (dt, m) = preset_modes(&args.preset, &args.fidelity, &args.generator, &args.lumping)?;
     if let Some(path) = &args.plot {
-        super::plot::mode_shapes(
+        crate::plot::mode_shapes(
             path,
             &format!(
                 "Drivetrain {} ({} fidelity, generator {})",
@@ -161,10 +144,16 @@ pub fn run(args: &ModesArgs) -> anyhow::Result<()> {
         println!("{:>4}  {:>12.4}  {}", i + 1, f, m.dof_names[*d]);
     }
     if dt.name == "D" && m.dof_names.len() == 5 && args.generator.starts_with('d') {
+        let thesis: Vec<String> = thesis_values("D 5-mass, free–free, mode")?
+            .iter()
+            .map(f64::to_string)
+            .collect();
+        let (last, rest) = thesis.split_last().context("no thesis values for D's 5-mass modes")?;
         println!(
-            "thesis ch. 6 (Fig. 6.6) gives 2.957, 292, 372 and 1974 Hz for this model; its Table 4.2 values in its\n\
+            "thesis ch. 6 (Fig. 6.6) gives {} and {last} Hz for this model; its Table 4.2 values in its\n\
              Eq. 4.9 lumping give 2.524, 324.5, 476.7, 1974 Hz (--lumping thesis): the text's frequencies do not\n\
-             follow from its own equations (docs/DRIVETRAINS.md)"
+             follow from its own equations (docs/DRIVETRAINS.md)",
+            rest.join(", ")
         );
     }
     if let Some(path) = &args.plot {

@@ -109,14 +109,14 @@ pub fn run(args: &NonSmoothArgs) -> anyhow::Result<()> {
             reference.contact_rate().max(0.01).log10(),
         ),
     ];
-    let mut series: Vec<super::plot::Series> = contact_lines
+    let mut series: Vec<crate::plot::Series> = contact_lines
         .iter()
-        .map(|(label, points)| super::plot::Series {
+        .map(|(label, points)| crate::plot::Series {
             label: label.clone(),
             points,
         })
         .collect();
-    series.push(super::plot::Series {
+    series.push(crate::plot::Series {
         label: "reference".into(),
         points: &reference_points,
     });
@@ -125,8 +125,8 @@ pub fn run(args: &NonSmoothArgs) -> anyhow::Result<()> {
         scene.name,
         args.backlash * 1e6
     );
-    super::plot::write_chart_and_table(&args.out, &csv, |path| {
-        super::plot::lines(
+    crate::plot::write_chart_and_table(&args.out, &csv, |path| {
+        crate::plot::lines(
             path,
             &title,
             "log10 macro step / ms",

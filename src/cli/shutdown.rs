@@ -3,12 +3,12 @@
 //! drivetrain engineer reads: shaft torques, speeds, mesh forces (reversals visible), the HSS-torque
 //! spectrum while braking with the computed modes marked, the rainflow range–mean cloud.
 
-use super::plot::{self, Series};
 use crate::analysis::fatigue::rainflow;
 use crate::analysis::shutdown;
 use crate::cosim::{Algorithm, Master, Options, Record, Scene, System, recorder::Recorder};
 use crate::linear::modes::Boundary;
 use crate::physics::drivetrain::Drivetrain;
+use crate::plot::{self, Series};
 use crate::reference::modes::lowest_mode;
 use anyhow::{Context, bail};
 use std::path::{Path, PathBuf};

@@ -89,7 +89,7 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
             let kept = p.points.iter().filter(|x| x.measured == measured);
             kept.map(|x| (x.step, x.stiffness)).collect()
         };
-        drawn.push(super::plot::StabilityPanel {
+        drawn.push(crate::plot::StabilityPanel {
             title: p.label.to_string(),
             stable: runs(true),
             unstable: runs(false),
@@ -109,9 +109,9 @@ pub fn write_map(
     csv: &str,
     title: &str,
     (x_label, y_label): (&str, &str),
-    panels: &[super::plot::StabilityPanel],
+    panels: &[crate::plot::StabilityPanel],
 ) -> anyhow::Result<()> {
-    super::plot::write_chart_and_table(stem, csv, |path| {
-        super::plot::stability_panels(path, title, x_label, y_label, panels)
+    crate::plot::write_chart_and_table(stem, csv, |path| {
+        crate::plot::stability_panels(path, title, x_label, y_label, panels)
     })
 }

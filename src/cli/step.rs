@@ -5,6 +5,7 @@ use crate::analysis::signal::spectrum::dominant_in_window;
 use crate::cosim::recorder::CsvWriter;
 use crate::fmi2::host::import::Fmu;
 use crate::reference::step::{CHANNELS, Rows, Scenario, column, run_fmi};
+use crate::studies::preset_modes::preset_modes;
 use anyhow::Context;
 use std::path::{Path, PathBuf};
 
@@ -105,7 +106,7 @@ pub fn run(args: &StepArgs) -> anyhow::Result<()> {
     );
     println!("  dominant HSS-torque frequency: {f_dom:.3} Hz");
     for boundary in ["disconnected", "connected", "locked"] {
-        let (_, m) = super::modes::compute(&args.preset, &args.fidelity, boundary, "physical")?;
+        let (_, m) = preset_modes(&args.preset, &args.fidelity, boundary, "physical")?;
         let list: Vec<String> = m.frequencies_hz.iter().take(5).map(|f| format!("{f:.3}")).collect();
         println!("  modes, generator {boundary:<12}: {} Hz ...", list.join(", "));
     }
@@ -113,17 +114,17 @@ pub fn run(args: &StepArgs) -> anyhow::Result<()> {
     if let Some(plot) = &args.plot {
         let lss: Vec<(f64, f64)> = rows.iter().map(|r| (r[0], r[col("lss_torque")] / t_rotor)).collect();
         let hss: Vec<(f64, f64)> = rows.iter().map(|r| (r[0], r[col("hss_torque")] / t_gen)).collect();
-        super::plot::lines(
+        crate::plot::lines(
             plot,
             &format!("Drivetrain {}: rated-torque step", args.preset),
             "time / s",
             "torque / rated",
             &[
-                super::plot::Series {
+                crate::plot::Series {
                     label: "LSS".into(),
                     points: &lss,
                 },
-                super::plot::Series {
+                crate::plot::Series {
                     label: "HSS".into(),
                     points: &hss,
                 },

@@ -302,10 +302,10 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
             variants[k].line, variants[k].setting, p.0, p.1
         );
     }
-    let series: Vec<super::plot::Series> = lines
+    let series: Vec<crate::plot::Series> = lines
         .iter()
         .filter(|(_, p)| !p.is_empty())
-        .map(|(label, points)| super::plot::Series {
+        .map(|(label, points)| crate::plot::Series {
             label: label.clone(),
             points,
         })
@@ -316,7 +316,7 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
         .map(|q| q.tolerance)
         .fold(f64::INFINITY, f64::min);
     let title = format!("{}: work-precision, varying {}", study.scene.name, args.vary);
-    super::plot::write_chart_and_table(&stem, &csv, |path| {
-        super::plot::work_precision(path, &title, &series, &front, Some(tightest))
+    crate::plot::write_chart_and_table(&stem, &csv, |path| {
+        crate::plot::work_precision(path, &title, &series, &front, Some(tightest))
     })
 }

@@ -1,9 +1,16 @@
 //! Research studies as library functions that return data, for the command line to print and plot.
-//! So far: the calibration of drivetrain C's estimated inputs against the thesis's measured
-//! statistics ([`calibration`], with the [`nelder_mead`] minimiser it uses), the integrators'
-//! stability on the torsional model (`integrators`), chatter at the brake and the backlash
-//! (`nonsmooth`) and the co-simulation stability map (`stability`). The studies that report with
-//! `anyhow` errors or run the master come with the `cli` feature, as those do.
+//! Values taken from the thesis are data with their source (data/thesis.toml), not code.
+//!
+//! - the thesis beside us: every number of the thesis we compute, beside ours (`reproduce`, its values
+//!   in data/thesis.toml); the calibration of drivetrain C's estimated inputs against the thesis's
+//!   measured statistics ([`calibration`], its fit over C's scenes in `calibration::fit`, with the
+//!   [`nelder_mead`] minimiser);
+//! - numerics: the integrators' stability on the torsional model (`integrators`), chatter at the
+//!   brake and the backlash (`nonsmooth`), the co-simulation stability map (`stability`);
+//! - shared: a preset's modes chosen by name (`preset_modes`).
+//!
+//! The studies that report with `anyhow` errors or run the master come with the `cli` feature, as
+//! those do.
 
 pub mod calibration;
 #[cfg(feature = "cli")]
@@ -11,5 +18,9 @@ pub mod integrators;
 pub mod nelder_mead;
 #[cfg(feature = "cli")]
 pub mod nonsmooth;
+#[cfg(feature = "cli")]
+pub mod preset_modes;
+#[cfg(feature = "cli")]
+pub mod reproduce;
 #[cfg(feature = "cli")]
 pub mod stability;

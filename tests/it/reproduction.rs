@@ -2,12 +2,12 @@
 //! reproduce holds within its stated tolerance, the claims cover the modes, mesh orders, operating
 //! hours, rated speeds and braking frequencies, and the committed table lists every row.
 
-use windrive::cli::reproduce::{scene_rows, static_rows};
+use windrive::cli::reproduce::open_scene;
+use windrive::studies::reproduce::rows;
 
 #[test]
 fn every_claimed_row_holds_and_the_documentation_lists_every_row() {
-    let mut rows = static_rows().unwrap();
-    rows.extend(scene_rows().unwrap());
+    let rows = rows(&open_scene).unwrap();
     let claimed: Vec<_> = rows.iter().filter(|r| r.claimed.is_some()).collect();
     for r in &claimed {
         println!(

@@ -126,6 +126,7 @@ ALLOWED = {
                   "models"},
     "studies": {"analysis", "physics", "linear", "reference", "cosim", "solver", "slaves"},
     "pack": {"fmi2", "fmi2::host"},
+    "plot": {"linear"},
 }
 
 

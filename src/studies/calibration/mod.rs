@@ -7,6 +7,9 @@
 //! statistic's size: zero inside a bound the thesis states as "more than" or "between", the distance
 //! to the bound outside it. The objective is their sum of squares.
 
+#[cfg(feature = "cli")]
+pub mod fit;
+
 use crate::analysis::fatigue::damage::damage_equivalent_load;
 use crate::analysis::fatigue::rainflow::cycles;
 use crate::analysis::signal::metrics::range;
