@@ -6,7 +6,7 @@
 //! a model, the driver and the generated interface together and `fmi2::fmu` turns a slave into the
 //! C symbols `fmus/*` export. On the host side `cosim` drives FMUs through `fmi2::host`; `linear`
 //! analyses the models, `analysis` reads recorded series, `reference` holds exact solutions,
-//! `studies` the research studies, `plot` draws charts, and `cli` parses, calls and prints.
+//! `studies` the research studies, `bench` the benchmarks, `plot` draws charts, and `cli` parses, calls and prints.
 //! Determinism: every model is a pure function of its parameters, inputs and step sizes; the same
 //! calls give bit-identical results, and a restored FMU state continues bit-identically.
 
@@ -22,6 +22,8 @@ pub mod slaves;
 pub mod solver;
 pub mod studies;
 
+#[cfg(feature = "cli")]
+pub mod bench;
 #[cfg(feature = "cli")]
 pub mod cli;
 #[cfg(feature = "cli")]

@@ -127,6 +127,7 @@ ALLOWED = {
     "studies": {"analysis", "physics", "linear", "reference", "cosim", "solver", "slaves"},
     "pack": {"fmi2", "fmi2::host"},
     "plot": {"linear"},
+    "bench": {"analysis", "physics", "linear", "reference", "cosim", "solver", "fmi2", "fmi2::host"},
 }
 
 

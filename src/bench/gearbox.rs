@@ -1,13 +1,12 @@
 //! `windrive bench gearbox`: the 6-DOF GRC gearbox in drivetrain D's 30 s shutdown scene
 //! (scenes/d-shutdown-6dof) through the master with lamina bearings and 35, 11 and 5 slices per
 //! mesh, with the main shaft as one element or rigid, with linear bearings and at internal steps of
-//! 1 and 0.5 ms, each against the 35-slice
-//! lamina run at 0.25 ms without numerical damping (largest mesh forces,
-//! bearing load and contact pressures, rollers in contact, HSS torque); the torsional model in the same scene
-//! (scenes/d-shutdown) as the baseline measured in the same run; the integrators at part load, where
-//! the teeth and rollers open and close (drivetrain C at cut-in wind, scenes/c-normal-6dof); and the
-//! explicit alternative (RK4 at its stability limit) against the implicit step on the bare physics,
-//! with the work per step that sets the speed.
+//! 1 and 0.5 ms, each against the 35-slice lamina run at 0.25 ms without numerical damping (largest
+//! mesh forces, bearing load and contact pressures, rollers in contact, HSS torque); the torsional
+//! model in the same scene (scenes/d-shutdown) as the baseline measured in the same run; the
+//! integrators at part load, where the teeth and rollers open and close (drivetrain C at cut-in wind,
+//! scenes/c-normal-6dof); and the explicit alternative (RK4 at its stability limit) against the
+//! implicit step on the bare physics, with the work per step that sets the speed.
 
 use crate::cosim::{Algorithm, Master, Options, Record, Scene, System, param};
 use crate::linear::modes::eigenpairs_of;
@@ -85,42 +84,47 @@ impl MainShaft {
     }
 }
 
-pub fn run(stop: f64) -> anyhow::Result<()> {
-    let six = Path::new("scenes/d-shutdown-6dof");
-    let tor = Path::new("scenes/d-shutdown");
-    for dir in [six, tor] {
-        super::run::provide_own_fmus(&Scene::open(dir)?, true)?;
-    }
-    let names = [
-        "hss_torque",
-        "mesh_force_sun_planet_1",
-        "mesh_force_gear_pinion_2",
-        "planet_1_uw_radial_load",
-        "planet_1_uw_rollers_in_contact",
-        "planet_1_uw_inner_race_pressure",
-        "max_contact_pressure_gear_pinion_2",
-    ];
-    let channels = |c: &str| names.iter().map(|n| format!("{c}.{n}")).collect::<Vec<_>>();
-    let (t_tor, _) = run_scene(tor, &[], &channels("torsional")[..3], stop)?;
-    println!(
-        "drivetrain D shutdown scene, {stop} s at 1 ms through the master (Gauss–Seidel); reference: 35 slices with \
-         lamina bearings at a 0.25 ms internal step with Newmark's average acceleration (no numerical damping); rows: the \
-         FMU's default HHT-α (ρ∞ = 0.8) at 1 ms unless named; baseline: torsional full fidelity"
-    );
-    println!(
-        "{:<24} {:>9} {:>7} {:>11} {:>11} {:>11} {:>11} {:>9} {:>11} {:>11} {:>10}",
-        "variant",
-        "ms per s",
-        "× real",
-        "÷ torsional",
-        "sun-planet",
-        "gear-pinion",
-        "planet UW",
-        "min rollr",
-        "UW p_max",
-        "HSS p_H",
-        "HSS RMS"
-    );
+/// One gearbox variant against the reference.
+pub struct VariantRow {
+    pub label: &'static str,
+    pub wall_s: f64,
+    /// Peak differences against the reference, %: sun–planet and gear–pinion mesh force, planet 1's
+    /// upwind bearing's radial load and inner-race pressure, the HSS mesh's contact pressure.
+    pub sun_planet: f64,
+    pub gear_pinion: f64,
+    pub planet_upwind: f64,
+    pub upwind_pressure: f64,
+    pub hss_pressure: f64,
+    /// The fewest rollers carrying planet 1's upwind bearing in normal operation, this run's and the
+    /// reference's.
+    pub fewest_rollers: f64,
+    pub reference_fewest_rollers: f64,
+    /// RMS difference of the HSS torque from the reference's, % of its RMS.
+    pub hss_rms_error: f64,
+}
+
+/// The recorded channels of both models, component left out (the torsional model has the first three).
+const CHANNELS: [&str; 7] = [
+    "hss_torque",
+    "mesh_force_sun_planet_1",
+    "mesh_force_gear_pinion_2",
+    "planet_1_uw_radial_load",
+    "planet_1_uw_rollers_in_contact",
+    "planet_1_uw_inner_race_pressure",
+    "max_contact_pressure_gear_pinion_2",
+];
+
+fn channels(component: &str) -> Vec<String> {
+    CHANNELS.iter().map(|n| format!("{component}.{n}")).collect()
+}
+
+/// The baseline: the torsional model in d-shutdown (the folder `dir`) over `stop` s, its wall time, s.
+pub fn torsional_baseline(dir: &Path, stop: f64) -> anyhow::Result<f64> {
+    Ok(run_scene(dir, &[], &channels("torsional")[..3], stop)?.0)
+}
+
+/// The variants in d-shutdown-6dof (the folder `six`) over `stop` s; `row` after each.
+pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyhow::Result<()> {
     let mut reference: Option<Vec<Vec<f64>>> = None;
     // the reference is the full model at a quarter of the FMU's default internal step (1 ms): its
     // differences are the errors of each row, the step's included
@@ -154,59 +158,56 @@ pub fn run(stop: f64) -> anyhow::Result<()> {
         }
         let (wall, cols) = run_scene(six, &o, &channels("gearbox"), stop)?;
         let r = reference.get_or_insert_with(|| cols.clone());
-        let rel = |k: usize| format!("{:+.2}%", 100.0 * (peak(&cols[k]) / peak(&r[k]) - 1.0));
+        let rel = |k: usize| 100.0 * (peak(&cols[k]) / peak(&r[k]) - 1.0);
         // the fewest rollers carrying the upwind planet bearing in normal operation (1 s to the trip
         // at 5 s; the shutdown takes every bearing through zero load)
         let fewest = |c: &[f64]| c.iter().take(5000).skip(1000).fold(f64::MAX, |m, &x| m.min(x));
-        println!(
-            "{label:<24} {:>9.1} {:>7.2} {:>11.0} {:>11} {:>11} {:>11} {:>4.0} ({:.0}) {:>11} {:>11} {:>9.3}%",
-            wall / stop * 1e3,
-            stop / wall,
-            wall / t_tor,
-            rel(1),
-            rel(2),
-            rel(3),
-            fewest(&cols[4]),
-            fewest(&r[4]),
-            rel(5),
-            rel(6),
-            100.0 * rms_error(&cols[0], &r[0]),
-        );
+        row(&VariantRow {
+            label,
+            wall_s: wall,
+            sun_planet: rel(1),
+            gear_pinion: rel(2),
+            planet_upwind: rel(3),
+            upwind_pressure: rel(5),
+            hss_pressure: rel(6),
+            fewest_rollers: fewest(&cols[4]),
+            reference_fewest_rollers: fewest(&r[4]),
+            hss_rms_error: 100.0 * rms_error(&cols[0], &r[0]),
+        });
     }
-    println!(
-        "torsional: {:.2} ms per simulated s ({:.0}× real time); columns: peak differences against the reference \
-         (min rollr: fewest rollers carrying planet 1's upwind bearing in normal operation, the reference's in \
-         brackets; linear bearings report none)\n",
-        t_tor / stop * 1e3,
-        stop / t_tor
-    );
-    part_load(stop.min(30.0))?;
-    explicit_against_implicit()
+    Ok(())
 }
 
-/// Drivetrain C at cut-in wind (4 m/s, the rotor's torque under 1 % of rated): the teeth and the
-/// roller sets open and close. Newmark's rule keeps every mode's amplitude, so at 1 ms the contacts'
-/// stiff modes, which the step cannot resolve, ring from step to step; HHT-α damps them. The
-/// reference is Newmark at 0.25 ms. The first half of the run (15 s of the default 30 s: the rotor
-/// slowing from rated speed) is left out.
-fn part_load(stop: f64) -> anyhow::Result<()> {
-    let dir = Path::new("scenes/c-normal-6dof");
-    super::run::provide_own_fmus(&Scene::open(dir)?, true)?;
+/// The part-load runs leave out the first half (the rotor slowing from rated speed), in 1 ms steps.
+pub fn part_load_skipped_steps(stop: f64) -> usize {
+    (stop * 1e3) as usize / 2
+}
+
+/// One integrator at part load.
+pub struct PartLoadRow {
+    pub label: &'static str,
+    pub wall_s: f64,
+    /// The HSS torque's 99th percentile and largest magnitude, N·m.
+    pub hss_p99: f64,
+    pub hss_max: f64,
+    /// The first parallel stage's largest mesh force, N.
+    pub mesh_max: f64,
+    /// RMS change of the generator's speed from one millisecond to the next, rad/s.
+    pub speed_jitter: f64,
+}
+
+/// Drivetrain C at cut-in wind (4 m/s, the rotor's torque under 1 % of rated) in the scene folder
+/// `dir` (scenes/c-normal-6dof): the teeth and the roller sets open and close. Newmark's rule keeps
+/// every mode's amplitude, so at 1 ms the contacts' stiff modes, which the step cannot resolve, ring
+/// from step to step; HHT-α damps them. The reference is Newmark at 0.25 ms. `row` after each run.
+pub fn part_load(dir: &Path, stop: f64, mut row: impl FnMut(&PartLoadRow)) -> anyhow::Result<()> {
     let channels = [
         "gearbox.hss_torque",
         "gearbox.mesh_force_gear_pinion_1",
         "gearbox.generator_speed",
     ]
     .map(String::from);
-    let skip = (stop * 1e3) as usize / 2;
-    println!(
-        "part load: drivetrain C at 4 m/s (scenes/c-normal-6dof, c2mw), {stop} s, after {} s; reference: Newmark at 0.25 ms",
-        skip as f64 * 1e-3
-    );
-    println!(
-        "{:<24} {:>9} {:>12} {:>12} {:>14} {:>16}",
-        "integrator", "ms per s", "HSS T p99", "HSS T max", "IMS mesh max", "gen speed jitter"
-    );
+    let skip = part_load_skipped_steps(stop);
     for (label, integrator, step) in [
         ("reference: Newmark 0.25 ms", "implicit", 2.5e-4),
         ("HHT-α 0.8, 1 ms (default)", "hht", 1e-3),
@@ -225,31 +226,49 @@ fn part_load(stop: f64) -> anyhow::Result<()> {
             a.sort_by(f64::total_cmp);
             a.get(a.len() * 99 / 100).copied().unwrap_or(0.0)
         };
-        // the step-to-step change of the generator's speed: rad/s from one millisecond to the next
         let jitter = |x: &[f64]| {
             let d: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
             (d.iter().map(|v| v * v).sum::<f64>() / d.len().max(1) as f64).sqrt()
         };
-        println!(
-            "{label:<24} {:>9.1} {:>12.0} {:>12.0} {:>14.0} {:>16.4}",
-            wall / stop * 1e3,
-            p99(&cols[0]),
-            peak(&cols[0]),
-            peak(&cols[1]),
-            jitter(&cols[2]),
-        );
+        row(&PartLoadRow {
+            label,
+            wall_s: wall,
+            hss_p99: p99(&cols[0]),
+            hss_max: peak(&cols[0]),
+            mesh_max: peak(&cols[1]),
+            speed_jitter: jitter(&cols[2]),
+        });
     }
-    println!(
-        "HSS T: HSS torque, N·m; IMS mesh: the first parallel stage's mesh force, N; gen speed jitter: RMS \
-         change of the generator's speed per millisecond, rad/s\n"
-    );
     Ok(())
+}
+
+/// RK4 at its stability limit against the implicit step, and the work per implicit step.
+pub struct ExplicitImplicit {
+    /// The stiffest mode's angular frequency, rad/s, and RK4's stability limit there, s.
+    pub omega_max: f64,
+    pub rk4_limit_s: f64,
+    /// Wall time per simulated second, ms: RK4 at 99 % of its limit, Newmark at 1 ms.
+    pub rk4_ms_per_s: f64,
+    pub implicit_ms_per_s: f64,
+    /// Newton iterations and factorisations per implicit step.
+    pub newton_per_step: f64,
+    pub factorizations_per_step: f64,
+    pub slices: f64,
+    pub dofs: f64,
+    /// Flops of the contact sums and the dense back-substitution per iteration, and of a
+    /// factorisation.
+    pub contact_flops: f64,
+    pub solve_flops: f64,
+    pub factor_flops: f64,
+    /// The physical limit: kflop per step and Mflop per simulated second.
+    pub kflop_per_step: f64,
+    pub mflop_per_s: f64,
 }
 
 /// RK4 at its stability limit against the implicit 1 ms step (the default step; Newmark, which at
 /// rated torque costs what the default HHT-α costs), both on the bare 35-slice physics at rated
 /// torque, and the work per implicit step.
-fn explicit_against_implicit() -> anyhow::Result<()> {
+pub fn explicit_against_implicit() -> anyhow::Result<ExplicitImplicit> {
     let mut d = Description::load("grc750")?;
     d.model.gravity = 9.81;
     // the stability limit comes from the linear model's modes: the lamina bearings' tangent is
@@ -281,15 +300,6 @@ fn explicit_against_implicit() -> anyhow::Result<()> {
     let step = 1e-3;
     let (ms_implicit, implicit) = timed(Method::Implicit(Alpha::NEWMARK), step)?;
     let (ms_rk4, _) = timed(Method::Rk4 { stability_limit: h_rk4 }, 0.99 * h_rk4)?;
-    println!(
-        "explicit against implicit (35 slices, linear bearings, rated torque, bare physics): the stiffest mode is {:.0} Hz, so RK4 \
-         needs h ≤ {:.2e} s: {:.0} ms per simulated s; Newmark at 1 ms: {:.1} ms per s ({:.0}× faster; the default step)",
-        omega_max / std::f64::consts::TAU,
-        h_rk4,
-        ms_rk4,
-        ms_implicit,
-        ms_rk4 / ms_implicit
-    );
     let s = implicit.stats;
     let per_step = |x: u64| x as f64 / s.steps as f64;
     let n = g.dofs() as f64;
@@ -297,19 +307,21 @@ fn explicit_against_implicit() -> anyhow::Result<()> {
     let contact = 12.0 * slices;
     let solve = 2.0 * n * n;
     let factor = 2.0 / 3.0 * n * n * n + slices * 0.0;
-    println!(
-        "work per implicit step: {:.2} Newton iterations, {:.3} factorisations; per iteration the contact \
-         sums cost ≈ {:.0} flops ({} slices) and the dense back-substitution {:.0} flops ({} DOFs); a \
-         factorisation {:.0} flops. Physical limit: ≈ {:.0} kflop per step, {:.1} Mflop per simulated s",
-        per_step(s.newton_iterations),
-        per_step(s.factorizations),
-        contact,
+    Ok(ExplicitImplicit {
+        omega_max,
+        rk4_limit_s: h_rk4,
+        rk4_ms_per_s: ms_rk4,
+        implicit_ms_per_s: ms_implicit,
+        newton_per_step: per_step(s.newton_iterations),
+        factorizations_per_step: per_step(s.factorizations),
         slices,
-        solve,
-        n,
-        factor,
-        (per_step(s.newton_iterations) * (contact + solve) + per_step(s.factorizations) * factor) / 1e3,
-        (per_step(s.newton_iterations) * (contact + solve) + per_step(s.factorizations) * factor) / step / 1e6,
-    );
-    Ok(())
+        dofs: n,
+        contact_flops: contact,
+        solve_flops: solve,
+        factor_flops: factor,
+        kflop_per_step: (per_step(s.newton_iterations) * (contact + solve) + per_step(s.factorizations) * factor) / 1e3,
+        mflop_per_s: (per_step(s.newton_iterations) * (contact + solve) + per_step(s.factorizations) * factor)
+            / step
+            / 1e6,
+    })
 }

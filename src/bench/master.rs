@@ -2,10 +2,9 @@
 //! (a) through the master (Jacobi, one thread, every connection and recording as in a real run)
 //! and (b) through the floor any FMI master pays: per FMU and step one fmi2SetReal of its inputs,
 //! one fmi2DoStep, one fmi2GetReal of the coupled outputs, nothing else. (a − b) per FMU-step is
-//! the master's own overhead. Best of 5 after a warm-up. Prints one JSON line.
+//! the master's own overhead. Best of 5 after a warm-up.
 
 use crate::cosim::{Algorithm, Master, Options, Record, Scene, System};
-use std::path::Path;
 use std::time::Instant;
 
 fn prepared(scene: &Scene, stop: f64) -> anyhow::Result<System> {
@@ -56,30 +55,37 @@ fn bare_loop(scene: &Scene, step: f64, stop: f64) -> anyhow::Result<f64> {
     Ok(started.elapsed().as_secs_f64())
 }
 
-pub fn run(scene_dir: &Path, steps: u64) -> anyhow::Result<()> {
-    let scene = Scene::open(scene_dir)?;
-    if scene_dir.is_dir() {
-        super::run::provide_own_fmus(&scene, false)?;
+/// The two ways' best wall times over `steps` macro steps of the scene's own step.
+pub struct Overhead {
+    pub fmus: f64,
+    pub macro_steps: u64,
+    pub step_s: f64,
+    pub master_s: f64,
+    pub bare_fmi_loop_s: f64,
+}
+
+impl Overhead {
+    /// Wall time per FMU-step, µs.
+    pub fn per_fmu_step_us(&self, seconds: f64) -> f64 {
+        seconds / (self.macro_steps as f64 * self.fmus) * 1e6
     }
+}
+
+pub fn run(scene: &Scene, steps: u64) -> anyhow::Result<Overhead> {
     let step = scene.experiment.step_size.unwrap_or(1e-3);
     let stop = steps as f64 * step;
-    let units = scene.components.len() as f64;
     // warm-up: page in the FMUs, settle the CPU clock
-    through_master(&scene, step, stop / 10.0)?;
+    through_master(scene, step, stop / 10.0)?;
     let (mut master, mut floor) = (f64::MAX, f64::MAX);
     for _ in 0..5 {
-        master = master.min(through_master(&scene, step, stop)?);
-        floor = floor.min(bare_loop(&scene, step, stop)?);
+        master = master.min(through_master(scene, step, stop)?);
+        floor = floor.min(bare_loop(scene, step, stop)?);
     }
-    let per = |s: f64| s / (steps as f64 * units) * 1e6;
-    println!(
-        "{}",
-        serde_json::json!({
-            "scene": scene.name, "fmus": units, "macro_steps": steps, "step_s": step,
-            "master_s": master, "bare_fmi_loop_s": floor,
-            "master_us_per_fmu_step": per(master), "bare_us_per_fmu_step": per(floor),
-            "overhead_us_per_fmu_step": per(master - floor),
-        })
-    );
-    Ok(())
+    Ok(Overhead {
+        fmus: scene.components.len() as f64,
+        macro_steps: steps,
+        step_s: step,
+        master_s: master,
+        bare_fmi_loop_s: floor,
+    })
 }
