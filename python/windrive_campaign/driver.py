@@ -167,6 +167,9 @@ def _run(c: Campaign, opts: Options, stream) -> int:
     return 0 if counts.get("ok", 0) == len(all_cases) else 1
 
 
+CLOSE_TIMEOUT_S = 20  # for closing the client and the cluster at the end of a run
+
+
 def _run_cases(c, opts, todo, spec, digest, total, already, stream) -> dict | None:
     from distributed import Client, as_completed
 
@@ -218,9 +221,13 @@ def _run_cases(c, opts, todo, spec, digest, total, already, stream) -> dict | No
         threads = max(threads, cluster_mod.total_threads(client))
         return _cost(finished, wall, threads, startup)
     finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        # bounded: after Ctrl-C a worker may sit in a case that never returns (a blocked windrive); its
+        # process, and with it the case (PR_SET_PDEATHSIG), goes when the cluster's processes are stopped
+        for close in (client.close, *([cluster.close] if cluster is not None else [])):
+            try:
+                close(timeout=CLOSE_TIMEOUT_S)
+            except Exception:  # a timeout or a cluster already gone: nothing left to wait for
+                pass
 
 
 def _check_workers(client, windrive: str, digest: str, opts: Options) -> None:
