@@ -5,6 +5,9 @@
 //!   in data/thesis.toml); the calibration of drivetrain C's estimated inputs against the thesis's
 //!   measured statistics ([`calibration`], its fit over C's scenes in `calibration::fit`, with the
 //!   [`nelder_mead`] minimiser);
+//! - which method, step and model for a scene: error against CPU time over a grid of runs
+//!   (`work_precision`), the cheapest drivetrain model within the scene's tolerances (`fidelity`),
+//!   both against the scene's reference (`scene_study`);
 //! - numerics: the integrators' stability on the torsional model (`integrators`), chatter at the
 //!   brake and the backlash (`nonsmooth`), the co-simulation stability map (`stability`);
 //! - shared: a preset's modes chosen by name (`preset_modes`).
@@ -13,6 +16,8 @@
 //! those do.
 
 pub mod calibration;
+#[cfg(feature = "cli")]
+pub mod fidelity;
 #[cfg(feature = "cli")]
 pub mod integrators;
 pub mod nelder_mead;
@@ -23,4 +28,8 @@ pub mod preset_modes;
 #[cfg(feature = "cli")]
 pub mod reproduce;
 #[cfg(feature = "cli")]
+pub mod scene_study;
+#[cfg(feature = "cli")]
 pub mod stability;
+#[cfg(feature = "cli")]
+pub mod work_precision;
