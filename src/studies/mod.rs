@@ -10,6 +10,8 @@
 //!   both against the scene's reference (`scene_study`);
 //! - numerics: the integrators' stability on the torsional model (`integrators`), chatter at the
 //!   brake and the backlash (`nonsmooth`), the co-simulation stability map (`stability`);
+//! - the 6-DOF gearbox at a steady operating point: its bearings' and meshes' loads and stresses, and
+//!   the carrier-web stiffness that gives a measured load split (`operating_point`);
 //! - shared: a preset's modes chosen by name (`preset_modes`).
 //!
 //! The studies that report with `anyhow` errors or run the master come with the `cli` feature, as
@@ -23,6 +25,8 @@ pub mod integrators;
 pub mod nelder_mead;
 #[cfg(feature = "cli")]
 pub mod nonsmooth;
+#[cfg(feature = "cli")]
+pub mod operating_point;
 #[cfg(feature = "cli")]
 pub mod preset_modes;
 #[cfg(feature = "cli")]
