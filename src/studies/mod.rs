@@ -1,6 +1,8 @@
 //! Research studies as library functions that return data, for the command line to print and plot.
 //! Values taken from the thesis are data with their source (data/thesis.toml), not code.
 //!
+//! - the thesis's main case: a drivetrain's normal operation and shutdown through the master, their
+//!   summary and charts (`shutdown`);
 //! - the thesis beside us: every number of the thesis we compute, beside ours (`reproduce`, its values
 //!   in data/thesis.toml); the calibration of drivetrain C's estimated inputs against the thesis's
 //!   measured statistics ([`calibration`], its fit over C's scenes in `calibration::fit`, with the
@@ -33,6 +35,8 @@ pub mod preset_modes;
 pub mod reproduce;
 #[cfg(feature = "cli")]
 pub mod scene_study;
+#[cfg(feature = "cli")]
+pub mod shutdown;
 #[cfg(feature = "cli")]
 pub mod stability;
 #[cfg(feature = "cli")]
