@@ -1,6 +1,7 @@
 //! `windrive run` and `windrive pack-scene`: SSP scenes through the co-simulation master.
 
-use crate::cosim::{Acceleration, Algorithm, Master, Options, Record, Scene, System};
+use crate::cosim::settings::{Missing, Settings};
+use crate::cosim::{Acceleration, Algorithm, Master, Record, Scene, System};
 use anyhow::{Context, anyhow, bail};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -200,35 +201,25 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     for w in &system.warnings {
         eprintln!("warning: {w}");
     }
-    let fmu_default = |f: fn(&crate::fmi2::host::description::DefaultExperiment) -> Option<f64>| {
-        system
-            .units
-            .iter()
-            .filter_map(|u| u.fmu.description.default_experiment.as_ref().and_then(f))
-            .fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m| m.min(x))))
+    let settings = Settings {
+        algorithm: args.algorithm,
+        step: args.step,
+        stop_time: args.stop_time,
+        order: args.order,
+        rel_tol: args.tolerance,
+        abs_tol: args.abs_tolerance,
+        max_iterations: args.max_iterations,
+        acceleration: args.acceleration,
+        divergence_growth: args.divergence_growth,
+        min_step: args.min_step,
+        max_step: args.max_step,
+        threads: args.threads,
     };
-    let step = args
-        .step
-        .or(scene.experiment.step_size)
-        .or_else(|| fmu_default(|d| d.step_size))
-        .ok_or_else(|| anyhow!("no step size: give --step (the scene and its FMUs declare none)"))?;
-    let stop = args
-        .stop_time
-        .or(scene.experiment.stop_time)
-        .or_else(|| fmu_default(|d| d.stop_time))
-        .ok_or_else(|| anyhow!("no stop time: give --stop-time (the scene and its FMUs declare none)"))?;
-    let mut opts = Options::new(args.algorithm, step, stop);
-    if let Some(order) = args.order {
-        opts.order = order;
-    }
-    opts.rel_tol = args.tolerance;
-    opts.abs_tol = args.abs_tolerance;
-    opts.max_iterations = args.max_iterations.max(1);
-    opts.acceleration = args.acceleration;
-    opts.min_step = args.min_step.unwrap_or(step * 1e-3);
-    opts.max_step = args.max_step.unwrap_or(step * 100.0);
-    opts.threads = args.threads.max(1);
-    opts.divergence_growth = args.divergence_growth;
+    let opts = settings.options(&scene, &system).map_err(|missing| match missing {
+        Missing::Step => anyhow!("no step size: give --step (the scene and its FMUs declare none)"),
+        Missing::StopTime => anyhow!("no stop time: give --stop-time (the scene and its FMUs declare none)"),
+    })?;
+    let (step, stop) = (opts.step, opts.stop_time);
 
     let out = args
         .out
