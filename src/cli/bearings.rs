@@ -2,9 +2,8 @@
 //! FMU (ISO 281 rating from the roller sets, equivalent load, revolutions from the kinematics, Miner)
 //! through [`crate::analysis::rating::bearing_set`].
 
-use crate::analysis::rating::bearing_set::{BearingDamage, BearingTable, bearing_table};
-use crate::physics::gearbox::description::Description;
-use anyhow::Context;
+use crate::analysis::rating::bearing_set::BearingDamage;
+use crate::studies::life::bearing_table;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -24,22 +23,8 @@ pub struct BearingsArgs {
     pub rating: super::rating::RatingOptions,
 }
 
-/// The bearing table of `--gearbox` read by `component`'s channels; an error naming the gearbox when it
-/// cannot be read or has no roller set (`windrive life --bearing-of` uses it too).
-pub fn load_table(gearbox: &str, component: &str) -> anyhow::Result<BearingTable> {
-    let description = Description::load(gearbox).map_err(|e| anyhow::anyhow!("--gearbox: {e}"))?;
-    let table = bearing_table(&description, component).context("--gearbox")?;
-    if table.bearings.is_empty() {
-        anyhow::bail!(
-            "--gearbox {gearbox}: no bearing has a roller set (`rollers = {{ count, diameter_mm, length_mm, \
-             pitch_diameter_mm }}`), so none has an ISO 281 rating"
-        );
-    }
-    Ok(table)
-}
-
 pub fn run(args: &BearingsArgs) -> anyhow::Result<()> {
-    let table = load_table(&args.gearbox, &args.component)?;
+    let table = bearing_table(&args.gearbox, &args.component)?;
     args.rating.check()?;
     if args.rating.channels {
         println!("{}", table.channels().join("\n"));

@@ -14,6 +14,8 @@
 //!   brake and the backlash (`nonsmooth`), the co-simulation stability map (`stability`);
 //! - the 6-DOF gearbox at a steady operating point: its bearings' and meshes' loads and stresses, and
 //!   the carrier-web stiffness that gives a measured load split (`operating_point`);
+//! - lifetime fatigue: the climate, the gear tooth or bearing a channel loads, and the reports of
+//!   their lifetimes (`life`);
 //! - shared: a preset's modes chosen by name (`preset_modes`).
 //!
 //! The studies that report with `anyhow` errors or run the master come with the `cli` feature, as
@@ -24,6 +26,8 @@ pub mod calibration;
 pub mod fidelity;
 #[cfg(feature = "cli")]
 pub mod integrators;
+#[cfg(feature = "cli")]
+pub mod life;
 pub mod nelder_mead;
 #[cfg(feature = "cli")]
 pub mod nonsmooth;
