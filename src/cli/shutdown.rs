@@ -6,7 +6,7 @@
 
 use crate::cosim::Scene;
 use crate::physics::drivetrain::Drivetrain;
-use crate::plot::{self, Series};
+use crate::plot;
 use crate::studies::shutdown::{aerodynamics, charts, read_runs, run_scene, scene_dirs};
 use anyhow::{Context, bail};
 use std::path::PathBuf;
@@ -73,15 +73,7 @@ pub fn run(args: &ShutdownArgs) -> anyhow::Result<()> {
         if c.scatter {
             plot::scatter(&path, &c.title, c.x_label, c.y_label, &c.lines)?;
         } else {
-            let series: Vec<Series> = c
-                .lines
-                .iter()
-                .map(|(label, points)| Series {
-                    label: label.clone(),
-                    points,
-                })
-                .collect();
-            plot::lines(&path, &c.title, c.x_label, c.y_label, &series, &c.markers)?;
+            plot::named_lines(&path, &c.title, c.x_label, c.y_label, &c.lines, &c.markers)?;
         }
         println!("  {}", path.display());
     }

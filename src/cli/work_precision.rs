@@ -137,18 +137,10 @@ pub fn run(args: &WorkPrecisionArgs) -> anyhow::Result<()> {
         );
     }
     let front: Vec<(f64, f64)> = chart.front.iter().map(|(_, p)| *p).collect();
-    let series: Vec<crate::plot::Series> = chart
-        .lines
-        .iter()
-        .filter(|(_, p)| !p.is_empty())
-        .map(|(label, points)| crate::plot::Series {
-            label: label.clone(),
-            points,
-        })
-        .collect();
+    let lines: Vec<(String, Vec<(f64, f64)>)> = chart.lines.into_iter().filter(|(_, p)| !p.is_empty()).collect();
     let tightest = qs.iter().map(|q| q.tolerance).fold(f64::INFINITY, f64::min);
     let title = format!("{}: work-precision, varying {}", study.scene.name, args.vary);
     crate::plot::write_chart_and_table(&stem, &csv, |path| {
-        crate::plot::work_precision(path, &title, &series, &front, Some(tightest))
+        crate::plot::work_precision(path, &title, &lines, &front, Some(tightest))
     })
 }
