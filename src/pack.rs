@@ -1,6 +1,7 @@
 //! `windrive pack`: builds an FMU crate and writes `target/fmu/<name>.fmu` with
 //! modelDescription.xml (taken from the built binary, so its GUID is the binary's),
-//! binaries/linux64/<name>.so, resources/ and documentation/index.html.
+//! binaries/linux64/<name>.so, resources/ and documentation/index.html. Also the packing around
+//! scenes: our FMUs into a scene folder's resources/, and a scene folder into an .ssp archive.
 
 use crate::fmi2::host::description::ModelDescription;
 use std::io::Write;
@@ -185,4 +186,90 @@ fn files_under(dir: &Path) -> Vec<PathBuf> {
     }
     files.sort();
     files
+}
+
+/// Our own FMUs among `fmus` (a scene's component files, resources/<name>.fmu) are packed from the
+/// workspace when the file is missing (or always, with `refresh`), and replaced by
+/// target/fmu/<name>.fmu when that is newer, so a scene folder runs on a fresh clone and never with a
+/// stale copy. Outside a workspace, and for other tools' FMUs, nothing is done.
+pub fn provide_own_fmus<'a>(fmus: impl IntoIterator<Item = &'a Path>, refresh: bool) -> Result<(), PackError> {
+    let Ok(root) = workspace_root() else {
+        return Ok(());
+    };
+    let ours = fmu_names(&root);
+    let modified = |p: &Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
+    for path in fmus {
+        let Some(stem) = path.file_stem().map(|s| s.to_string_lossy().into_owned()) else {
+            continue;
+        };
+        if !ours.contains(&stem) || path.extension().is_none_or(|e| e != "fmu") {
+            continue;
+        }
+        let packed = target_dir(&root).join("fmu").join(format!("{stem}.fmu"));
+        let source = if refresh || !path.exists() {
+            pack(&root, &stem)?
+        } else if modified(&packed) > modified(path) {
+            packed
+        } else {
+            continue;
+        };
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir).map_err(io(dir))?;
+        }
+        copy_atomically(&source, path)?;
+    }
+    Ok(())
+}
+
+/// Copies to a file private to this process and renames it into place: runs of the same scene
+/// started together (a campaign's workers) each open a whole FMU, the old or the new, never one half
+/// written.
+fn copy_atomically(source: &Path, dest: &Path) -> Result<(), PackError> {
+    let name = dest
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = dest.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    let context = |e: std::io::Error| PackError::Io(format!("copying {} to {}: {e}", source.display(), dest.display()));
+    std::fs::copy(source, &tmp).map_err(context)?;
+    std::fs::rename(&tmp, dest)
+        .inspect_err(|_| drop(std::fs::remove_file(&tmp)))
+        .map_err(context)
+}
+
+/// Writes every file below the scene folder `folder` into the SSP archive `out`, deflated, in the
+/// order of their paths within the folder.
+pub fn write_ssp(folder: &Path, out: &Path) -> Result<(), PackError> {
+    let mut files = Vec::new();
+    scene_files(folder, folder, &mut files)?;
+    files.sort();
+    let file = std::fs::File::create(out).map_err(io(out))?;
+    let mut zip = zip::ZipWriter::new(file);
+    let opts = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
+    let plain = |e: &dyn std::fmt::Display| PackError::Io(e.to_string());
+    for (rel, path) in files {
+        zip.start_file(rel, opts).map_err(|e| plain(&e))?;
+        zip.write_all(&std::fs::read(&path).map_err(io(&path))?)
+            .map_err(|e| plain(&e))?;
+    }
+    zip.finish().map_err(|e| plain(&e))?;
+    Ok(())
+}
+
+/// (path within `root` with / separators, path) of every file below `dir`.
+fn scene_files(root: &Path, dir: &Path, out: &mut Vec<(String, PathBuf)>) -> Result<(), PackError> {
+    for entry in std::fs::read_dir(dir).map_err(io(dir))? {
+        let path = entry.map_err(|e| PackError::Io(e.to_string()))?.path();
+        if path.is_dir() {
+            scene_files(root, &path, out)?;
+        } else {
+            let rel = path
+                .strip_prefix(root)
+                .map_err(|e| PackError::Io(e.to_string()))?
+                .to_string_lossy()
+                .replace('\\', "/");
+            out.push((rel, path));
+        }
+    }
+    Ok(())
 }

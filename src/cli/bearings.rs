@@ -2,7 +2,8 @@
 //! FMU (ISO 281 rating from the roller sets, equivalent load, revolutions from the kinematics, Miner)
 //! through [`crate::analysis::rating::bearing_set`].
 
-use crate::analysis::rating::bearing_set::{BearingDamage, BearingSetError, BearingTable};
+use crate::analysis::rating::bearing_set::BearingDamage;
+use crate::studies::life::bearing_table;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -22,17 +23,8 @@ pub struct BearingsArgs {
     pub rating: super::rating::RatingOptions,
 }
 
-/// The bearing table of `--gearbox` read by `component`'s channels; an error naming the gearbox when it
-/// cannot be read or has no roller set (`windrive life --bearing-of` uses it too).
-pub fn load_table(gearbox: &str, component: &str) -> anyhow::Result<BearingTable> {
-    BearingTable::load(gearbox, component).map_err(|e| match e {
-        BearingSetError::Gearbox(name, message) => anyhow::anyhow!("--gearbox {name}: {message}"),
-        e => anyhow::anyhow!("--gearbox: {e}"),
-    })
-}
-
 pub fn run(args: &BearingsArgs) -> anyhow::Result<()> {
-    let table = load_table(&args.gearbox, &args.component)?;
+    let table = bearing_table(&args.gearbox, &args.component)?;
     args.rating.check()?;
     if args.rating.channels {
         println!("{}", table.channels().join("\n"));

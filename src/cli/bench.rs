@@ -5,7 +5,7 @@ use super::run::provide_own_fmus;
 use super::step::torsional_fmu;
 use crate::bench;
 use crate::cosim::Scene;
-use crate::plot::{self, Series};
+use crate::plot;
 use anyhow::bail;
 use std::path::{Path, PathBuf};
 
@@ -71,18 +71,6 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             )
         }
     }
-}
-
-/// Draws (log10 x, log10 y) lines to `path`, saying where, or why not.
-fn chart(path: &Path, title: &str, (x, y): (&str, &str), curves: &[(String, Vec<(f64, f64)>)]) -> anyhow::Result<()> {
-    let series: Vec<Series> = curves
-        .iter()
-        .map(|(label, points)| Series {
-            label: label.clone(),
-            points,
-        })
-        .collect();
-    plot::lines(path, title, x, y, &series, &[])
 }
 
 fn torsional(args: &BenchArgs) -> anyhow::Result<()> {
@@ -155,7 +143,7 @@ fn torsional(args: &BenchArgs) -> anyhow::Result<()> {
     })?;
     let title = bench::torsional::work_precision_title(&b.scenario.preset, b.scenario.stop_time);
     let axes = ("log10 CPU time / s", "log10 (max |error| / peak)");
-    match chart(path, &title, axes, &curves) {
+    match plot::named_lines(path, &title, axes.0, axes.1, &curves, &[]) {
         Ok(()) => println!("work-precision chart: {}", path.display()),
         Err(e) => println!("work-precision chart skipped: {e:#}"),
     }
@@ -248,11 +236,13 @@ fn coupling(stop_time: f64, plot: Option<&Path>) -> anyhow::Result<()> {
         },
     )?;
     if let Some(path) = plot {
-        chart(
+        plot::named_lines(
             path,
             "d-grid-step (drivetrain D + generator spring): co-simulation error vs wall time",
-            ("log10 wall time / s", "log10 (max |error| / peak), stable runs"),
+            "log10 wall time / s",
+            "log10 (max |error| / peak), stable runs",
             &series,
+            &[],
         )?;
         println!("\nwork-precision chart: {}", path.display());
     }

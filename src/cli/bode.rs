@@ -59,17 +59,9 @@ pub fn run(args: &BodeArgs) -> anyhow::Result<()> {
         );
     }
     let model = TorsionalModel::new(&dt, fidelity, &ModelOptions::default()).map_err(|e| anyhow!(e))?;
-    let input = if args.input == "rotor" {
-        Input::RotorTorque
-    } else {
-        Input::GeneratorTorque
-    };
-    let output = match args.output.as_str() {
-        "generator-speed" => Output::GeneratorSpeed,
-        "rotor-speed" => Output::RotorSpeed,
-        "lss-torque" => Output::Shaft(0),
-        _ => Output::Shaft(model.shafts.iter().rposition(|s| s.is_some()).unwrap_or(0)),
-    };
+    // clap allows only the names these know
+    let input = Input::named(&args.input).expect("clap checks --input");
+    let output = Output::named(&args.output, &model).expect("clap checks --output");
     let f = log_spaced(args.range[0], args.range[1], args.points);
     let r = frequency_response(&model, boundary, dt.k_generator, input, output, &f).map_err(|e| anyhow!(e))?;
     let bode = Bode::new(f, &r);
@@ -86,20 +78,12 @@ pub fn run(args: &BodeArgs) -> anyhow::Result<()> {
             .map(|(x, m)| (x.log10(), 20.0 * m.max(1e-300).log10()))
             .collect();
         let marks: Vec<(f64, String)> = modes_hz.iter().map(|m| (m.log10(), format!("{m:.2} Hz"))).collect();
-        plot::lines(
-            path,
-            &format!(
-                "Drivetrain {}: {} torque → {} (generator {})",
-                dt.name, args.input, args.output, args.generator
-            ),
-            "log10 frequency [Hz]",
-            "magnitude [dB]",
-            &[plot::Series {
-                label: format!("{} / {} torque", args.output, args.input),
-                points: &pts,
-            }],
-            &marks,
-        )?;
+        let title = format!(
+            "Drivetrain {}: {} torque → {} (generator {})",
+            dt.name, args.input, args.output, args.generator
+        );
+        let lines = [(format!("{} / {} torque", args.output, args.input), pts)];
+        plot::named_lines(path, &title, "log10 frequency [Hz]", "magnitude [dB]", &lines, &marks)?;
     }
     if args.json {
         println!(

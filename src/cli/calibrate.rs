@@ -7,9 +7,8 @@
 
 use crate::cosim::Scene;
 use crate::studies::calibration;
-use crate::studies::calibration::fit::{Evaluation, FREE, Scenes, write_values};
+use crate::studies::calibration::fit::{FREE, Scenes, markdown, write_values};
 use anyhow::{Context as _, bail};
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
@@ -27,53 +26,6 @@ pub struct CalibrateArgs {
     /// Markdown table of target, achieved and misfit per statistic
     #[arg(long, default_value = "results/calibration-c.md")]
     pub out: PathBuf,
-}
-
-fn table(e: &Evaluation, start: &Evaluation, evaluations: usize) -> String {
-    let mut s = String::from(
-        "# Drivetrain C's scene inputs fitted to the thesis's measurements\n\n\
-         Written by `windrive calibrate` (the command and its reading: docs/DRIVETRAINS.md, \"Calibration\").\n\n",
-    );
-    let _ = writeln!(
-        s,
-        "Drivetrain C's scenes (scenes/c-normal, scenes/c-shutdown) against the thesis's measured statistics;\n\
-         misfit = ln(achieved / target), 0 inside a stated bound. Objective (sum of squared misfits): {:.4} \
-         ({evaluations} evaluations; {:.4} at the start).\n",
-        e.objective, start.objective
-    );
-    let _ = writeln!(s, "| statistic | thesis | start | achieved | misfit |");
-    let _ = writeln!(s, "|---|---|---|---|---|");
-    for (stat, ((a, m), (a0, _))) in calibration::statistics()
-        .iter()
-        .zip(e.statistics.iter().zip(&start.statistics))
-    {
-        let shown = |x: f64| {
-            if stat.unit.is_empty() {
-                format!("{x:.3}")
-            } else {
-                format!("{:.1} k{}", x / 1e3, stat.unit)
-            }
-        };
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} | {} | {:+.3} |",
-            stat.name,
-            stat.source,
-            shown(*a0),
-            shown(*a),
-            m
-        );
-    }
-    let _ = writeln!(s, "\n| input | start | fitted | search range |");
-    let _ = writeln!(s, "|---|---|---|---|");
-    for (f, (v, v0)) in FREE.iter().zip(e.values.iter().zip(&start.values)) {
-        let _ = writeln!(
-            s,
-            "| {} (`{}`) | {v0:.4} {} | {v:.4} {} | {}–{} |",
-            f.name, f.variable, f.unit, f.unit, f.low, f.high
-        );
-    }
-    s
 }
 
 /// C's scene folders, opened with our FMUs in place.
@@ -135,7 +87,7 @@ pub fn run(args: &CalibrateArgs) -> anyhow::Result<()> {
     } else {
         best
     };
-    let report = table(&best, &start, evaluations);
+    let report = markdown(&best, &start, evaluations);
     println!("\n{report}");
     if let Some(parent) = args.out.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(parent).with_context(|| parent.display().to_string())?;

@@ -191,19 +191,8 @@ pub fn run_del(args: &DelArgs) -> anyhow::Result<()> {
             args.fixed_mean
         );
     }
-    // one streaming pass from the file to the sums of every slope: no series, no cycle list
-    let mut sums = damage::DamageSums::new(&args.m);
-    let mut counter = rainflow::Counter::new();
-    let mut bad = None;
-    let mut add = |c: rainflow::Cycle| match args.goodman {
-        None => sums.add(&c),
-        Some(ultimate) => match damage::goodman(&c, ultimate, args.fixed_mean) {
-            Ok(c) => sums.add(&c),
-            Err(e) => bad = bad.take().or(Some(e)),
-        },
-    };
-    let extent = series::stream_channel(&args.file, &args.channel, |_, v| counter.push(v, &mut add))?;
-    counter.finish(&mut add);
+    let goodman_to = args.goodman.map(|ultimate| (ultimate, args.fixed_mean));
+    let (sums, extent, bad) = damage::stream_damage(&args.file, &args.channel, &args.m, goodman_to)?;
     if let Some(e) = bad {
         anyhow::bail!("{} {}: {e}", args.file.display(), args.channel);
     }
@@ -248,23 +237,13 @@ pub fn run_ldd(args: &LddArgs) -> anyhow::Result<()> {
             .iter()
             .map(|r| (r[0], r[2] * total_secs / total_revs.max(1e-300)))
             .collect();
-        plot::lines(
-            path,
-            &format!("{}: load duration distribution", args.channel),
-            &args.channel,
-            "seconds per bin",
-            &[
-                plot::Series {
-                    label: "time at load".into(),
-                    points: &secs,
-                },
-                plot::Series {
-                    label: format!("revolutions (× {:.3e} s/rev)", total_secs / total_revs.max(1e-300)),
-                    points: &revs,
-                },
-            ],
-            &[],
-        )?;
+        let scale = total_secs / total_revs.max(1e-300);
+        let lines = [
+            ("time at load".to_string(), secs),
+            (format!("revolutions (× {scale:.3e} s/rev)"), revs),
+        ];
+        let title = format!("{}: load duration distribution", args.channel);
+        plot::named_lines(path, &title, &args.channel, "seconds per bin", &lines, &[])?;
     }
     if args.json {
         println!("{}", serde_json::json!({ "bins": rows }));
@@ -311,20 +290,12 @@ pub fn run_spectrum(args: &SpectrumArgs) -> anyhow::Result<()> {
             .map(|(ff, aa)| (*ff, *aa))
             .collect();
         let marks: Vec<(f64, String)> = peaks.iter().map(|(pf, _)| (*pf, format!("{pf:.3} Hz"))).collect();
-        plot::lines(
-            path,
-            &format!(
-                "{}: amplitude spectrum, {t0:.2}-{t1:.2} s (Hann, detrended)",
-                args.channel
-            ),
-            "frequency [Hz]",
-            "amplitude",
-            &[plot::Series {
-                label: args.channel.clone(),
-                points: &pts,
-            }],
-            &marks,
-        )?;
+        let title = format!(
+            "{}: amplitude spectrum, {t0:.2}-{t1:.2} s (Hann, detrended)",
+            args.channel
+        );
+        let lines = [(args.channel.clone(), pts)];
+        plot::named_lines(path, &title, "frequency [Hz]", "amplitude", &lines, &marks)?;
     }
     if args.json {
         println!("{}", serde_json::json!({ "peaks": peaks, "resolution": df }));

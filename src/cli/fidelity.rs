@@ -3,14 +3,11 @@
 //! time and error on the scene's quantities of interest against the top of the ladder, and the
 //! cheapest level within every tolerance; beside it the modal reasoning: which of the full model's
 //! modes lie inside the band the scene's inputs excite, and how well each reduced model keeps them.
+//! The study is [`crate::studies::fidelity`].
 
-use super::study::{Measured, Study, component_of};
-use crate::analysis::signal::spectrum::amplitude_spectrum;
-use crate::cosim::{Algorithm, Options, Override, Scene, param as p};
-use crate::linear::modes::{Boundary, modes};
-use crate::physics::drivetrain::Drivetrain;
-use crate::physics::torsional::{Fidelity, ModelOptions, TorsionalModel};
-use anyhow::{Context, anyhow, bail};
+use crate::cosim::Scene;
+use crate::studies::fidelity::{Modal, SAME_COST, ladder, measure_ladder, recommended};
+use anyhow::bail;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -30,147 +27,20 @@ pub struct FidelityArgs {
     pub study: super::study::StudyArgs,
 }
 
-/// A rung of the ladder: its name and the parameters that make it.
-struct Level {
-    name: String,
-    overrides: Vec<Override>,
-}
-
-/// The ladder of a scene, cheapest first, and the top level's parameters (the reference's).
-fn ladder(scene: &Scene) -> anyhow::Result<(Vec<Level>, Vec<Override>)> {
-    if let Some(c) = component_of(scene, "torsional") {
-        let levels = [("2-mass", "2"), ("5-mass", "5"), ("full torsional", "full")]
-            .iter()
-            .map(|(name, f)| Level {
-                name: name.to_string(),
-                overrides: vec![p(&c, "fidelity", f)],
-            })
-            .collect();
-        return Ok((levels, vec![p(&c, "fidelity", "full")]));
-    }
-    if let Some(c) = component_of(scene, "gearbox6dof") {
-        let mut levels = Vec::new();
-        for slices in ["5", "35"] {
-            for bearings in ["linear", "lamina"] {
-                levels.push(Level {
-                    name: format!("gearbox6dof {slices} slices, {bearings} bearings"),
-                    overrides: vec![p(&c, "slices", slices), p(&c, "bearing_model", bearings)],
-                });
-            }
-        }
-        return Ok((levels, vec![p(&c, "slices", "35"), p(&c, "bearing_model", "lamina")]));
-    }
-    bail!(
-        "scene {}: no torsional or gearbox6dof component, so no fidelity ladder",
-        scene.name
-    )
-}
-
-/// The band the scene's drivetrain inputs excite: the frequency below which 99 % of the spectral
-/// energy of each input (detrended) lies, the largest over the inputs, Hz.
-fn excitation_band(study: &Study, torsional: &str) -> anyhow::Result<(f64, Vec<String>)> {
-    let inputs: Vec<String> = study
-        .scene
-        .connections
-        .iter()
-        .filter(|c| c.end_element == torsional && c.end_connector.ends_with("_torque"))
-        .map(|c| format!("{}.{}", c.start_element, c.start_connector))
-        .collect();
-    if inputs.is_empty() {
-        bail!(
-            "scene {}: no torque input of {torsional} is connected",
-            study.scene.name
-        );
-    }
-    let names: Vec<&str> = inputs.iter().map(|s| s.as_str()).collect();
-    let opts = Options::new(Algorithm::GaussSeidel, study.scene_step, study.stop_time);
-    let run = crate::cosim::master::run_columns_with(&study.scene, &study.reference_overrides, &names, opts)
-        .map_err(|e| anyhow!("scene {}: {e}", study.scene.name))?;
-    let dt = run.columns[0][1] - run.columns[0][0];
-    let mut band: f64 = 0.0;
-    for x in &run.columns[1..] {
-        let (f, a) = amplitude_spectrum(x, dt);
-        let energy: Vec<f64> = a.iter().skip(1).map(|v| v * v).collect();
-        let total: f64 = energy.iter().sum();
-        if total <= 0.0 {
-            continue;
-        }
-        let mut cumulative = 0.0;
-        for (k, e) in energy.iter().enumerate() {
-            cumulative += e;
-            if cumulative >= 0.99 * total {
-                band = band.max(f[k + 1]);
-                break;
-            }
-        }
-    }
-    Ok((band, inputs))
-}
-
-/// Free–free modes (Hz, the rigid mode left out) of a preset at each fidelity.
-fn modes_by_fidelity(preset: &str) -> anyhow::Result<Vec<(&'static str, Vec<f64>)>> {
-    let dt = Drivetrain::preset(preset).ok_or_else(|| anyhow!("unknown preset {preset:?}"))?;
-    let mut out = Vec::new();
-    for (name, f) in [
-        ("2-mass", Fidelity::Two),
-        ("5-mass", Fidelity::Five),
-        ("full torsional", Fidelity::Full),
-    ] {
-        let model = TorsionalModel::new(&dt, f, &ModelOptions::default()).map_err(|e| anyhow!(e))?;
-        let m = modes(&model, Boundary::Disconnected, dt.k_generator);
-        out.push((name, m.frequencies_hz.into_iter().filter(|f| *f > 1e-6).collect()));
-    }
-    Ok(out)
-}
-
-/// CPU times closer than this fraction are the same cost: timing noise on a shared machine.
-pub const SAME_COST: f64 = 0.05;
-
-/// The level to recommend from (CPU s, within tolerance, error in tolerances) per level: the cheapest
-/// within tolerance; among levels as cheap as it within [`SAME_COST`], the most accurate (when the
-/// drivetrain's share of the cost is small, a finer model costs nothing).
-pub fn recommend(levels: &[(f64, bool, f64)]) -> Option<usize> {
-    let ok: Vec<usize> = (0..levels.len()).filter(|&i| levels[i].1).collect();
-    let cheapest = ok.iter().map(|&i| levels[i].0).fold(f64::INFINITY, f64::min);
-    ok.into_iter()
-        .filter(|&i| levels[i].0 <= cheapest * (1.0 + SAME_COST))
-        .min_by(|&a, &b| levels[a].2.total_cmp(&levels[b].2))
-}
-
 pub fn run(args: &FidelityArgs) -> anyhow::Result<()> {
     if args.study.repeat == 0 {
         bail!("--repeat 0: at least one run per level");
     }
     let scene = Scene::open(&args.scene)?;
     let (levels, top) = ladder(&scene)?;
-    let study = Study::open(scene, &args.study, |_| Ok(top))?;
-    let opts = Options::new(Algorithm::GaussSeidel, study.scene_step, study.stop_time);
-    let mut measured: Vec<Measured> = Vec::new();
-    for (k, level) in levels.iter().enumerate() {
-        eprintln!("level {}/{}: {} ...", k + 1, levels.len(), level.name);
-        let m = study.measure(&level.overrides, &opts, args.study.repeat);
-        if let Some(f) = &m.failure {
-            bail!("{}: {f}", level.name);
-        }
-        measured.push(m);
-    }
+    let study = args.study.open(scene, top)?;
+    let measured = measure_ladder(&study, &levels, args.study.repeat, |k, level| {
+        eprintln!("level {}/{}: {} ...", k + 1, levels.len(), level.name)
+    })?;
     let qs = &study.quantities;
-    let recommended = recommend(
-        &measured
-            .iter()
-            .map(|m| (m.cpu_s, m.within(qs), m.worst_in_tolerances(qs)))
-            .collect::<Vec<_>>(),
-    )
-    .map(|i| levels[i].name.clone());
+    let recommended = recommended(&study, &measured).map(|i| levels[i].name.clone());
     // modal reasoning, for the torsional ladder
-    let modal = match component_of(&study.scene, "torsional") {
-        Some(c) => {
-            let preset = study.scene.string_parameter(&c, "preset").unwrap_or("D").to_string();
-            let (band, inputs) = excitation_band(&study, &c)?;
-            Some((preset.clone(), band, inputs, modes_by_fidelity(&preset)?))
-        }
-        None => None,
-    };
+    let modal = Modal::of(&study)?;
     if args.json {
         let levels_json: Vec<serde_json::Value> = levels
             .iter()
@@ -187,12 +57,13 @@ pub fn run(args: &FidelityArgs) -> anyhow::Result<()> {
             })
             .collect();
         let mut out = serde_json::json!({ "recommended": recommended, "levels": levels_json, "reference_step_s": study.reference.step });
-        if let Some((preset, band, inputs, modes)) = &modal {
-            out["excitation_band_hz"] = serde_json::json!(band);
-            out["excitation_inputs"] = serde_json::json!(inputs);
-            out["preset"] = serde_json::json!(preset);
+        if let Some(modal) = &modal {
+            out["excitation_band_hz"] = serde_json::json!(modal.band_hz);
+            out["excitation_inputs"] = serde_json::json!(modal.inputs);
+            out["preset"] = serde_json::json!(modal.preset);
             out["modes_hz"] = serde_json::json!(
-                modes
+                modal
+                    .modes
                     .iter()
                     .map(|(n, f)| (n.to_string(), f.clone()))
                     .collect::<std::collections::BTreeMap<_, _>>()
@@ -231,42 +102,41 @@ pub fn run(args: &FidelityArgs) -> anyhow::Result<()> {
             "\nno level is within every tolerance at the scene's macro step: refine the step or widen the tolerances"
         ),
     }
-    if let Some((preset, band, inputs, modes)) = &modal {
+    if let Some(modal) = &modal {
+        let band = modal.band_hz;
         println!(
             "\nexcitation: 99 % of the spectral energy of {} lies below {band:.2} Hz",
-            inputs.join(" and ")
+            modal.inputs.join(" and ")
         );
-        println!("free-free modes of drivetrain {preset} [Hz] (rigid mode left out):");
-        let full = &modes.last().context("no fidelity")?.1;
-        for (name, f) in modes {
+        println!(
+            "free-free modes of drivetrain {} [Hz] (rigid mode left out):",
+            modal.preset
+        );
+        let full = modal.full();
+        for (name, f) in &modal.modes {
             let shown: Vec<String> = f.iter().take(6).map(|x| format!("{x:.2}")).collect();
-            let inside = f.iter().filter(|x| **x <= *band).count();
             println!(
-                "  {name:<16} {}{}   ({inside} inside the band)",
+                "  {name:<16} {}{}   ({} inside the band)",
                 shown.join(", "),
-                if f.len() > 6 { ", ..." } else { "" }
+                if f.len() > 6 { ", ..." } else { "" },
+                modal.inside(f)
             );
         }
-        let inside_full = full.iter().filter(|x| **x <= *band).count();
+        let inside_full = modal.inside(full);
         if inside_full == 0 {
             println!(
                 "  no elastic mode lies inside the band: the drivetrain follows these inputs quasi-statically, and every level \
                  keeps the first mode ({:.2} Hz in the full model) within {:.1} %",
                 full[0],
-                modes
-                    .iter()
-                    .map(|(_, f)| (f[0] - full[0]).abs() / full[0])
-                    .fold(0.0, f64::max)
-                    * 100.0
+                modal.first_mode_spread() * 100.0
             );
         }
-        for (name, f) in &modes[..modes.len() - 1] {
+        for (name, f) in &modal.modes[..modal.modes.len() - 1] {
             let kept = f.len().min(inside_full);
-            let worst = (0..kept).map(|i| (f[i] - full[i]).abs() / full[i]).fold(0.0, f64::max);
             if inside_full > 0 && kept == inside_full {
                 println!(
                     "  {name}: keeps every full-model mode inside the band ({inside_full}) within {:.1} %; condenses the {} above it",
-                    worst * 100.0,
+                    modal.kept_error(f, kept) * 100.0,
                     full.len() - inside_full
                 );
             } else if inside_full > 0 {
@@ -283,27 +153,4 @@ pub fn run(args: &FidelityArgs) -> anyhow::Result<()> {
         );
     }
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::recommend;
-
-    #[test]
-    fn the_cheapest_within_tolerance_and_the_most_accurate_among_equally_cheap() {
-        // (CPU s, within, error in tolerances)
-        assert_eq!(
-            recommend(&[(0.1, false, 2.0), (0.5, true, 0.5), (1.0, true, 0.1)]),
-            Some(1)
-        );
-        assert_eq!(
-            recommend(&[(0.376, false, 2.1), (0.372, true, 0.04), (0.368, true, 0.007)]),
-            Some(2)
-        );
-        assert_eq!(
-            recommend(&[(0.370, true, 0.5), (0.372, true, 0.04), (0.9, true, 0.0)]),
-            Some(1)
-        );
-        assert_eq!(recommend(&[(0.1, false, 2.0)]), None);
-    }
 }

@@ -105,7 +105,7 @@ pub fn run(args: &IntegratorsArgs) -> anyhow::Result<()> {
         "Integrator stability, drivetrain {} (full, undamped): dots = runs, line = RK4's limit 2.785/ω_max",
         args.preset
     );
-    super::stability::write_map(
+    crate::plot::write_stability_map(
         &args.out,
         &csv,
         &title,

@@ -1,12 +1,9 @@
-//! `windrive life`: parses the climate, the cases and the component, calls
+//! `windrive life`: parses the climate, the cases and the component ([`crate::studies::life`]), calls
 //! [`crate::analysis::fatigue::lifetime`] and prints its lifetime DELs and gear or bearing damage.
 
-use crate::analysis::fatigue::lifetime::{BearingLife, Case, Climate, GearLife, GearSpec, Lifetime};
-use crate::analysis::fatigue::operating_hours::WindDistribution;
-use crate::analysis::rating::bearing_set::{BearingTable, RatedBearing};
-use crate::analysis::rating::gear::{GearPair, MeshForce, Tooth};
+use crate::analysis::fatigue::lifetime::{Case, Climate, GearLife, GearSpec, Lifetime};
 use crate::analysis::rating::limits::LIMITS;
-use crate::analysis::rating::tooth_root::BasicRack;
+use crate::studies::life::{GearOptions, bearing_text, gear_spec, gear_text, named_bearing, wind_distribution};
 use anyhow::{Context, bail};
 use std::path::PathBuf;
 
@@ -123,15 +120,7 @@ pub struct LifeArgs {
 }
 
 pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
-    let wind = match &args.weibull {
-        Some(w) if w.len() == 2 && w[0] > 0.0 && w[1] > 0.0 => WindDistribution::Weibull {
-            shape: w[0],
-            scale: w[1],
-        },
-        Some(w) => bail!("--weibull {w:?}: give shape,scale, both positive"),
-        None if args.mean_wind > 0.0 => WindDistribution::Rayleigh { mean: args.mean_wind },
-        None => bail!("--mean-wind {}: must be positive", args.mean_wind),
-    };
+    let wind = wind_distribution(args.weibull.as_deref(), args.mean_wind)?;
     let climate = Climate {
         wind,
         cut_in: args.cut_in,
@@ -146,7 +135,7 @@ pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
     let rated = args
         .bearing_of
         .as_deref()
-        .map(|name| named_bearing(args, name))
+        .map(|name| named_bearing(&args.gearbox, &args.component, name))
         .transpose()?;
     let read = |path: &PathBuf| -> anyhow::Result<Case> {
         Ok(match (&rated, &args.channel) {
@@ -226,169 +215,27 @@ pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The bearing table of `--gearbox` and its bearing `name`, which must have a roller set.
-fn named_bearing(args: &LifeArgs, name: &str) -> anyhow::Result<(BearingTable, RatedBearing)> {
-    let table = super::bearings::load_table(&args.gearbox, &args.component)?;
-    let Some(b) = table.bearings.iter().find(|b| b.name == name).cloned() else {
-        let names: Vec<&str> = table.bearings.iter().map(|b| b.name.as_str()).collect();
-        bail!(
-            "--bearing-of {name}: gearbox {} has no such bearing with a roller set; it has {}",
-            args.gearbox,
-            names.join(", ")
-        );
-    };
-    Ok((table, b))
-}
-
-fn bearing_text(years: f64, b: &BearingLife) -> String {
-    let mut text = format!(
-        "{} bearing, C = {:.4e} N, ISO 281 L10 = (C/P)^{} million revolutions\n",
-        if b.roller { "roller" } else { "ball" },
-        b.capacity,
-        if b.roller { "10/3" } else { "3" }
-    );
-    text.push_str(&format!(
-        "{:<10} {:>14} {:>16} {:>14}\n",
-        "case", "max P [N]", "revolutions", "damage"
-    ));
-    for c in &b.cases {
-        text.push_str(&format!(
-            "{:<10} {:>14.4e} {:>16.4e} {:>14.4e}\n",
-            c.case, c.max_load, c.revolutions, c.damage
-        ));
-    }
-    text.push_str(&format!(
-        "lifetime: {:.4e} revolutions at P_eq = {:.4e} N (L10 {:.4e} revolutions)\n",
-        b.revolutions, b.equivalent_load, b.l10_revolutions
-    ));
-    text.push_str(&format!(
-        "{years}-year Miner damage {:.4e} ({:.1} % from shutdowns): L10 life {:.1} years\n",
-        b.damage,
-        100.0 * b.shutdown_share,
-        b.l10_years
-    ));
-    text
-}
-
-/// Parses the gear options into a [`GearSpec`] and evaluates it.
+/// The gear options of the command line checked into a [`GearSpec`], and its lifetime.
 fn gear_life(args: &LifeArgs, g: &[f64], lifetime: &Lifetime) -> anyhow::Result<(GearLife, GearSpec)> {
-    if g.len() != 5 || g.iter().any(|v| !v.is_finite()) || g[0] < 3.0 || g[1] < 3.0 || g[2] <= 0.0 || g[4] <= 0.0 {
-        bail!("--gear {g:?}: give z1,z2,module [mm],helix [deg],face width [mm] (teeth ≥ 3, module and width > 0)");
-    }
-    if args.shift.len() != 2 || args.rack.len() != 2 || args.y_fs.as_ref().is_some_and(|y| y.len() != 2) {
-        bail!("--shift, --rack and --y-fs take two numbers each");
-    }
-    if !(args.rack[0] > 0.0 && args.rack[1] >= 0.0 && args.rack[1] < args.rack[0]) {
-        bail!(
-            "--rack {:?}: give the hob's dedendum h_fP > 0 and root radius 0 ≤ ρ_fP < h_fP, in modules",
-            args.rack
-        );
-    }
-    if args.speed.is_none() {
-        bail!("--gear needs --speed: the load cycles come from the gear's revolutions");
-    }
-    let pair = GearPair {
-        z1: g[0] as u32,
-        z2: g[1] as u32,
+    let spec = gear_spec(&GearOptions {
+        numbers: g,
         internal: args.internal,
-        module: g[2] * 1e-3,
-        pressure_angle: args.pressure_angle.to_radians(),
-        helix_angle: g[3].to_radians(),
-        face_width: g[4] * 1e-3,
-        shift1: args.shift[0],
-        shift2: args.shift[1],
-        tip_diameters: None,
-    };
-    let tooth = match args.tooth.as_str() {
-        "sun" => Tooth::Sun,
-        "planet" => Tooth::Planet,
-        "ring" => Tooth::Ring,
-        _ => Tooth::Parallel,
-    };
-    let spec = GearSpec {
-        pair,
-        tooth,
-        member: args.member.unwrap_or(match tooth {
-            Tooth::Planet if !args.internal => 2,
-            Tooth::Ring => 2,
-            _ => 1,
-        }),
-        y_fs: args.y_fs.as_ref().map(|y| (y[0], y[1])),
-        rack: BasicRack {
-            dedendum: args.rack[0],
-            root_radius: args.rack[1],
-            protuberance: 0.0,
-        },
+        shift: &args.shift,
+        rack: &args.rack,
+        y_fs: args.y_fs.as_deref(),
+        pressure_angle_deg: args.pressure_angle,
+        tooth: &args.tooth,
+        member: args.member,
         planets: args.planets,
         k_a: args.k_a,
         k_gamma: args.k_gamma,
-        force: if args.normal_force {
-            MeshForce::Normal
-        } else {
-            MeshForce::Transverse
-        },
-    };
+        normal_force: args.normal_force,
+    })?;
+    if args.speed.is_none() {
+        bail!("--gear needs --speed: the load cycles come from the gear's revolutions");
+    }
     let report = lifetime
         .gear(&spec)
         .map_err(|e| anyhow::anyhow!("--gear {g:?}: {e} (--y-fs)"))?;
     Ok((report, spec))
-}
-
-/// `g`: the --gear numbers as given (module, helix and width in the user's units).
-fn gear_text(years: f64, g: &[f64], spec: &GearSpec, r: &GearLife) -> String {
-    let pair = &spec.pair;
-    let mut text = format!(
-        "gear {}/{} m_n {} mm β {}° b {} mm ({:?} tooth, {} load cycles per revolution): ε_α {:.3}, ε_β {:.3}\n",
-        pair.z1,
-        pair.z2,
-        g[2],
-        g[3],
-        g[4],
-        spec.tooth,
-        r.cycles_per_revolution,
-        pair.geometry().transverse_contact_ratio,
-        pair.geometry().overlap_ratio
-    );
-    let root_note = match &r.root {
-        None => "given".to_string(),
-        Some(root) => format!(
-            "ISO 6336-3 method B, member {}: s_Fn {:.2} mm, h_Fe {:.2} mm, ρ_F {:.2} mm",
-            spec.member,
-            root.chord * 1e3,
-            root.bending_arm * 1e3,
-            root.fillet_radius * 1e3
-        ),
-    };
-    text.push_str(&format!("Y_F {:.4}, Y_S {:.4} ({root_note})\n", r.y_f, r.y_s));
-    text.push_str(&format!(
-        "{:<10} {:>12} {:>12} {:>16} {:>14} {:>14}\n",
-        "case", "max σ_H MPa", "max σ_F MPa", "load cycles", "flank damage", "root damage"
-    ));
-    for c in &r.cases {
-        text.push_str(&format!(
-            "{:<10} {:>12.1} {:>12.1} {:>16.4e} {:>14.4e} {:>14.4e}\n",
-            c.case,
-            c.max_contact_stress / 1e6,
-            c.max_root_stress / 1e6,
-            c.load_cycles,
-            c.flank_damage,
-            c.root_damage
-        ));
-    }
-    text.push_str(&format!(
-        "lifetime: {:.4e} load cycles → Z_NT {:.3}, Y_NT {:.3}; limits σ_Hlim·Z_NT = {:.0} MPa, σ_FE·Y_M·Y_NT = {:.0} MPa\n",
-        r.load_cycles,
-        r.z_nt,
-        r.y_nt,
-        r.allowable_contact_stress / 1e6,
-        r.allowable_root_stress / 1e6
-    ));
-    text.push_str(&format!(
-        "{years}-year Miner damage: flank {:.4e} ({:.1} % from shutdowns), root {:.4e} ({:.1} % from shutdowns)\n",
-        r.flank_damage,
-        100.0 * r.flank_shutdown_share,
-        r.root_damage,
-        100.0 * r.root_shutdown_share
-    ));
-    text
 }

@@ -109,29 +109,19 @@ pub fn run(args: &NonSmoothArgs) -> anyhow::Result<()> {
             reference.contact_rate().max(0.01).log10(),
         ),
     ];
-    let mut series: Vec<crate::plot::Series> = contact_lines
-        .iter()
-        .map(|(label, points)| crate::plot::Series {
-            label: label.clone(),
-            points,
-        })
-        .collect();
-    series.push(crate::plot::Series {
-        label: "reference".into(),
-        points: &reference_points,
-    });
+    contact_lines.push(("reference".into(), reference_points));
     let title = format!(
         "{}, {} µm backlash: sun-planet contact changes",
         scene.name,
         args.backlash * 1e6
     );
     crate::plot::write_chart_and_table(&args.out, &csv, |path| {
-        crate::plot::lines(
+        crate::plot::named_lines(
             path,
             &title,
             "log10 macro step / ms",
             "log10 contact changes per 1000 communication points",
-            &series,
+            &contact_lines,
             &[],
         )
     })

@@ -2,10 +2,11 @@
 
 use crate::analysis::case::CaseSpec;
 use crate::cosim::recorder::Recorder;
-use crate::cosim::{Acceleration, Algorithm, Master, Options, Record, Scene, System};
+use crate::cosim::settings::{Missing, Settings};
+use crate::cosim::{Acceleration, Algorithm, Master, Record, Scene, System};
 use anyhow::{Context, anyhow, bail};
 use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 #[derive(clap::Args)]
@@ -115,52 +116,12 @@ pub struct PackSceneArgs {
     pub out: Option<PathBuf>,
 }
 
-/// Our own FMUs a scene refers to as resources/<name>.fmu are packed from the workspace when the
-/// file is missing (or always, with `refresh`), and replaced by target/fmu/<name>.fmu when that is
-/// newer, so a scene folder runs on a fresh clone and never with a stale copy.
+/// Our own FMUs a scene refers to are packed or refreshed in place ([`crate::pack::provide_own_fmus`]).
 pub fn provide_own_fmus(scene: &Scene, refresh: bool) -> anyhow::Result<()> {
-    let Ok(root) = crate::pack::workspace_root() else {
-        return Ok(());
-    };
-    let ours = crate::pack::fmu_names(&root);
-    let modified = |p: &std::path::Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
-    for c in &scene.components {
-        let Some(stem) = c.path.file_stem().map(|s| s.to_string_lossy().into_owned()) else {
-            continue;
-        };
-        if !ours.contains(&stem) || c.path.extension().is_none_or(|e| e != "fmu") {
-            continue;
-        }
-        let packed = crate::pack::target_dir(&root).join("fmu").join(format!("{stem}.fmu"));
-        let source = if refresh || !c.path.exists() {
-            crate::pack::pack(&root, &stem)?
-        } else if modified(&packed) > modified(&c.path) {
-            packed
-        } else {
-            continue;
-        };
-        if let Some(dir) = c.path.parent() {
-            std::fs::create_dir_all(dir).with_context(|| dir.display().to_string())?;
-        }
-        copy_atomically(&source, &c.path)?;
-    }
-    Ok(())
-}
-
-/// Copies to a file private to this process and renames it into place: runs of the same scene
-/// started together (a campaign's workers) each open a whole FMU, the old or the new, never one half
-/// written.
-fn copy_atomically(source: &std::path::Path, dest: &std::path::Path) -> anyhow::Result<()> {
-    let name = dest
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = dest.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
-    let context = || format!("copying {} to {}", source.display(), dest.display());
-    std::fs::copy(source, &tmp).with_context(context)?;
-    std::fs::rename(&tmp, dest)
-        .inspect_err(|_| drop(std::fs::remove_file(&tmp)))
-        .with_context(context)
+    Ok(crate::pack::provide_own_fmus(
+        scene.components.iter().map(|c| c.path.as_path()),
+        refresh,
+    )?)
 }
 
 fn parse_growth(s: &str) -> Result<f64, String> {
@@ -209,35 +170,25 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     for w in &system.warnings {
         eprintln!("warning: {w}");
     }
-    let fmu_default = |f: fn(&crate::fmi2::host::description::DefaultExperiment) -> Option<f64>| {
-        system
-            .units
-            .iter()
-            .filter_map(|u| u.fmu.description.default_experiment.as_ref().and_then(f))
-            .fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m| m.min(x))))
+    let settings = Settings {
+        algorithm: args.algorithm,
+        step: args.step,
+        stop_time: args.stop_time,
+        order: args.order,
+        rel_tol: args.tolerance,
+        abs_tol: args.abs_tolerance,
+        max_iterations: args.max_iterations,
+        acceleration: args.acceleration,
+        divergence_growth: args.divergence_growth,
+        min_step: args.min_step,
+        max_step: args.max_step,
+        threads: args.threads,
     };
-    let step = args
-        .step
-        .or(scene.experiment.step_size)
-        .or_else(|| fmu_default(|d| d.step_size))
-        .ok_or_else(|| anyhow!("no step size: give --step (the scene and its FMUs declare none)"))?;
-    let stop = args
-        .stop_time
-        .or(scene.experiment.stop_time)
-        .or_else(|| fmu_default(|d| d.stop_time))
-        .ok_or_else(|| anyhow!("no stop time: give --stop-time (the scene and its FMUs declare none)"))?;
-    let mut opts = Options::new(args.algorithm, step, stop);
-    if let Some(order) = args.order {
-        opts.order = order;
-    }
-    opts.rel_tol = args.tolerance;
-    opts.abs_tol = args.abs_tolerance;
-    opts.max_iterations = args.max_iterations.max(1);
-    opts.acceleration = args.acceleration;
-    opts.min_step = args.min_step.unwrap_or(step * 1e-3);
-    opts.max_step = args.max_step.unwrap_or(step * 100.0);
-    opts.threads = args.threads.max(1);
-    opts.divergence_growth = args.divergence_growth;
+    let opts = settings.options(&scene, &system).map_err(|missing| match missing {
+        Missing::Step => anyhow!("no step size: give --step (the scene and its FMUs declare none)"),
+        Missing::StopTime => anyhow!("no stop time: give --stop-time (the scene and its FMUs declare none)"),
+    })?;
+    let (step, stop) = (opts.step, opts.stop_time);
 
     let analyse = args.analyse.as_deref().map(read_case_spec).transpose()?;
     let out = match (&args.out, &analyse) {
@@ -380,7 +331,6 @@ fn read_case_spec(text: &str) -> anyhow::Result<CaseSpec> {
 }
 
 pub fn pack_scene(args: &PackSceneArgs) -> anyhow::Result<()> {
-    use std::io::Write;
     let scene = Scene::open(&args.scene)?;
     if !args.scene.is_dir() {
         bail!("{}: pack-scene takes a scene folder", args.scene.display());
@@ -401,30 +351,7 @@ pub fn pack_scene(args: &PackSceneArgs) -> anyhow::Result<()> {
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)?;
     }
-    let mut files = Vec::new();
-    collect_files(&args.scene, &args.scene, &mut files)?;
-    files.sort();
-    let file = std::fs::File::create(&out).with_context(|| out.display().to_string())?;
-    let mut zip = zip::ZipWriter::new(file);
-    let opts = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
-    for (rel, path) in files {
-        zip.start_file(rel, opts)?;
-        zip.write_all(&std::fs::read(&path).with_context(|| path.display().to_string())?)?;
-    }
-    zip.finish()?;
+    crate::pack::write_ssp(&args.scene, &out)?;
     println!("packed {}", out.display());
-    Ok(())
-}
-
-fn collect_files(root: &Path, dir: &Path, out: &mut Vec<(String, PathBuf)>) -> anyhow::Result<()> {
-    for entry in std::fs::read_dir(dir).with_context(|| dir.display().to_string())? {
-        let path = entry?.path();
-        if path.is_dir() {
-            collect_files(root, &path, out)?;
-        } else {
-            let rel = path.strip_prefix(root)?.to_string_lossy().replace('\\', "/");
-            out.push((rel, path));
-        }
-    }
     Ok(())
 }

@@ -100,18 +100,5 @@ pub fn run(args: &StabilityArgs) -> anyhow::Result<()> {
         "Co-simulation stability on a stiff split ({}): dots = runs ({} s), line = theory",
         case.title, args.stop_time
     );
-    write_map(&args.out, &csv, &title, ("macro step H [s]", case.y_label), &drawn)
-}
-
-/// Writes a stability map's table (STEM.csv) and chart (STEM.png, STEM.svg) and says where.
-pub fn write_map(
-    stem: &std::path::Path,
-    csv: &str,
-    title: &str,
-    (x_label, y_label): (&str, &str),
-    panels: &[crate::plot::StabilityPanel],
-) -> anyhow::Result<()> {
-    crate::plot::write_chart_and_table(stem, csv, |path| {
-        crate::plot::stability_panels(path, title, x_label, y_label, panels)
-    })
+    crate::plot::write_stability_map(&args.out, &csv, &title, ("macro step H [s]", case.y_label), &drawn)
 }

@@ -1,10 +1,8 @@
 //! `windrive step-response`: the rated-torque step of [`crate::reference::step`] on a drivetrain,
 //! through its torsional FMU: a CSV, the peaks, the dominant frequency and the modes beside it.
 
-use crate::analysis::signal::spectrum::dominant_in_window;
-use crate::cosim::recorder::CsvWriter;
 use crate::fmi2::host::import::Fmu;
-use crate::reference::step::{CHANNELS, Rows, Scenario, column, run_fmi};
+use crate::reference::step::{Scenario, column, response, run_fmi, write_csv};
 use crate::studies::preset_modes::preset_modes;
 use anyhow::Context;
 use std::path::{Path, PathBuf};
@@ -55,16 +53,6 @@ pub fn torsional_fmu(path: Option<&Path>) -> anyhow::Result<Fmu> {
     Fmu::open(&path).with_context(|| format!("opening {}", path.display()))
 }
 
-/// The rows as a CSV in fmpy's layout, columns named `torsional.<channel>`.
-pub fn write_csv(path: &Path, rows: &Rows) -> std::io::Result<()> {
-    let names = CHANNELS.map(|c| format!("torsional.{c}"));
-    let mut w = CsvWriter::create(path, names.iter().map(String::as_str))?;
-    for r in rows {
-        w.row(r[0], r[1..].iter().copied())?;
-    }
-    w.flush()
-}
-
 pub fn run(args: &StepArgs) -> anyhow::Result<()> {
     let fmu = torsional_fmu(args.fmu.as_deref())?;
     let sc = Scenario {
@@ -79,13 +67,7 @@ pub fn run(args: &StepArgs) -> anyhow::Result<()> {
     };
     let (rows, wall) = run_fmi(&fmu, &sc, true)?;
     write_csv(&args.out, &rows).with_context(|| format!("writing {}", args.out.display()))?;
-    let (t_rotor, t_gen) = sc.rated_torques()?;
-    let col = |name: &str| column(name).expect("a recorded channel");
-    let after: Vec<&[f64; 9]> = rows.iter().filter(|r| r[0] > args.step_time).collect();
-    let peak = |c: usize| after.iter().map(|r| r[c].abs()).fold(0.0, f64::max);
-    let (t, hss): (Vec<f64>, Vec<f64>) = rows.iter().map(|r| (r[0], r[col("hss_torque")])).unzip();
-    // the ringing after the step; 0.2 Hz keeps the spectrum's lowest bins (the step itself) out
-    let f_dom = dominant_in_window(&t, &hss, args.step_time + 1e-12, f64::INFINITY, 0.2).map_or(f64::NAN, |d| d.0);
+    let r = response(&sc, &rows)?;
     println!(
         "Rated-torque step on drivetrain {} ({} fidelity, {} integrator), {} s at {} s steps through the FMU: {:.0}x real time",
         args.preset,
@@ -97,14 +79,13 @@ pub fn run(args: &StepArgs) -> anyhow::Result<()> {
     );
     println!(
         "  rated LSS torque {:.4e} N·m, rated HSS torque {:.4e} N·m",
-        t_rotor, t_gen
+        r.rated_lss_nm, r.rated_hss_nm
     );
     println!(
         "  peak LSS torque / rated: {:.3}   peak HSS torque / rated: {:.3}   (undamped step: 2.0)",
-        peak(col("lss_torque")) / t_rotor,
-        peak(col("hss_torque")) / t_gen
+        r.peak_lss_ratio, r.peak_hss_ratio
     );
-    println!("  dominant HSS-torque frequency: {f_dom:.3} Hz");
+    println!("  dominant HSS-torque frequency: {:.3} Hz", r.dominant_hz);
     for boundary in ["disconnected", "connected", "locked"] {
         let (_, m) = preset_modes(&args.preset, &args.fidelity, boundary, "physical")?;
         let list: Vec<String> = m.frequencies_hz.iter().take(5).map(|f| format!("{f:.3}")).collect();
@@ -112,25 +93,14 @@ pub fn run(args: &StepArgs) -> anyhow::Result<()> {
     }
     println!("  CSV: {}", args.out.display());
     if let Some(plot) = &args.plot {
-        let lss: Vec<(f64, f64)> = rows.iter().map(|r| (r[0], r[col("lss_torque")] / t_rotor)).collect();
-        let hss: Vec<(f64, f64)> = rows.iter().map(|r| (r[0], r[col("hss_torque")] / t_gen)).collect();
-        crate::plot::lines(
-            plot,
-            &format!("Drivetrain {}: rated-torque step", args.preset),
-            "time / s",
-            "torque / rated",
-            &[
-                crate::plot::Series {
-                    label: "LSS".into(),
-                    points: &lss,
-                },
-                crate::plot::Series {
-                    label: "HSS".into(),
-                    points: &hss,
-                },
-            ],
-            &[],
-        )?;
+        let col = |name: &str| column(name).expect("a recorded channel");
+        let over_rated = |c: usize, rated: f64| rows.iter().map(|row| (row[0], row[c] / rated)).collect();
+        let lines = [
+            ("LSS".to_string(), over_rated(col("lss_torque"), r.rated_lss_nm)),
+            ("HSS".to_string(), over_rated(col("hss_torque"), r.rated_hss_nm)),
+        ];
+        let title = format!("Drivetrain {}: rated-torque step", args.preset);
+        crate::plot::named_lines(plot, &title, "time / s", "torque / rated", &lines, &[])?;
         println!("  plot: {}", plot.display());
     }
     Ok(())

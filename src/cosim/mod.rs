@@ -1,6 +1,6 @@
 //! The co-simulation master: SSP scenes (`ssp`), made runnable and checked (`system`), stepped by
-//! an algorithm (`master`), recorded to CSV (`recorder`); where each algorithm is stable in theory
-//! (`stability`).
+//! an algorithm (`master`) with the options a run's settings and its scene give (`settings`),
+//! recorded to CSV (`recorder`); where each algorithm is stable in theory (`stability`).
 
 pub mod acceleration;
 mod checks;
@@ -8,6 +8,7 @@ pub mod divergence;
 pub mod error;
 pub mod master;
 pub mod recorder;
+pub mod settings;
 pub mod ssp;
 pub mod stability;
 pub mod system;

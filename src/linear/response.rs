@@ -24,6 +24,31 @@ pub enum Output {
     Shaft(usize),
 }
 
+impl Input {
+    /// "rotor" or "generator", as `windrive bode --input` names them.
+    pub fn named(name: &str) -> Option<Self> {
+        match name {
+            "rotor" => Some(Self::RotorTorque),
+            "generator" => Some(Self::GeneratorTorque),
+            _ => None,
+        }
+    }
+}
+
+impl Output {
+    /// generator-speed, rotor-speed, lss-torque or hss-torque (the model's last shaft), as
+    /// `windrive bode --output` names them.
+    pub fn named(name: &str, model: &TorsionalModel) -> Option<Self> {
+        Some(match name {
+            "generator-speed" => Self::GeneratorSpeed,
+            "rotor-speed" => Self::RotorSpeed,
+            "lss-torque" => Self::Shaft(0),
+            "hss-torque" => Self::Shaft(model.shafts.iter().rposition(|s| s.is_some()).unwrap_or(0)),
+            _ => return None,
+        })
+    }
+}
+
 /// (DOF, weight) pairs whose sum of angles is the output's deflection.
 pub type Weights = Vec<(usize, f64)>;
 

@@ -173,11 +173,18 @@ where
 pub fn work_precision(
     path: &Path,
     title: &str,
-    series: &[Series],
+    lines: &[(String, Vec<(f64, f64)>)],
     front: &[(f64, f64)],
     tolerance: Option<f64>,
 ) -> anyhow::Result<()> {
-    on_backend!(path, draw_work_precision(title, series, front, tolerance))
+    let series: Vec<Series> = lines
+        .iter()
+        .map(|(label, points)| Series {
+            label: label.clone(),
+            points,
+        })
+        .collect();
+    on_backend!(path, draw_work_precision(title, &series, front, tolerance))
 }
 
 fn draw_work_precision<DB: DrawingBackend>(
@@ -281,6 +288,19 @@ pub struct StabilityPanel {
     pub stable: Vec<(f64, f64)>,
     pub unstable: Vec<(f64, f64)>,
     pub boundary: Vec<(f64, f64)>,
+}
+
+/// Writes a stability map's table (STEM.csv) and chart (STEM.png, STEM.svg) and says where.
+pub fn write_stability_map(
+    stem: &Path,
+    csv: &str,
+    title: &str,
+    (x_label, y_label): (&str, &str),
+    panels: &[StabilityPanel],
+) -> anyhow::Result<()> {
+    super::write_chart_and_table(stem, csv, |path| {
+        stability_panels(path, title, x_label, y_label, panels)
+    })
 }
 
 /// Stability maps side by side (two rows), log–log axes shared by every panel.

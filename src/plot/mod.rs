@@ -43,7 +43,7 @@ macro_rules! on_backend {
 
 // after the macro: the charts draw through it
 mod charts;
-pub use charts::{StabilityPanel, campbell, mode_shapes, stability_panels, work_precision};
+pub use charts::{StabilityPanel, campbell, mode_shapes, stability_panels, work_precision, write_stability_map};
 
 /// Writes `table` to STEM.csv and a chart to STEM.png and STEM.svg by `draw(path)`, and says where.
 pub fn write_chart_and_table(
@@ -80,6 +80,25 @@ pub fn lines(
     markers: &[(f64, String)],
 ) -> anyhow::Result<()> {
     lines_named(path, title, x_label, y_label, series, markers, None)
+}
+
+/// As [`lines`], of (label, points) pairs.
+pub fn named_lines(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    lines: &[(String, Vec<(f64, f64)>)],
+    markers: &[(f64, String)],
+) -> anyhow::Result<()> {
+    let series: Vec<Series> = lines
+        .iter()
+        .map(|(label, points)| Series {
+            label: label.clone(),
+            points,
+        })
+        .collect();
+    self::lines(path, title, x_label, y_label, &series, markers)
 }
 
 /// As [`lines`], with category names for integer x positions.

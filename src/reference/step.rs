@@ -155,6 +155,48 @@ pub fn rk4_step_limit() -> Result<f64, ReferenceError> {
     Ok(s.built()?.rk4_step_limit)
 }
 
+/// What a step response shows: the rated torques, N·m, the peak LSS and HSS torque after the step over
+/// them, and the HSS torque's dominant frequency after the step, Hz (NaN if it has none).
+#[derive(Debug, Clone, Copy)]
+pub struct Response {
+    pub rated_lss_nm: f64,
+    pub rated_hss_nm: f64,
+    pub peak_lss_ratio: f64,
+    pub peak_hss_ratio: f64,
+    pub dominant_hz: f64,
+}
+
+/// The response of `sc` recorded in `rows`.
+pub fn response(sc: &Scenario, rows: &Rows) -> Result<Response, ReferenceError> {
+    let (t_rotor, t_gen) = sc.rated_torques()?;
+    let col = |name: &str| column(name).expect("a recorded channel");
+    let after: Vec<&[f64; 1 + CHANNELS.len()]> = rows.iter().filter(|r| r[0] > sc.step_time).collect();
+    let peak = |c: usize| after.iter().map(|r| r[c].abs()).fold(0.0, f64::max);
+    let (t, hss): (Vec<f64>, Vec<f64>) = rows.iter().map(|r| (r[0], r[col("hss_torque")])).unzip();
+    // the ringing after the step; 0.2 Hz keeps the spectrum's lowest bins (the step itself) out
+    let dominant_hz =
+        crate::analysis::signal::spectrum::dominant_in_window(&t, &hss, sc.step_time + 1e-12, f64::INFINITY, 0.2)
+            .map_or(f64::NAN, |d| d.0);
+    Ok(Response {
+        rated_lss_nm: t_rotor,
+        rated_hss_nm: t_gen,
+        peak_lss_ratio: peak(col("lss_torque")) / t_rotor,
+        peak_hss_ratio: peak(col("hss_torque")) / t_gen,
+        dominant_hz,
+    })
+}
+
+/// The rows as a CSV in fmpy's layout, columns named `torsional.<channel>`.
+#[cfg(feature = "cli")]
+pub fn write_csv(path: &std::path::Path, rows: &Rows) -> std::io::Result<()> {
+    let names = CHANNELS.map(|c| format!("torsional.{c}"));
+    let mut w = crate::cosim::recorder::CsvWriter::create(path, names.iter().map(String::as_str))?;
+    for r in rows {
+        w.row(r[0], r[1..].iter().copied())?;
+    }
+    w.flush()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

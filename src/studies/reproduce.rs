@@ -16,6 +16,7 @@ use crate::studies::preset_modes::preset_modes;
 use anyhow::{Context, anyhow};
 use serde::Deserialize;
 use std::collections::HashMap;
+use std::fmt::Write as _;
 
 /// The thesis's numbers, in the order of the table.
 const THESIS: &str = include_str!("data/thesis.toml");
@@ -247,6 +248,42 @@ impl<'a> Computed<'a> {
             self.calibration = Some(scenes.evaluate(&scenes.current_values())?.statistics);
         }
         Ok(self.calibration.as_ref().expect("just evaluated")[index].0)
+    }
+}
+
+/// The rows as docs/REPRODUCTION.md's Markdown table, with its heading.
+pub fn markdown(rows: &[Row]) -> String {
+    let mut s = String::from(
+        "# The thesis's numbers beside ours\n\nWritten by `windrive reproduce`. \"claimed\" rows are asserted by \
+         tests/it/reproduction.rs within the tolerance shown; the others are shown with the reason they differ.\n\n\
+         | quantity | thesis | where | ours | difference | claimed | reason |\n|---|---|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        let claim = match r.claimed {
+            Some(t) if r.reproduced() => format!("yes, ±{:.1} %", t * 100.0),
+            Some(t) => format!("**no** (±{:.1} %)", t * 100.0),
+            None => "—".into(),
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {:+.2} % | {} | {} |",
+            r.quantity,
+            r.thesis,
+            r.source,
+            format_ours(r.ours),
+            r.difference() * 100.0,
+            claim,
+            r.reason
+        );
+    }
+    s
+}
+
+fn format_ours(x: f64) -> String {
+    if x.abs() >= 100.0 {
+        format!("{x:.1}")
+    } else {
+        format!("{x:.4}")
     }
 }
 

@@ -2,7 +2,9 @@
 //! damage of the counted cycles under a Wöhler curve of slope m (Palmgren–Miner):
 //! DEL = (Σ n_i S_i^m / N_eq)^(1/m).
 
-use crate::analysis::fatigue::rainflow::Cycle;
+use crate::analysis::fatigue::rainflow::{Counter, Cycle};
+use crate::analysis::signal::series::{Extent, SeriesError, stream_channel};
+use std::path::Path;
 
 /// Σ n_i S_i^m for several Wöhler slopes, accumulated one cycle at a time, so a streaming count
 /// needs no cycle list.
@@ -103,6 +105,30 @@ pub fn damage_equivalent_load(cycles: &[Cycle], m: f64, equivalent_cycles: f64) 
     let mut sums = DamageSums::new(&[m]);
     cycles.iter().for_each(|c| sums.add(c));
     sums.dels(equivalent_cycles)[0]
+}
+
+/// The damage sums at the slopes `m` of one CSV channel, counted in one streaming pass from the file
+/// (no series, no cycle list), each cycle first Goodman-corrected to `goodman_to` = (ultimate load,
+/// fixed mean) when given; with the channel's extent, and why the correction refused its first cycle.
+pub fn stream_damage(
+    path: &Path,
+    channel: &str,
+    m: &[f64],
+    goodman_to: Option<(f64, f64)>,
+) -> Result<(DamageSums, Extent, Option<String>), SeriesError> {
+    let mut sums = DamageSums::new(m);
+    let mut counter = Counter::new();
+    let mut bad = None;
+    let mut add = |c: Cycle| match goodman_to {
+        None => sums.add(&c),
+        Some((ultimate, fixed_mean)) => match goodman(&c, ultimate, fixed_mean) {
+            Ok(c) => sums.add(&c),
+            Err(e) => bad = bad.take().or(Some(e)),
+        },
+    };
+    let extent = stream_channel(path, channel, |_, v| counter.push(v, &mut add))?;
+    counter.finish(&mut add);
+    Ok((sums, extent, bad))
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@ use crate::cosim::Scene;
 use crate::physics::drivetrain::Drivetrain;
 use crate::studies::nelder_mead;
 use anyhow::Context as _;
+use std::fmt::Write as _;
 use std::path::Path;
 
 /// A free input: where it goes, its bounds, whether it is searched on a log scale.
@@ -280,4 +281,53 @@ fn write_parameter(path: &Path, variable: &str, value: f64) -> anyhow::Result<()
         format!("{}{}\n{}", &text[..at], line, &text[at..])
     };
     std::fs::write(path, out).with_context(|| path.display().to_string())
+}
+
+/// The fit as docs/calibration-c.md's Markdown: each statistic's target, start and achieved value
+/// and misfit, each input's start, fitted value and search range.
+pub fn markdown(e: &Evaluation, start: &Evaluation, evaluations: usize) -> String {
+    let mut s = String::from(
+        "# Drivetrain C's scene inputs fitted to the thesis's measurements\n\n\
+         Written by `windrive calibrate` (the command and its reading: docs/DRIVETRAINS.md, \"Calibration\").\n\n",
+    );
+    let _ = writeln!(
+        s,
+        "Drivetrain C's scenes (scenes/c-normal, scenes/c-shutdown) against the thesis's measured statistics;\n\
+         misfit = ln(achieved / target), 0 inside a stated bound. Objective (sum of squared misfits): {:.4} \
+         ({evaluations} evaluations; {:.4} at the start).\n",
+        e.objective, start.objective
+    );
+    let _ = writeln!(s, "| statistic | thesis | start | achieved | misfit |");
+    let _ = writeln!(s, "|---|---|---|---|---|");
+    for (stat, ((a, m), (a0, _))) in super::statistics()
+        .iter()
+        .zip(e.statistics.iter().zip(&start.statistics))
+    {
+        let shown = |x: f64| {
+            if stat.unit.is_empty() {
+                format!("{x:.3}")
+            } else {
+                format!("{:.1} k{}", x / 1e3, stat.unit)
+            }
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {:+.3} |",
+            stat.name,
+            stat.source,
+            shown(*a0),
+            shown(*a),
+            m
+        );
+    }
+    let _ = writeln!(s, "\n| input | start | fitted | search range |");
+    let _ = writeln!(s, "|---|---|---|---|");
+    for (f, (v, v0)) in FREE.iter().zip(e.values.iter().zip(&start.values)) {
+        let _ = writeln!(
+            s,
+            "| {} (`{}`) | {v0:.4} {} | {v:.4} {} | {}–{} |",
+            f.name, f.variable, f.unit, f.unit, f.low, f.high
+        );
+    }
+    s
 }
