@@ -6,14 +6,12 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
-import shutil
 import sys
-import sysconfig
 import tempfile
 from pathlib import Path
 
 from . import cases as cases_mod
+from . import binary
 from . import cluster as cluster_mod
 from . import driver, schema
 from .errors import CampaignError
@@ -57,15 +55,14 @@ examples (from the repository's root):
 """
 
 
-WINDRIVE_DEFAULT = (
-    "$WINDRIVE, else target/release/windrive in a checkout, the wheel's windrive beside this Python once installed"
-)
+WINDRIVE_DEFAULT = binary.DEFAULT
 
 
 def finished_campaign_arguments(parser: argparse.ArgumentParser, files: str):
     """The arguments of the commands that read a finished campaign: where it is and where `files` go."""
     parser.add_argument("campaign", type=Path, help="campaign folder, its .parquet table, or the campaign file")
     parser.add_argument("--out", type=Path, help=f"folder for {files} [default: the campaign folder]")
+    parser.add_argument("--windrive", help=f"windrive binary [default: {WINDRIVE_DEFAULT}]")
 
 
 def main(argv=None) -> int:
@@ -124,7 +121,7 @@ def main(argv=None) -> int:
         if args.command == "report":
             from . import report  # pandas and matplotlib: only the report pays their import time
 
-            return report.report(args.campaign, args.out)
+            return report.report(args.campaign, args.out, binary.windrive(args.windrive))
         if args.command == "paper":
             from . import paper_report  # pandas and matplotlib, as for report
 
@@ -139,7 +136,7 @@ def main(argv=None) -> int:
             finally:
                 cluster.close()
             return 0
-        windrive = _windrive(args.windrive)
+        windrive = binary.windrive(args.windrive)
         if args.command == "cases":
             return _list_cases(campaign, windrive)
         out = args.out or Path("results") / "campaigns" / campaign.name
@@ -158,40 +155,6 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:  # before the cases started (the driver handles it while they run)
         print("interrupted", file=sys.stderr)
         return 130
-
-
-def _windrive(given: str | None) -> str:
-    """The binary the cases run: --windrive, $WINDRIVE, then target/release/windrive in a developer
-    checkout, or the `windrive` the wheel installed into this Python's scripts folder (its bin/)."""
-    chosen = given or os.environ.get("WINDRIVE")
-    if chosen or cluster_mod.IN_CHECKOUT:
-        path = Path(chosen or cluster_mod.REPO / "target" / "release" / "windrive").resolve()
-        if not _executable(path):
-            raise CampaignError(f"{path}: no windrive binary (cargo build --release builds it; or --windrive PATH)")
-        return str(path)
-    for path in _installed_windrive():
-        if _executable(path):
-            return str(path.resolve())
-    raise CampaignError(
-        f"no windrive binary beside {sys.executable} nor on PATH: the windrive wheel installs one "
-        "(pip install windrive-*.whl); or --windrive PATH"
-    )
-
-
-def _installed_windrive() -> list[Path]:
-    """Where pip puts the wheel's binary: this Python's scripts folder (a venv's bin/), the user scheme's
-    (pip install --user), then whatever `windrive` PATH finds."""
-    found = [Path(sysconfig.get_path("scripts")) / "windrive", Path(sys.executable).parent / "windrive"]
-    try:
-        found.append(Path(sysconfig.get_path("scripts", f"{os.name}_user")) / "windrive")
-    except KeyError:  # an interpreter without a user scheme
-        pass
-    on_path = shutil.which("windrive")
-    return found + ([Path(on_path)] if on_path else [])
-
-
-def _executable(path: Path) -> bool:
-    return path.is_file() and os.access(path, os.X_OK)
 
 
 def _list_cases(campaign, windrive: str) -> int:

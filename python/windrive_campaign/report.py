@@ -1,8 +1,8 @@
 """`scripts/campaign report`: a finished campaign's lifetime figures (lifetime.py) as lifetime.csv,
 lifetime.json, lifetime_ldd.csv, a bar chart of each group's share of the damage (lifetime.png) and a
-printed table; with `[gears]` also the teeth's lifetime damage (gear_lifetime.py) as lifetime_gears.csv,
+printed table; with `[gears]` also the teeth's lifetime damage (windrive life --cases) as lifetime_gears.csv,
 a section of lifetime.json, lifetime_gears.png and a printed table, and with `[bearings]` the bearings'
-(bearing_lifetime.py) as lifetime_bearings.csv, a section, lifetime_bearings.png and a table. Cases that
+(windrive life --cases) as lifetime_bearings.csv, a section, lifetime_bearings.png and a table. Cases that
 are not finished are left out and counted, never guessed."""
 
 from __future__ import annotations
@@ -16,7 +16,6 @@ from pathlib import Path
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from . import gear_lifetime as gl
 from . import lifetime as lt
 from . import schema
 from .errors import CampaignError
@@ -27,6 +26,7 @@ TABLE_COLUMNS = ("name", "group", "status", "wind_speed", "hours", "events", "an
 # the gear section's own statement of what its damage is (docs/CAMPAIGNS.md, Lifetime report)
 GEAR_METHOD = ("Miner's sum per tooth flank (pitting) and root (bending) over the design life: nominal ISO 6336 "
                "stresses without load factors, two-slope S-N curve, as the paper (windrive gears)")  # fmt: skip
+GEAR_KINDS = ("flank", "root")  # a tooth's rows in this order (windrive life --cases)
 GEAR_KIND_TITLES = {"flank": "flank (pitting)", "root": "root (bending)"}
 # the bearing section's (docs/CAMPAIGNS.md, Lifetime report)
 BEARING_METHOD = ("ISO 281 basic rating life L10 (C_r from the roller geometry, P = X·F_r + Y·F_a, Miner over "
@@ -92,7 +92,7 @@ def write_ldd_csv(life: lt.Lifetime, path: Path):
 
 def write_miner_csv(rows: list[dict], labels: tuple[str, ...], groups: list[str], path: Path,
                     extra: tuple[str, ...] = ()):  # fmt: skip
-    """The rows of miner_lifetime.lifetime (teeth, bearings): their `labels`, damage, life, the `extra`
+    """The Miner rows of the lifetime (teeth, bearings): their `labels`, damage, life, the `extra`
     figures and the shares."""
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
@@ -171,7 +171,7 @@ def gear_chart(life: lt.Lifetime, path: Path):
     matplotlib.use("Agg")  # files only, as bar_chart
     import matplotlib.pyplot as plt
 
-    kinds = [k for k in gl.KINDS if any(r["kind"] == k for r in life.gears)]
+    kinds = [k for k in GEAR_KINDS if any(r["kind"] == k for r in life.gears)]
     teeth = max(sum(r["kind"] == k for r in life.gears) for k in kinds)
     fig, axes = plt.subplots(len(kinds), 1, figsize=(max(6.0, 0.8 * teeth + 3.5), 3.4 * len(kinds)), squeeze=False)
     colours = _group_colours(plt, life.groups)
@@ -295,11 +295,11 @@ def print_shares(title: str, groups: list[str], heads: list[str], rows: list[dic
         print(f"{g:24} " + " ".join(f"{100 * r['share'][g]:>{width}.2f}" for r in rows), file=out)
 
 
-def report(given: Path, out_dir: Path | None) -> int:
+def report(given: Path, out_dir: Path | None, windrive: str | None = None) -> int:
     """Writes the report; 0 when every case counted, 1 when some are pending, failed or timed out."""
     table = locate_table(given)
     t, meta = read_table(table)
-    life = lt.compute(t, meta)
+    life = lt.compute(t, meta, windrive)
     out_dir = out_dir or table.parent
     out_dir.mkdir(parents=True, exist_ok=True)
     written = ["lifetime.csv", "lifetime.json", "lifetime_ldd.csv"]

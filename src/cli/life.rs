@@ -1,22 +1,23 @@
 //! `windrive life`: parses the climate, the cases and the component ([`crate::studies::life`]), calls
 //! [`crate::analysis::fatigue::lifetime`] and prints its lifetime DELs and gear or bearing damage.
 
+use crate::analysis::fatigue::campaign::{self, CampaignTable};
 use crate::analysis::fatigue::lifetime::{Case, Climate, GearLife, GearSpec, Lifetime};
 use crate::analysis::rating::limits::LIMITS;
 use crate::studies::life::{GearOptions, bearing_text, gear_spec, gear_text, named_bearing, wind_distribution};
 use anyhow::{Context, bail};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct LifeArgs {
     /// Normal-operation CSV (stands for every operating hour)
-    #[arg(long)]
-    pub normal: PathBuf,
+    #[arg(long, required_unless_present = "cases")]
+    pub normal: Option<PathBuf>,
     /// Shutdown CSV (one event)
     #[arg(long)]
     pub shutdown: Option<PathBuf>,
     /// Load channel, e.g. torsional.mesh_force_sun_planet_1 or torsional.hss_torque
-    #[arg(long, required_unless_present = "bearing_of")]
+    #[arg(long, required_unless_present_any = ["bearing_of", "cases"])]
     pub channel: Option<String>,
     /// Rayleigh climate with this mean wind speed [m/s] (thesis Table 7.1: 10.0)
     #[arg(long, default_value_t = 10.0)]
@@ -117,9 +118,34 @@ pub struct LifeArgs {
     /// Print the results as JSON
     #[arg(long)]
     pub json: bool,
+    /// A load-case campaign's lifetime instead, from its table of cases as JSON (`-` reads stdin):
+    /// {"campaign", "years", "feq_hz", "ldd_bins": [{channel, speed, min, max, bins}], "columns": [...],
+    /// "rows": [[...], ...]}, the columns those `windrive run --analyse` writes plus name, group, status,
+    /// wind_speed, hours, events and analysed_s. Prints the lifetime DELs, LDDs, gear and bearing
+    /// damage and the thesis's ratios as JSON (what `scripts/campaign report` shows)
+    #[arg(long, conflicts_with_all = ["normal", "shutdown", "channel", "bearing_of", "gear", "bearing"])]
+    pub cases: Option<PathBuf>,
+}
+
+/// `windrive life --cases`: the campaign's table read, its lifetime printed as JSON.
+fn campaign(path: &Path) -> anyhow::Result<()> {
+    let shown = path.display();
+    let text = if path == Path::new("-") {
+        std::io::read_to_string(std::io::stdin()).context("--cases -: reading stdin")?
+    } else {
+        std::fs::read_to_string(path).with_context(|| format!("--cases {shown}"))?
+    };
+    let table: CampaignTable = serde_json::from_str(&text).with_context(|| format!("--cases {shown}"))?;
+    println!("{}", serde_json::to_string(&campaign::compute(&table)?)?);
+    Ok(())
 }
 
 pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
+    let normal = match (&args.cases, &args.normal) {
+        (Some(cases), _) => return campaign(cases),
+        (None, Some(normal)) => normal,
+        (None, None) => bail!("give --normal (a series) or --cases (a campaign's table)"),
+    };
     let wind = wind_distribution(args.weibull.as_deref(), args.mean_wind)?;
     let climate = Climate {
         wind,
@@ -147,7 +173,7 @@ pub fn run(args: &LifeArgs) -> anyhow::Result<()> {
             (None, None) => unreachable!("clap requires --channel without --bearing-of"),
         })
     };
-    let normal = read(&args.normal)?;
+    let normal = read(normal)?;
     let shutdown = args.shutdown.as_ref().map(read).transpose()?;
     let channel = match (&rated, &args.channel) {
         (Some((_, b)), _) => format!("{} equivalent load P", b.radial.trim_end_matches("_radial_load")),

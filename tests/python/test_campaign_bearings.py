@@ -1,4 +1,4 @@
-"""Bearing damage in campaigns ([bearings], python/windrive_campaign/bearings.py, bearing_lifetime.py):
+"""Bearing damage in campaigns ([bearings], python/windrive_campaign/bearings.py, windrive life --cases):
 the campaign file's errors, [bearings] as analysis (digest, recorded channels asked of windrive), a
 gearbox without roller sets stopped before any case runs, a failing `windrive bearings` recorded as a
 failed case, the probe, and a real campaign of scenes/d-shutdown-6dof (the GRC 750 kW gearbox; one
@@ -8,6 +8,7 @@ About 7-9 s on 2 cores."""
 
 import dataclasses
 import json
+import math
 import pathlib
 import subprocess
 import sys
@@ -19,7 +20,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python"))
 
 from campaign_cli import campaign_cli, run_campaign, write_campaign  # noqa: E402
-from windrive_campaign import bearing_lifetime, bearings, cases, driver, gears, runner, schema  # noqa: E402
+from windrive_campaign import bearings, cases, driver, gears, lifetime, runner, schema  # noqa: E402
 from windrive_campaign.errors import CampaignError  # noqa: E402
 
 SCENE = ROOT / "scenes" / "d-shutdown-6dof"
@@ -149,9 +150,10 @@ def test_the_probe_stops_a_campaign_whose_series_bearings_cannot_rate(tmp_path, 
 
 def test_bearings_rated_with_two_ratings_are_an_error():
     """Cases rated with different descriptions (C_r differs) do not add up."""
-    ok = pd.DataFrame({"name": ["a", "b"], "bearing.x.day": [1.0, 2.0], "bearing.x.c": [1e6, 2e6]})
-    with pytest.raises(CampaignError, match=r"campaign k: bearing x has C_r = 1e\+06, 2e\+06 N in different"):
-        bearing_lifetime.lifetime(ok, 20.0, [], "k")
+    ok = pd.DataFrame({"name": ["a", "b"], "group": "event", "status": "ok", "wind_speed": math.nan, "hours": math.nan,
+                       "events": 1.0, "analysed_s": 10.0, "bearing.x.day": [1.0, 2.0], "bearing.x.c": [1e6, 2e6]})  # fmt: skip
+    with pytest.raises(CampaignError, match=r"campaign k: bearing x has C_r = 1000000, 2000000 N in different"):
+        lifetime.compute(ok, {"campaign": "k"})
 
 
 # ---------------------------------------------------------------------------------------------------

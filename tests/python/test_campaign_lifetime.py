@@ -111,11 +111,6 @@ def test_thesis_ratio_is_shutdown_del_over_pooled_normal_operation():
     assert lt.compute(pd.DataFrame([r for r in rows if r["group"] == "dlc12"]), META).ratios == []
 
 
-def test_event_kinds_follow_the_thesis_names():
-    assert [lt.event_kind(n) for n in ["shutdown-rated", "emergency-stop", "startup-cut-in", "stop-rated", "gust"]] == [
-        "shutdown", "shutdown", "start-up", "normal stop", None]  # fmt: skip
-
-
 # ---------------------------------------------------------------------------------------------------
 # a real campaign: tiny-life.toml (one DLC 1.2 bin + a shutdown) against `windrive life`
 

@@ -1,4 +1,4 @@
-"""Gear damage in the lifetime report (python/windrive_campaign/gear_lifetime.py, report.py;
+"""Gear damage in the lifetime report (windrive life --cases through python/windrive_campaign/lifetime.py, report.py;
 docs/CAMPAIGNS.md, Lifetime report): the teeth's lifetime Miner damage, shares and life of a synthetic
 table against a hand computation, the files and printed table of `scripts/campaign report`, and a table
 without gear columns giving the report it gave before. No simulation: a few seconds."""
@@ -17,7 +17,6 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python"))
 
 from campaign_cli import campaign_cli  # noqa: E402
-from windrive_campaign import gear_lifetime as gl  # noqa: E402
 from windrive_campaign import lifetime as lt  # noqa: E402
 from windrive_campaign.errors import CampaignError  # noqa: E402
 
@@ -120,13 +119,14 @@ def test_a_tooth_rated_in_only_some_finished_cases_is_an_error():
         lt.compute(pd.DataFrame(table), META)
 
 
-def test_damage_columns_keep_the_table_order_flank_before_root():
-    columns = ["name", "gear.r1.root_day", "gear.s1.root_day", "gear.r1.flank_day", "gear.s1.max_root",
-               "gear.s1.flank_day", "x.flank_day"]  # fmt: skip
-    assert gl.damage_columns(columns) == [
-        ("r1", "flank", "gear.r1.flank_day"), ("r1", "root", "gear.r1.root_day"),
-        ("s1", "flank", "gear.s1.flank_day"), ("s1", "root", "gear.s1.root_day"),
-    ]  # fmt: skip
+def test_teeth_keep_the_table_order_flank_before_root():
+    base = rows()[0]
+    shuffled = {k: v for k, v in base.items() if not k.startswith("gear.")}
+    shuffled.update({"gear.r1.root_day": 1e-4, "gear.s1.root_day": 2e-4, "gear.r1.flank_day": 3e-4,
+                     "gear.s1.max_root": 5e8, "gear.s1.flank_day": 4e-4, "x.flank_day": 1.0})  # fmt: skip
+    life = lt.compute(pd.DataFrame([shuffled]), META)
+    assert [(r["tooth"], r["kind"]) for r in life.gears] == [("r1", "flank"), ("r1", "root"), ("s1", "flank"),
+                                                              ("s1", "root")]  # fmt: skip
 
 
 # ---------------------------------------------------------------------------------------------------

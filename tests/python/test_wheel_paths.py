@@ -13,7 +13,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python"))
 
 import windrive_fmus  # noqa: E402
-from windrive_campaign import __main__ as cli  # noqa: E402
+from windrive_campaign import binary  # noqa: E402
 from windrive_campaign import cluster, schema  # noqa: E402
 from windrive_campaign.errors import CampaignError  # noqa: E402
 
@@ -61,7 +61,7 @@ def test_installed_fmu_path_is_in_the_package(tmp_path, monkeypatch):
 def test_in_the_checkout_the_driver_runs_target_release(windrive, monkeypatch):
     monkeypatch.delenv("WINDRIVE", raising=False)
     assert cluster.IN_CHECKOUT
-    assert cli._windrive(None) == windrive
+    assert binary.windrive(None) == windrive
 
 
 def test_installed_the_driver_runs_the_windrive_beside_its_python(tmp_path, monkeypatch):
@@ -69,17 +69,17 @@ def test_installed_the_driver_runs_the_windrive_beside_its_python(tmp_path, monk
     monkeypatch.delenv("WINDRIVE", raising=False)
     monkeypatch.setenv("PATH", str(tmp_path / "nowhere"))
     scripts = lambda name, scheme=None: str(tmp_path / (scheme or "venv") / "bin")  # noqa: E731
-    monkeypatch.setattr(cli.sysconfig, "get_path", scripts)
-    monkeypatch.setattr(cli.sys, "executable", str(tmp_path / "other" / "python"))
+    monkeypatch.setattr(binary.sysconfig, "get_path", scripts)
+    monkeypatch.setattr(binary.sys, "executable", str(tmp_path / "other" / "python"))
     with pytest.raises(CampaignError, match=r"no windrive binary beside .* nor on PATH: the windrive wheel installs"):
-        cli._windrive(None)
+        binary.windrive(None)
     user = executable(tmp_path / f"{os.name}_user" / "bin" / "windrive")  # pip install --user
-    assert cli._windrive(None) == str(user)
+    assert binary.windrive(None) == str(user)
     venv = executable(tmp_path / "venv" / "bin" / "windrive")
-    assert cli._windrive(None) == str(venv)
+    assert binary.windrive(None) == str(venv)
     given = executable(tmp_path / "given" / "windrive")
     monkeypatch.setenv("WINDRIVE", str(given))
-    assert cli._windrive(None) == str(given)
+    assert binary.windrive(None) == str(given)
 
 
 def test_installed_slurm_workers_import_the_wheel_not_a_pythonpath(monkeypatch):
