@@ -184,6 +184,7 @@ def expand(c: Campaign, scenes: dict[Path, tuple[str, str]], windrive_id: str, w
 
     def make(name, group, scene, stop_time, transient, params, **weights) -> Case:
         ssp, digest = scenes[scene]
+        params = {**params, **turbulent_windows(params, stop_time - transient)}
         identity = {
             "scene": digest,
             "windrive": windrive_id,
@@ -274,6 +275,32 @@ def expand(c: Campaign, scenes: dict[Path, tuple[str, str]], windrive_id: str, w
             )
         named[case.name] = case
     return cases
+
+
+def turbulent_windows(params: dict[str, ParamValue], window: float) -> dict[str, ParamValue]:
+    """What each turbulent rotor (a component with a `seed`) of a case runs with:
+
+    - its turbulence period the analysed window (unless the campaign gives one), so every window has
+      exactly the mean wind its case names and, from 10 minutes on, the intensity
+      (src/physics/turbulence.rs);
+    - its seed made the case's own: the campaign's seed number mixed with the rotor's wind speed,
+      turbulence model and intensity, so seed 1 at 10 m/s shares no phase with seed 1 at 12 m/s or at
+      another intensity (the same case draws the same seed on every machine)."""
+    out: dict[str, ParamValue] = {}
+    for key in [k for k in params if k.endswith(".seed")]:
+        rotor = key.removesuffix(".seed")
+        if f"{rotor}.turbulence_period" not in params:
+            out[f"{rotor}.turbulence_period"] = window
+        if isinstance(params[key], int) and not isinstance(params[key], bool):  # else windrive names the mistake
+            out[key] = case_seed(rotor, params)
+    return out
+
+
+def case_seed(rotor: str, params: dict[str, ParamValue]) -> int:
+    """A positive 31-bit seed (the FMU's Integer) from the rotor's seed number and what it blows."""
+    what = [params.get(f"{rotor}.{v}") for v in ("seed", "wind_speed", "turbulence", "turbulence_intensity")]
+    digest = hashlib.sha256(json.dumps(what).encode()).digest()
+    return int.from_bytes(digest[:4], "big") % (2**31 - 1) + 1
 
 
 def _params_text(params: dict[str, ParamValue]) -> str:

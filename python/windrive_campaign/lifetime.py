@@ -1,7 +1,8 @@
 """A campaign's lifetime figures from its Parquet table, computed by `windrive life --cases`
 (src/analysis/fatigue/campaign.rs; docs/CAMPAIGNS.md, Lifetime report): each case weighted by what it
 stands for in the design life (a DLC 1.2 case its climate hours, an event its count), the lifetime damage
-sums and DELs per channel and Wöhler slope with each group's share, the lifetime LDD, the teeth's and the
+sums and DELs per channel and Wöhler slope with each group's share and their 95 % intervals over seeds
+(`*_ci`: a bootstrap of each DLC 1.2 bin's seeds), the lifetime LDD, the teeth's and the
 bearings' Miner damage, and the thesis's DEL ratios. This module only hands the table over and reads the
 answer; the convention is the binary's, one computation with `windrive life`.
 """
@@ -39,6 +40,8 @@ class Lifetime:
     left_out: dict[str, list[str]] = field(default_factory=dict)  # status -> case names not counted
     gears: list[dict] = field(default_factory=list)  # per tooth and flank/root: damage, life_years, share{group}
     bearings: list[dict] = field(default_factory=list)  # per bearing: C_r, damage, life_years, share{group}
+    # the 95 % intervals' bootstrap over each DLC 1.2 bin's seeds: draws, and the groups of one case
+    bootstrap: dict = field(default_factory=dict)
 
 
 def read_metadata(schema_metadata: dict | None) -> dict:
@@ -64,18 +67,20 @@ def compute(t: pd.DataFrame, meta: dict, windrive: str | None = None) -> Lifetim
     nan = lambda x: math.nan if x is None else x  # noqa: E731 (JSON's null is NaN here)
     for row in d["rows"] + d["gears"] + d["bearings"]:
         row["share"] = {g: nan(s) for g, s in row["share"].items()}
+        row["share_ci"] = {g: [nan(x) for x in ci] for g, ci in row["share_ci"].items()}
         for k in ("lifetime_del", "dynamic_load_rating", "events_share", "thesis_damage", "thesis_events_share"):
             if k in row:
                 row[k] = nan(row[k])
-        if "life_years" in row and row["life_years"] is None:
-            row["life_years"] = math.inf  # no damage: it never fails
+        if "life_years" in row:  # null: no damage, it never fails
+            row["life_years"] = math.inf if row["life_years"] is None else row["life_years"]
+            row["life_years_ci"] = [math.inf if x is None else x for x in row["life_years_ci"]]
     for q in d["ratios"]:
         q["ours"] = nan(q["ours"])
     return Lifetime(
         campaign=d["campaign"], years=d["years"], feq_hz=d["feq_hz"], life_s=d["life_s"], groups=d["groups"],
         rows=d["rows"], ldd={x.pop("channel"): x for x in d["ldd"]}, ratios=d["ratios"], used=d["used"],
         operating_hours=d["operating_hours"], events=d["events"], left_out=dict(d["left_out"]),
-        gears=d["gears"], bearings=d["bearings"],
+        gears=d["gears"], bearings=d["bearings"], bootstrap=d["bootstrap"],
     )  # fmt: skip
 
 

@@ -74,9 +74,11 @@ def read_table(path: Path, required: tuple[str, ...] = TABLE_COLUMNS):
 def write_csv(life: lt.Lifetime, path: Path):
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["channel", "m", "lifetime_del", "damage_sum", *(f"share:{g}" for g in life.groups)])
+        w.writerow(["channel", "m", "lifetime_del", "lifetime_del_lo", "lifetime_del_hi", "damage_sum",
+                    *(f"share:{g}" for g in life.groups)])  # fmt: skip
         for r in life.rows:
-            w.writerow([r["channel"], f"{r['m']:g}", repr(r["lifetime_del"]), repr(r["damage_sum"]),
+            lo, hi = r["lifetime_del_ci"]
+            w.writerow([r["channel"], f"{r['m']:g}", repr(r["lifetime_del"]), repr(lo), repr(hi), repr(r["damage_sum"]),
                         *(repr(r["share"][g]) for g in life.groups)])  # fmt: skip
 
 
@@ -96,9 +98,9 @@ def write_miner_csv(rows: list[dict], labels: tuple[str, ...], groups: list[str]
     figures and the shares."""
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow([*labels, "damage", "life_years", *extra, *(f"share:{g}" for g in groups)])
+        w.writerow([*labels, "damage", "damage_lo", "damage_hi", "life_years", *extra, *(f"share:{g}" for g in groups)])
         for r in rows:
-            w.writerow([*(r[k] for k in labels), repr(r["damage"]), repr(r["life_years"]),
+            w.writerow([*(r[k] for k in labels), repr(r["damage"]), *map(repr, r["damage_ci"]), repr(r["life_years"]),
                         *(repr(r[k]) for k in extra), *(repr(r["share"][g]) for g in groups)])  # fmt: skip
 
 
@@ -117,6 +119,7 @@ def as_json(life: lt.Lifetime) -> dict:
         "lifetime": life.rows,
         "ldd": life.ldd,
         "thesis_ratios": life.ratios,
+        "intervals": {"level": 0.95, **life.bootstrap},
     }
     if life.gears:  # only then: a campaign without [gears] keeps the JSON it had
         d["gears"] = {"method": GEAR_METHOD, "lifetime": [_miner_json(r) for r in life.gears]}
@@ -129,7 +132,9 @@ def _miner_json(row: dict) -> dict:
     """A tooth's or bearing's row with null for a damage-free part's infinite life and undefined shares,
     as JSON has neither (paper_summary.json does the same)."""
     finite = {k: _finite(v) for k, v in row.items() if isinstance(v, float)}
-    return {**row, **finite, "share": {g: _finite(s) for g, s in row["share"].items()}}
+    intervals = {k: [_finite(x) for x in v] for k, v in row.items() if k.endswith("_ci") and isinstance(v, list)}
+    return {**row, **finite, **intervals, "share": {g: _finite(s) for g, s in row["share"].items()},
+            "share_ci": {g: [_finite(x) for x in ci] for g, ci in row["share_ci"].items()}}  # fmt: skip
 
 
 def _finite(x: float) -> float | None:
@@ -248,9 +253,14 @@ def print_tables(life: lt.Lifetime, out=sys.stdout):
     print(f"campaign {life.campaign}: {life.used} cases over {life.years:g} years "
           f"({life.operating_hours:.0f} operating h, {life.events:g} events); "
           f"lifetime DEL over T_life = {life.life_s:.6g} s at f_eq = {life.feq_hz:g} Hz", file=out)  # fmt: skip
-    print(f"{'channel':36} {'m':>3} {'lifetime DEL':>13} {'damage sum D':>13}", file=out)
+    print(f"{'channel':36} {'m':>3} {'lifetime DEL':>13} {'95 % interval':>25} {'damage sum D':>13}", file=out)
     for r in life.rows:
-        print(f"{r['channel']:36} {r['m']:>3g} {r['lifetime_del']:>13.5g} {r['damage_sum']:>13.4e}", file=out)
+        lo, hi = r["lifetime_del_ci"]
+        print(f"{r['channel']:36} {r['m']:>3g} {r['lifetime_del']:>13.5g} {f'{lo:.5g} .. {hi:.5g}':>25} "
+              f"{r['damage_sum']:>13.4e}", file=out)  # fmt: skip
+    one = life.bootstrap.get("one_seed") or []
+    print(f"(95 % intervals: {life.bootstrap.get('draws')} bootstrap draws of each DLC 1.2 bin's seeds"
+          + (f"; fixed, one case each: {', '.join(one[:6])}{' …' if len(one) > 6 else ''})" if one else ")"), file=out)
     heads = [f"{r['channel'].split('.')[-1]} m{r['m']:g}" for r in life.rows]
     print_shares("share of D [%]", life.groups, heads, life.rows, 16, out)
     if life.ratios:
@@ -266,9 +276,11 @@ def print_tables(life: lt.Lifetime, out=sys.stdout):
 
 def print_gear_tables(life: lt.Lifetime, out=sys.stdout):
     print(f"\ngear damage over {life.years:g} years (Miner; nominal ISO 6336 stresses, two-slope S-N)", file=out)
-    print(f"{'tooth':8} {'kind':6} {'damage D':>11} {'life [years]':>13}", file=out)
+    print(f"{'tooth':8} {'kind':6} {'damage D':>11} {'life [years]':>13} {'95 % interval':>21}", file=out)
     for r in life.gears:
-        print(f"{r['tooth']:8} {r['kind']:6} {r['damage']:>11.4e} {r['life_years']:>13.4g}", file=out)
+        lo, hi = r["life_years_ci"]
+        print(f"{r['tooth']:8} {r['kind']:6} {r['damage']:>11.4e} {r['life_years']:>13.4g} "
+              f"{f'{lo:.4g} .. {hi:.4g}':>21}", file=out)  # fmt: skip
     heads = [f"{r['tooth']} {r['kind']}" for r in life.gears]
     print_shares("share of gear damage [%]", life.groups, heads, life.gears, 10, out)
 

@@ -22,6 +22,10 @@ from . import gears as gears_mod
 from .errors import CampaignError
 
 TURBULENCE_CLASSES = ("A", "B", "C")  # IEC 61400-1 ed. 3; I_ref: src/physics/turbulence.rs
+# IEC 61400-1 ed. 3, DLC 1.2: 10-minute series, at least six seeds per wind bin: a campaign's
+# defaults, so the lifetime's seed-to-seed scatter is what the standard accepts
+IEC_WINDOW_S = 600.0
+IEC_SEEDS = 6
 
 ParamValue = str | int | float | bool
 
@@ -302,8 +306,10 @@ class _Reader:
         name = self.string(doc, root, "name", default=self.path.stem)
         if not re.fullmatch(r"[A-Za-z0-9._-]+", name):
             self.fail(("name",), f"letters, digits, '.', '_' and '-' only (it names a folder), not {name!r}")
-        stop_time = self.number(doc, root, "stop_time", above=0.0)
         transient = self.number(doc, root, "transient", default=0.0, minimum=0.0)
+        # with [dlc12], IEC 61400-1's 10-minute series after the transient unless the file says otherwise
+        window = IEC_WINDOW_S if "dlc12" in doc else None
+        stop_time = self.number(doc, root, "stop_time", default=None if window is None else transient + window, above=0.0)
         if transient >= stop_time:
             self.fail(("transient",), f"{transient} s leaves nothing of stop_time = {stop_time} s to analyse")
         step = doc.get("step")
@@ -469,7 +475,7 @@ class _Reader:
         cut_out = self.number(t, key, "cut_out", above=0.0)
         if cut_out <= cut_in:
             self.fail(key + ("cut_out",), f"must be above cut_in = {cut_in}, not {cut_out}")
-        seeds = t.get("seeds")
+        seeds = t.get("seeds", IEC_SEEDS)
         if isinstance(seeds, int) and not isinstance(seeds, bool) and seeds >= 1:
             seeds = tuple(range(1, seeds + 1))
         elif (

@@ -3,8 +3,15 @@
 //!
 //! The series is synthesised once per run by spectral representation: amplitudes √(2S(f_k)Δf) at
 //! f_k = kΔf with uniform random phases, one inverse real FFT, then read by linear interpolation.
-//! It is periodic over `period` seconds (≥ any simulation it serves) and has zero mean; its
-//! variance is σ² times the fraction of the Kaimal spectrum below the Nyquist frequency.
+//! It is periodic over `period` seconds and has exactly zero mean over any window of one period.
+//!
+//! Its variance ([`Variance`]) is either the spectrum's own over the series' band (a long record, whose
+//! shorter windows scatter about σ with their seed), or σ² read as IEC 61400-1 defines σ1, the
+//! standard deviation over 10 minutes: a period of 10 minutes or more then holds σ² exactly (as TurbSim
+//! scales its series with `ScaleIEC`), and a shorter period the part of the 10-minute variance above
+//! its lowest frequency, as a cut of a 10-minute record would on average. With the period equal to the
+//! analysed window every seed's window has the mean wind asked for and, from 10 minutes on, the σ: seeds
+//! then differ in the order of their gusts, not in their mean or their intensity.
 //!
 //! A rotor does not feel the wind at one point: its torque follows the wind averaged over the swept
 //! disc, whose spectrum is the point spectrum times the disc's admittance χ(f), the coherence of two
@@ -104,6 +111,13 @@ impl DiscPairs {
     }
 }
 
+/// SplitMix64's output function: a 64-bit value mixed so that nearby inputs give unrelated outputs.
+fn mix64(mut z: u64) -> u64 {
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
 /// SplitMix64: a seeded stream of uniform numbers, the same on every machine.
 #[derive(Debug, Clone)]
 pub struct SplitMix(pub u64);
@@ -111,12 +125,28 @@ pub struct SplitMix(pub u64);
 impl SplitMix {
     pub fn next_f64(&mut self) -> f64 {
         self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+        (mix64(self.0) >> 11) as f64 / (1u64 << 53) as f64
     }
 }
+
+/// Samples and their spacing for a series periodic over `period` seconds with spacing at most
+/// `max_dt`: an even count, the spacing the period over it.
+pub fn sampling(period: f64, max_dt: f64) -> (f64, usize) {
+    let n = ((period / max_dt).ceil() as usize).max(2).next_multiple_of(2);
+    (period / n as f64, n)
+}
+
+/// How a series' variance relates to σ (module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Variance {
+    /// The spectrum's own over the series' band.
+    Spectrum,
+    /// σ is the 10-minute standard deviation: exact over a period of 600 s or more.
+    TenMinute,
+}
+
+/// IEC 61400-1's averaging time of σ1, s.
+pub const TEN_MINUTES: f64 = 600.0;
 
 /// A synthesised fluctuation series u'(t), periodic over `period()`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -128,12 +158,15 @@ pub struct TurbulenceSeries {
 impl TurbulenceSeries {
     /// `samples` points (a power of two is fastest) at spacing `dt`; the Nyquist frequency 1/(2dt)
     /// bounds the content.
-    pub fn kaimal(sigma: f64, length: f64, v_hub: f64, dt: f64, samples: usize, seed: u64) -> Self {
-        Self::synthesise(|f| kaimal(f, sigma, length, v_hub), dt, samples, seed)
+    pub fn kaimal(sigma: f64, length: f64, v_hub: f64, dt: f64, samples: usize, variance: Variance, seed: u64) -> Self {
+        let spectrum = |f| kaimal(f, sigma, length, v_hub);
+        Self::synthesise(spectrum, |_| 1.0, sigma, dt, samples, variance, seed)
     }
 
     /// The rotor-effective wind of a rotor of `radius`: the Kaimal spectrum times the disc's
-    /// admittance χ(f) (module documentation). The same seed draws the same phases as [`Self::kaimal`].
+    /// admittance χ(f) (module documentation), scaled as the point series is, so it fluctuates less
+    /// than σ by what the disc averages out. The same seed draws the same phases as [`Self::kaimal`].
+    #[allow(clippy::too_many_arguments)] // the spectrum's four numbers, the sampling's two, and how to draw
     pub fn kaimal_rotor_average(
         sigma: f64,
         length: f64,
@@ -141,34 +174,60 @@ impl TurbulenceSeries {
         radius: f64,
         dt: f64,
         samples: usize,
+        variance: Variance,
         seed: u64,
     ) -> Self {
         let pairs = DiscPairs::new(radius);
         Self::synthesise(
-            |f| kaimal(f, sigma, length, v_hub) * pairs.admittance(f, length, v_hub),
+            |f| kaimal(f, sigma, length, v_hub),
+            |f| pairs.admittance(f, length, v_hub),
+            sigma,
             dt,
             samples,
+            variance,
             seed,
         )
     }
 
-    /// Spectral representation of the one-sided density `spectrum` (module documentation).
-    fn synthesise(spectrum_at: impl Fn(f64) -> f64, dt: f64, samples: usize, seed: u64) -> Self {
+    /// Spectral representation of the one-sided point density `spectrum_at` filtered by `filter`
+    /// (module documentation), its variance as `variance` says.
+    fn synthesise(
+        spectrum_at: impl Fn(f64) -> f64,
+        filter: impl Fn(f64) -> f64,
+        sigma: f64,
+        dt: f64,
+        samples: usize,
+        variance: Variance,
+        seed: u64,
+    ) -> Self {
         use realfft::RealFftPlanner;
         let n = samples.max(2) & !1;
         let df = 1.0 / (n as f64 * dt);
+        // the mean (k = 0) and Nyquist bins stay real and zero
+        let bins = 1..n / 2;
+        let point: Vec<f64> = bins.clone().map(|k| spectrum_at(k as f64 * df)).collect();
+        let scale = match variance {
+            Variance::Spectrum => 1.0,
+            Variance::TenMinute => {
+                // the point spectrum's variance over a 10-minute record (the series' own grid when longer)
+                let held = if n as f64 * dt >= TEN_MINUTES {
+                    point.iter().sum::<f64>() * df
+                } else {
+                    let (df_10, nyquist) = (1.0 / TEN_MINUTES, 0.5 / dt);
+                    let top = ((nyquist / df_10).ceil() as usize).saturating_sub(1);
+                    (1..=top).map(|k| spectrum_at(k as f64 * df_10)).sum::<f64>() * df_10
+                };
+                if held > 0.0 { sigma * sigma / held } else { 0.0 }
+            }
+        };
         let mut rng = SplitMix(seed);
         let plan = RealFftPlanner::<f64>::new().plan_fft_inverse(n);
         let mut spectrum = plan.make_input_vec();
-        for (k, c) in spectrum.iter_mut().enumerate() {
-            // the mean (k = 0) and Nyquist bins stay real and zero
-            if k == 0 || k == n / 2 {
-                continue;
-            }
-            let amplitude = (2.0 * spectrum_at(k as f64 * df) * df).sqrt();
+        for (k, s) in bins.zip(point) {
+            let amplitude = (2.0 * scale * s * filter(k as f64 * df) * df).sqrt();
             let phase = std::f64::consts::TAU * rng.next_f64();
             // x_j = Σ a_k cos(2π k j / n + φ_k): the inverse real FFT sums c_k e^{+i…} + conjugate
-            *c = realfft::num_complex::Complex::from_polar(amplitude / 2.0, phase);
+            spectrum[k] = realfft::num_complex::Complex::from_polar(amplitude / 2.0, phase);
         }
         let mut values = plan.make_output_vec();
         plan.process(&mut spectrum, &mut values).expect("sizes from the plan");
@@ -236,23 +295,85 @@ mod tests {
         assert!((iec_sigma(TurbulenceModel::Etm, 11.4, 0.14, 50.0) - 3.074).abs() < 5e-4);
     }
 
-    /// The synthesised variance equals the Kaimal integral up to the Nyquist frequency (the
-    /// spectral representation is exact in expectation; one 2¹⁶-point draw is within a few %), the
-    /// mean is zero, and a seed reproduces the series bit for bit.
+    /// Over one period the series has zero mean; read as the 10-minute σ, a 600 s period has variance
+    /// σ² to rounding whatever the seed and whatever part of the Kaimal integral the band misses (about
+    /// 16 % at 11.4 m/s), a 60 s period less (0.565 σ² here, between the band above 1/60 Hz, 0.469, and
+    /// a 60 s cut of a long record, 0.637), and the spectrum's own variance is the Kaimal integral
+    /// (within a few % for one draw of 2^16 points). The rotor-effective series keeps σ²'s share χ lets
+    /// through; a seed reproduces.
     #[test]
-    fn variance_follows_the_spectrum_and_seed_reproduces() {
+    fn one_period_carries_the_mean_and_the_variance_asked_for() {
         let (sigma, length, v) = (1.5, 340.2, 11.4);
-        let (dt, n) = (0.05, 1 << 16);
-        let s = TurbulenceSeries::kaimal(sigma, length, v, dt, n, 7);
-        let mean = s.values.iter().sum::<f64>() / n as f64;
-        let var = s.values.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n as f64;
-        // ∫0^fN S df in closed form: σ² (1 − (1 + 6 fN L/V)^(−2/3))
-        let f_nyquist = 0.5 / dt;
-        let expected = sigma * sigma * (1.0 - (1.0 + 6.0 * f_nyquist * length / v).powf(-2.0 / 3.0));
-        assert!(mean.abs() < 1e-12);
+        let band = |f1: f64, f2: f64| {
+            let g = |f: f64| (1.0 + 6.0 * f * length / v).powf(-2.0 / 3.0);
+            sigma * sigma * (g(f1) - g(f2))
+        };
+        let moments = |s: &TurbulenceSeries| {
+            let mean = s.values.iter().sum::<f64>() / s.values.len() as f64;
+            let var = s.values.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / s.values.len() as f64;
+            (mean, var)
+        };
+        let (dt, n) = sampling(600.0, 0.05);
+        assert_eq!((n, dt), (12_000, 0.05));
+        for seed in [1, 2, 3, 7] {
+            let s = TurbulenceSeries::kaimal(sigma, length, v, dt, n, Variance::TenMinute, seed);
+            let (mean, var) = moments(&s);
+            assert!(
+                mean.abs() < 1e-12 && (var / (sigma * sigma) - 1.0).abs() < 1e-10,
+                "{mean} {var}"
+            );
+            let disc = TurbulenceSeries::kaimal_rotor_average(sigma, length, v, 40.0, dt, n, Variance::TenMinute, seed);
+            let (_, disc_var) = moments(&disc);
+            assert!(
+                disc_var < 0.9 * var && disc_var > 0.5 * var,
+                "rotor-effective variance {disc_var}"
+            );
+        }
+        // a 60 s period: between the band above 1/60 Hz (the lowest bin's own) and what a 60 s cut of a long
+        // record with the 10-minute σ holds on average, ∫S(f)(1 − sinc²(πfT))df scaled as the 600 s window
+        let (dt, n) = sampling(60.0, 0.05);
+        let (mean, var) = moments(&TurbulenceSeries::kaimal(
+            sigma,
+            length,
+            v,
+            dt,
+            n,
+            Variance::TenMinute,
+            4,
+        ));
+        let cut = |t: f64| {
+            let f: Vec<f64> = (0..=200_000)
+                .map(|i| 10f64.powf(-6.0 + 7.0 * i as f64 / 200_000.0))
+                .collect();
+            let y = |f: f64| {
+                let x = std::f64::consts::PI * f * t;
+                kaimal(f, sigma, length, v) * (1.0 - (x.sin() / x).powi(2))
+            };
+            f.windows(2)
+                .map(|w| 0.5 * (y(w[0]) + y(w[1])) * (w[1] - w[0]))
+                .sum::<f64>()
+        };
+        let (lower, upper) = (band(1.0 / 60.0, 10.0) / band(1.0 / 600.0, 10.0), cut(60.0) / cut(600.0));
+        let var = var / (sigma * sigma);
+        eprintln!("60 s period: variance {var:.3} σ² (band above 1/60 Hz {lower:.3}, a 60 s cut {upper:.3})");
+        assert!(
+            mean.abs() < 1e-12 && lower < var && var < upper,
+            "{var} not in {lower}..{upper}"
+        );
+        let long = TurbulenceSeries::kaimal(sigma, length, v, 0.05, 1 << 16, Variance::Spectrum, 7);
+        let (_, var) = moments(&long);
+        let expected = band(0.0, 10.0);
         assert!((var / expected - 1.0).abs() < 0.1, "variance {var} vs {expected}");
-        let again = TurbulenceSeries::kaimal(sigma, length, v, dt, n, 7);
-        assert_eq!(s, again);
-        assert_ne!(s, TurbulenceSeries::kaimal(sigma, length, v, dt, n, 8));
+        assert_eq!(
+            long,
+            TurbulenceSeries::kaimal(sigma, length, v, 0.05, 1 << 16, Variance::Spectrum, 7)
+        );
+        assert_ne!(
+            long,
+            TurbulenceSeries::kaimal(sigma, length, v, 0.05, 1 << 16, Variance::Spectrum, 8)
+        );
+        // a period that is no multiple of the spacing: the spacing shrinks to fit it
+        let (dt, n) = sampling(61.3, 0.05);
+        assert!(n % 2 == 0 && (dt * n as f64 - 61.3).abs() < 1e-12 && dt <= 0.05);
     }
 }

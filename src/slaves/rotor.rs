@@ -14,7 +14,7 @@ use crate::physics::rotor::{
     TiltModel, TorqueSeries, preset_rotor, rated_wind_speed, trim_pitch,
 };
 use crate::physics::turbulence::{
-    TurbulenceModel, TurbulenceSeries, class_reference_intensity, iec_sigma, kaimal_length,
+    TurbulenceModel, TurbulenceSeries, Variance, class_reference_intensity, iec_sigma, kaimal_length, sampling,
 };
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -326,13 +326,24 @@ impl Params {
                     Some(_) if ti > 0.0 => ti * mean_wind,
                     Some(m) => iec_sigma(m, mean_wind, i_ref, 50.0),
                 };
+                // a day at 0.05 s is 1.7 million samples; beyond it the series would only cost memory
+                if !(0.0..=86_400.0).contains(&self.turbulence_period) {
+                    let why = "must be 0 to 86 400 s (0 = 3276.8 s)";
+                    return Err(ParameterError::invalid("turbulence_period", &self.turbulence_period, why).into());
+                }
                 let turbulence = (sigma > 0.0).then(|| {
-                    // 0.05 s spacing (content to 10 Hz), 2^16 samples: periodic over 3277 s
+                    // a window of its own: its period, spacing ≤ 0.05 s (content to 10 Hz), σ the 10-minute
+                    // one; else one long record of 2^16 samples at 0.05 s (3276.8 s), the spectrum as it is
+                    let ((dt, n), variance) = if self.turbulence_period > 0.0 {
+                        (sampling(self.turbulence_period, 0.05), Variance::TenMinute)
+                    } else {
+                        ((0.05, 1 << 16), Variance::Spectrum)
+                    };
                     let (length, seed) = (kaimal_length(hub_height), self.seed as u32 as u64);
                     if choices.rotor_average {
-                        TurbulenceSeries::kaimal_rotor_average(sigma, length, mean_wind, radius, 0.05, 1 << 16, seed)
+                        TurbulenceSeries::kaimal_rotor_average(sigma, length, mean_wind, radius, dt, n, variance, seed)
                     } else {
-                        TurbulenceSeries::kaimal(sigma, length, mean_wind, 0.05, 1 << 16, seed)
+                        TurbulenceSeries::kaimal(sigma, length, mean_wind, dt, n, variance, seed)
                     }
                 });
                 let gear_ratio = drivetrain.gear_ratio();

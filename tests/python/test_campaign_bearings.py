@@ -223,7 +223,8 @@ def test_the_lifetime_report_is_the_weighted_sum_of_the_table(real_run, tmp_path
     assert dlc.group == "dlc12" and event.group == "event" and event.events == 1000
     table = pd.read_csv(tmp_path / "lifetime_bearings.csv")
     groups = ["DLC 1.2 14 m/s", "shutdown-rated"]
-    assert list(table.columns) == ["bearing", "dynamic_load_rating", "damage", "life_years", "events_share",
+    assert list(table.columns) == ["bearing", "dynamic_load_rating", "damage", "damage_lo", "damage_hi", "life_years",
+                                   "events_share",
                                    "thesis_damage", "thesis_events_share", *(f"share:{g}" for g in groups)]  # fmt: skip
     assert list(table.bearing) == GRC
     for _, b in table.iterrows():

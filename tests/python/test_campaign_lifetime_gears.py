@@ -145,7 +145,13 @@ def test_report_writes_the_gear_files_and_table(tmp_path):
     total = sum(s1_flank.values())
 
     table = pd.read_csv(folder / "lifetime_gears.csv")
-    assert list(table.columns) == ["tooth", "kind", "damage", "life_years", *(f"share:{g}" for g in GROUPS)]
+    assert list(table.columns) == ["tooth", "kind", "damage", "damage_lo", "damage_hi", "life_years",
+                                   *(f"share:{g}" for g in GROUPS)]  # fmt: skip
+    # the 95 % interval over seeds: the 10 m/s bin's two seeds drawn with replacement, its extremes each
+    # seed twice (the other groups have one case each and stay)
+    v10 = s1_flank["DLC 1.2 10 m/s"]
+    assert table.damage_lo[0] == pytest.approx(total - v10 + 2 * 100 / 24 * 1e-3, rel=1e-12)
+    assert table.damage_hi[0] == pytest.approx(total - v10 + 2 * 100 / 24 * 2e-3, rel=1e-12)
     assert list(zip(table.tooth, table.kind)) == [("s1", "flank"), ("s1", "root"), ("p1", "root"), ("g3", "root")]
     assert table.damage[0] == pytest.approx(total, rel=1e-12)
     assert table["share:shutdown-rated"][0] == pytest.approx(s1_flank["shutdown-rated"] / total, rel=1e-12)
@@ -158,7 +164,7 @@ def test_report_writes_the_gear_files_and_table(tmp_path):
     assert gears["lifetime"][3]["life_years"] is None and set(gears["lifetime"][3]["share"].values()) == {None}
 
     assert "gear damage over 2 years" in r.stdout and "share of gear damage [%]" in r.stdout
-    assert f"s1       flank  {total:>11.4e} {2.0 / total:>13.4g}" in r.stdout
+    assert f"s1       flank  {total:>11.4e} {2.0 / total:>13.4g}" in r.stdout  # then its interval
     assert "lifetime_gears.csv, lifetime_gears.png" in r.stdout
 
 

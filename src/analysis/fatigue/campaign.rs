@@ -18,6 +18,7 @@
 //! D is a damage sum in load^m × cycles, not a Miner damage: no S-N curve is attached to a channel here.
 
 use super::lifetime::HOURS_PER_YEAR;
+use crate::physics::turbulence::SplitMix;
 use serde::ser::{SerializeMap, Serializer};
 use serde::{Deserialize, Serialize};
 
@@ -102,9 +103,10 @@ pub enum CampaignLifeError {
     },
 }
 
-/// A group's share of a damage, in the campaign's group order (serialised as a JSON object).
+/// A value per group (a share of a damage, or its interval), in the campaign's group order
+/// (serialised as a JSON object).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Shares(pub Vec<(String, f64)>);
+pub struct Shares<T = f64>(pub Vec<(String, T)>);
 
 impl Shares {
     pub fn get(&self, group: &str) -> f64 {
@@ -112,7 +114,7 @@ impl Shares {
     }
 }
 
-impl Serialize for Shares {
+impl<T: Serialize> Serialize for Shares<T> {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         let mut map = s.serialize_map(Some(self.0.len()))?;
         for (g, v) in &self.0 {
@@ -122,6 +124,9 @@ impl Serialize for Shares {
     }
 }
 
+/// A 95 % confidence interval over seeds, [2.5 %, 97.5 %] of the bootstrap.
+pub type Interval = [f64; 2];
+
 /// A channel's lifetime damage sum and DEL at one slope.
 #[derive(Debug, Clone, Serialize)]
 pub struct DelRow {
@@ -130,6 +135,9 @@ pub struct DelRow {
     pub lifetime_del: f64,
     pub damage_sum: f64,
     pub share: Shares,
+    pub lifetime_del_ci: Interval,
+    pub damage_sum_ci: Interval,
+    pub share_ci: Shares<Interval>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -147,6 +155,9 @@ pub struct MinerLife {
     pub damage: f64,
     pub life_years: f64,
     pub share: Shares,
+    pub damage_ci: Interval,
+    pub life_years_ci: Interval,
+    pub share_ci: Shares<Interval>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -201,6 +212,15 @@ pub struct CampaignLife {
     pub left_out: Vec<(String, Vec<String>)>,
     pub gears: Vec<GearRow>,
     pub bearings: Vec<BearingRow>,
+    /// The intervals' bootstrap: its draws and the groups whose scatter it cannot see (one case).
+    pub bootstrap: BootstrapInfo,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct BootstrapInfo {
+    pub draws: usize,
+    pub resampled: &'static str,
+    pub one_seed: Vec<String>,
 }
 
 /// The thesis's event kinds from an event's name: its shutdown is a stop with the mechanical brake
@@ -259,23 +279,120 @@ fn short(x: f64) -> String {
     format!("{x}")
 }
 
-fn sum_by_group(cases: &[Case], groups: &[String], per_case: impl Fn(&Case) -> f64) -> (f64, Shares) {
-    let values: Vec<f64> = cases.iter().map(&per_case).collect();
+/// A damage summed over the cases and by group, with its intervals over the seed bootstrap.
+struct Summed {
+    total: f64,
+    share: Shares,
+    total_ci: Interval,
+    share_ci: Shares<Interval>,
+}
+
+fn sum_by_group(cases: &[Case], groups: &[String], boot: &Bootstrap, per_case: impl Fn(&Case) -> f64) -> Summed {
     // a NaN (a DEL not computed) adds nothing, as pandas sums
-    let total: f64 = values.iter().filter(|v| !v.is_nan()).sum();
+    let values: Vec<f64> = cases
+        .iter()
+        .map(per_case)
+        .map(|v| if v.is_nan() { 0.0 } else { v })
+        .collect();
+    let in_group: Vec<Vec<bool>> = groups
+        .iter()
+        .map(|g| cases.iter().map(|c| &c.label == g).collect())
+        .collect();
+    let total_of = |counts: &[f64]| counts.iter().zip(&values).map(|(n, v)| n * v).sum::<f64>();
+    let share_of = |counts: &[f64], member: &[bool], total: f64| {
+        let part: f64 = counts
+            .iter()
+            .zip(&values)
+            .zip(member)
+            .filter(|x| *x.1)
+            .map(|((n, v), _)| n * v)
+            .sum();
+        if total > 0.0 { part / total } else { f64::NAN }
+    };
+    let ones = vec![1.0; cases.len()];
+    let total = total_of(&ones);
+    let drawn: Vec<f64> = boot.counts.iter().map(|c| total_of(c)).collect();
     let share = groups
         .iter()
-        .map(|g| {
-            let in_group: f64 = cases
-                .iter()
-                .zip(&values)
-                .filter(|(c, v)| &c.label == g && !v.is_nan())
-                .map(|(_, v)| v)
-                .sum();
-            (g.clone(), if total > 0.0 { in_group / total } else { f64::NAN })
-        })
-        .collect();
-    (total, Shares(share))
+        .zip(&in_group)
+        .map(|(g, m)| (g.clone(), share_of(&ones, m, total)));
+    let share_ci = groups.iter().zip(&in_group).map(|(g, m)| {
+        let draws: Vec<f64> = boot
+            .counts
+            .iter()
+            .zip(&drawn)
+            .map(|(c, &t)| share_of(c, m, t))
+            .collect();
+        (g.clone(), percentiles(draws))
+    });
+    Summed {
+        total,
+        share: Shares(share.collect()),
+        total_ci: percentiles(drawn.clone()),
+        share_ci: Shares(share_ci.collect()),
+    }
+}
+
+/// Draws of the seed bootstrap and the seed of its own random stream (fixed: a report is reproducible).
+pub const BOOTSTRAP_DRAWS: usize = 2000;
+const BOOTSTRAP_SEED: u64 = 61_400;
+
+/// How often each case counts in each bootstrap draw: each DLC 1.2 bin's seeds drawn with replacement,
+/// as many as it has (the bin's hours stay the bin's); an event, and a bin of one seed, as it is, so their
+/// seed-to-seed scatter is not in the interval (`one_seed` names them).
+struct Bootstrap {
+    counts: Vec<Vec<f64>>,
+    one_seed: Vec<String>,
+}
+
+impl Bootstrap {
+    fn new(cases: &[Case], groups: &[String]) -> Self {
+        let mut rng = SplitMix(BOOTSTRAP_SEED);
+        let members: Vec<(String, Vec<usize>)> = groups
+            .iter()
+            .map(|g| (g.clone(), (0..cases.len()).filter(|&i| &cases[i].label == g).collect()))
+            .collect();
+        let resampled: Vec<&Vec<usize>> = members
+            .iter()
+            .filter(|(_, m)| m.len() > 1 && cases[m[0]].group == "dlc12")
+            .map(|(_, m)| m)
+            .collect();
+        let one_seed = members
+            .iter()
+            .filter(|(_, m)| m.len() == 1)
+            .map(|(g, _)| g.clone())
+            .collect();
+        let counts = (0..BOOTSTRAP_DRAWS)
+            .map(|_| {
+                let mut counts = vec![1.0; cases.len()];
+                for m in &resampled {
+                    m.iter().for_each(|&i| counts[i] = 0.0);
+                    for _ in 0..m.len() {
+                        let pick = ((rng.next_f64() * m.len() as f64) as usize).min(m.len() - 1);
+                        counts[m[pick]] += 1.0;
+                    }
+                }
+                counts
+            })
+            .collect();
+        Self { counts, one_seed }
+    }
+}
+
+/// The 2.5 and 97.5 % points of `draws` (linear between order statistics, as numpy's default);
+/// NaN draws (a share of no damage) are left out, all NaN gives NaN.
+fn percentiles(mut draws: Vec<f64>) -> Interval {
+    draws.retain(|x| !x.is_nan());
+    if draws.is_empty() {
+        return [f64::NAN; 2];
+    }
+    draws.sort_by(f64::total_cmp);
+    let at = |q: f64| {
+        let x = q * (draws.len() - 1) as f64;
+        let (i, w) = (x.floor() as usize, x - x.floor());
+        draws[i] + w * (draws[(i + 1).min(draws.len() - 1)] - draws[i])
+    };
+    [at(0.025), at(0.975)]
 }
 
 pub fn compute(table: &CampaignTable) -> Result<CampaignLife, CampaignLifeError> {
@@ -355,19 +472,24 @@ pub fn compute(table: &CampaignTable) -> Result<CampaignLife, CampaignLifeError>
         }
     }
     let life_s = years * HOURS_PER_YEAR * 3600.0;
+    let boot = Bootstrap::new(&cases, &groups);
     let slopes = del_columns(columns);
     let rows = slopes
         .iter()
         .map(|&(ref channel, m, column)| {
-            let (total, share) = sum_by_group(&cases, &groups, |c| {
+            let sum = sum_by_group(&cases, &groups, &boot, |c| {
                 c.weight * c.number(column).powf(m) * feq * c.analysed_s
             });
+            let del = |total: f64| (total / (feq * life_s)).powf(1.0 / m);
             DelRow {
                 channel: channel.clone(),
                 m,
-                lifetime_del: (total / (feq * life_s)).powf(1.0 / m),
-                damage_sum: total,
-                share,
+                lifetime_del: del(sum.total),
+                damage_sum: sum.total,
+                share: sum.share,
+                lifetime_del_ci: sum.total_ci.map(del),
+                damage_sum_ci: sum.total_ci,
+                share_ci: sum.share_ci,
             }
         })
         .collect();
@@ -382,8 +504,16 @@ pub fn compute(table: &CampaignTable) -> Result<CampaignLife, CampaignLifeError>
         ldd.push(lifetime_ldd(&campaign, &cases, bins, s, n)?);
     }
     let ratios = thesis_ratios(&cases, &slopes, feq);
-    let gears = gear_rows(&campaign, &cases, columns, years, &groups)?;
-    let bearings = bearing_rows(&campaign, &cases, columns, years, &groups)?;
+    let weighed = Weighed {
+        campaign: &campaign,
+        cases: &cases,
+        groups: &groups,
+        years,
+        boot: &boot,
+    };
+    let gears = gear_rows(&weighed, columns)?;
+    let bearings = bearing_rows(&weighed, columns)?;
+    let one_seed = boot.one_seed.clone();
     Ok(CampaignLife {
         campaign,
         years,
@@ -399,6 +529,11 @@ pub fn compute(table: &CampaignTable) -> Result<CampaignLife, CampaignLifeError>
         left_out,
         gears,
         bearings,
+        bootstrap: BootstrapInfo {
+            draws: BOOTSTRAP_DRAWS,
+            resampled: "each DLC 1.2 bin's seeds, with replacement",
+            one_seed,
+        },
     })
 }
 
@@ -539,16 +674,26 @@ fn thesis_ratios(cases: &[Case], slopes: &[(String, f64, usize)], feq: f64) -> V
     out
 }
 
+/// The finished cases weighed, their share groups and their bootstrap: what every lifetime sum reads.
+#[derive(Clone, Copy)]
+struct Weighed<'a> {
+    campaign: &'a str,
+    cases: &'a [Case<'a>],
+    groups: &'a [String],
+    years: f64,
+    boot: &'a Bootstrap,
+}
+
 /// A part's Miner damage over the design life from its damage-per-day column; None when no case rates
 /// it (p1's flank), an error when only some do (their sum would be silently short).
-fn miner(
-    campaign: &str,
-    cases: &[Case],
-    column: usize,
-    name: &str,
-    years: f64,
-    groups: &[String],
-) -> Result<Option<MinerLife>, CampaignLifeError> {
+fn miner(w: &Weighed, column: usize, name: &str) -> Result<Option<MinerLife>, CampaignLifeError> {
+    let Weighed {
+        campaign,
+        cases,
+        groups,
+        years,
+        boot,
+    } = *w;
     let missing: Vec<&Case> = cases.iter().filter(|c| c.number(column).is_nan()).collect();
     if missing.len() == cases.len() {
         return Ok(None);
@@ -562,24 +707,22 @@ fn miner(
             names: names.join(", "),
         });
     }
-    let (damage, share) = sum_by_group(cases, groups, |c| {
+    let sum = sum_by_group(cases, groups, boot, |c| {
         c.weight * c.number(column) * c.analysed_s / SECONDS_PER_DAY
     });
+    let life = |damage: f64| if damage > 0.0 { years / damage } else { f64::INFINITY };
     Ok(Some(MinerLife {
-        damage,
-        life_years: if damage > 0.0 { years / damage } else { f64::INFINITY },
-        share,
+        damage: sum.total,
+        life_years: life(sum.total),
+        share: sum.share,
+        damage_ci: sum.total_ci,
+        life_years_ci: [life(sum.total_ci[1]), life(sum.total_ci[0])],
+        share_ci: sum.share_ci,
     }))
 }
 
 /// Every `gear.<tooth>.flank_day` / `.root_day`: teeth in table order, flank before root.
-fn gear_rows(
-    campaign: &str,
-    cases: &[Case],
-    columns: &[String],
-    years: f64,
-    groups: &[String],
-) -> Result<Vec<GearRow>, CampaignLifeError> {
+fn gear_rows(w: &Weighed, columns: &[String]) -> Result<Vec<GearRow>, CampaignLifeError> {
     let found: Vec<(&str, &'static str, usize)> = columns
         .iter()
         .enumerate()
@@ -606,7 +749,7 @@ fn gear_rows(
             let Some(&(_, _, column)) = found.iter().find(|f| f.0 == tooth && f.1 == kind) else {
                 continue;
             };
-            if let Some(life) = miner(campaign, cases, column, &columns[column], years, groups)? {
+            if let Some(life) = miner(w, column, &columns[column])? {
                 rows.push(GearRow {
                     tooth: tooth.into(),
                     kind,
@@ -619,13 +762,8 @@ fn gear_rows(
 }
 
 /// Every `bearing.<name>.day`, in table order, with its C_r and the thesis's count beside it.
-fn bearing_rows(
-    campaign: &str,
-    cases: &[Case],
-    columns: &[String],
-    years: f64,
-    groups: &[String],
-) -> Result<Vec<BearingRow>, CampaignLifeError> {
+fn bearing_rows(w: &Weighed, columns: &[String]) -> Result<Vec<BearingRow>, CampaignLifeError> {
+    let (campaign, cases) = (w.campaign, w.cases);
     let column_of = |bearing: &str, what: &str| columns.iter().position(|c| *c == format!("bearing.{bearing}.{what}"));
     let events_share = |life: &MinerLife| -> f64 {
         let events: Vec<&str> = cases
@@ -652,11 +790,11 @@ fn bearing_rows(
             Some(k) => rating(campaign, cases, bearing, k)?,
             None => f64::NAN,
         };
-        let Some(life) = miner(campaign, cases, i, c, years, groups)? else {
+        let Some(life) = miner(w, i, c)? else {
             continue;
         };
         let thesis = match column_of(bearing, "thesis_day") {
-            Some(k) => miner(campaign, cases, k, &columns[k], years, groups)?,
+            Some(k) => miner(w, k, &columns[k])?,
             None => None,
         };
         rows.push(BearingRow {
@@ -824,6 +962,29 @@ mod tests {
         let startup = by("startup-cut-in");
         assert_eq!((startup.versus, startup.ours, startup.thesis), ("start-up", 2.5, 1.43));
         assert_eq!(life.ratios.len(), 3);
+    }
+
+    /// The 10 m/s bin's two seeds drawn with replacement give three totals (both seeds the first, one of
+    /// each, both the second) with probabilities ¼, ½, ¼: the 2.5 and 97.5 % points are the extremes,
+    /// each seed counted twice. Bins of one seed and events are fixed and named.
+    #[test]
+    fn the_intervals_resample_each_bins_seeds() {
+        let life = compute(&table()).unwrap();
+        let (x1, x2) = (100.0 * 3600.0 * 0.5 * 64.0, 100.0 * 3600.0 * 0.5);
+        let row = &life.rows[0];
+        let rest = row.damage_sum - x1 - x2;
+        assert!(close(row.damage_sum_ci[0], rest + 2.0 * x2) && close(row.damage_sum_ci[1], rest + 2.0 * x1));
+        let del = |d: f64| (d / (0.5 * 2.0 * 8760.0 * 3600.0)).powf(1.0 / 6.0);
+        assert!(close(row.lifetime_del_ci[1], del(rest + 2.0 * x1)));
+        assert_eq!(
+            life.bootstrap.one_seed,
+            ["DLC 1.2 12 m/s", "shutdown-rated", "startup-cut-in"]
+        );
+        let b = &life.bearings[0].life;
+        assert!(b.damage_ci[0] < b.damage && b.damage < b.damage_ci[1]);
+        assert!(close(b.life_years_ci[0], 2.0 / b.damage_ci[1]));
+        let [lo, hi] = row.share_ci.0[0].1;
+        assert!(lo < row.share.get("DLC 1.2 10 m/s") && row.share.get("DLC 1.2 10 m/s") < hi);
     }
 
     #[test]
