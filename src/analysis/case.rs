@@ -125,6 +125,16 @@ pub enum Value {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Statistics(pub Vec<(String, Value)>);
 
+/// The line `windrive run --analyse` prints: a case's statistics, and the simulation's and the
+/// analysis's wall times, s. A struct, not `json!`: the row keeps its order (channels as the spec
+/// lists them, then teeth, bearings).
+#[derive(serde::Serialize)]
+pub struct Report<'a> {
+    pub statistics: &'a Statistics,
+    pub simulation_s: f64,
+    pub analysis_s: f64,
+}
+
 impl Statistics {
     fn number(&mut self, key: String, x: f64) {
         self.0.push((key, Value::Number(x)));

@@ -14,6 +14,7 @@ use crate::physics::gearbox::statics::equilibrium;
 use crate::physics::gearbox::{Description, Gearbox};
 use crate::solver::alpha::Alpha;
 use crate::solver::{Driver, DynState, Method, rk4};
+use std::fmt;
 use std::path::Path;
 use std::time::Instant;
 
@@ -101,6 +102,65 @@ pub struct VariantRow {
     pub reference_fewest_rollers: f64,
     /// RMS difference of the HSS torque from the reference's, % of its RMS.
     pub hss_rms_error: f64,
+}
+
+/// The head of the variants' table over `stop` s; each [`VariantRow`] renders as a row of it
+/// ([`VariantRow::row`]).
+pub fn variants_head(stop: f64) -> String {
+    format!(
+        "drivetrain D shutdown scene, {stop} s at 1 ms through the master (Gauss–Seidel); reference: 35 slices with \
+         lamina bearings at a 0.25 ms internal step with Newmark's average acceleration (no numerical damping); rows: the \
+         FMU's default HHT-α (ρ∞ = 0.8) at 1 ms unless named; baseline: torsional full fidelity\n\
+         {:<24} {:>9} {:>7} {:>11} {:>11} {:>11} {:>11} {:>9} {:>11} {:>11} {:>10}",
+        "variant",
+        "ms per s",
+        "× real",
+        "÷ torsional",
+        "sun-planet",
+        "gear-pinion",
+        "planet UW",
+        "min rollr",
+        "UW p_max",
+        "HSS p_H",
+        "HSS RMS"
+    )
+}
+
+/// The foot of the variants' table: the baseline's time `t_tor` s over `stop` s and the columns' meaning.
+pub fn variants_foot(stop: f64, t_tor: f64) -> String {
+    format!(
+        "torsional: {:.2} ms per simulated s ({:.0}× real time); columns: peak differences against the reference \
+         (min rollr: fewest rollers carrying planet 1's upwind bearing in normal operation, the reference's in \
+         brackets; linear bearings report none)\n",
+        t_tor / stop * 1e3,
+        stop / t_tor
+    )
+}
+
+/// A peak difference, %, with its sign.
+fn percent(x: f64) -> String {
+    format!("{x:+.2}%")
+}
+
+impl VariantRow {
+    /// The row of this variant over `stop` s, against the torsional baseline's `t_tor` s.
+    pub fn row(&self, stop: f64, t_tor: f64) -> String {
+        format!(
+            "{:<24} {:>9.1} {:>7.2} {:>11.0} {:>11} {:>11} {:>11} {:>4.0} ({:.0}) {:>11} {:>11} {:>9.3}%",
+            self.label,
+            self.wall_s / stop * 1e3,
+            stop / self.wall_s,
+            self.wall_s / t_tor,
+            percent(self.sun_planet),
+            percent(self.gear_pinion),
+            percent(self.planet_upwind),
+            self.fewest_rollers,
+            self.reference_fewest_rollers,
+            percent(self.upwind_pressure),
+            percent(self.hss_pressure),
+            self.hss_rms_error,
+        )
+    }
 }
 
 /// The recorded channels of both models, component left out (the torsional model has the first three).
@@ -196,6 +256,40 @@ pub struct PartLoadRow {
     pub speed_jitter: f64,
 }
 
+/// The head of the part-load table over `stop` s; each [`PartLoadRow`] renders as a row of it.
+pub fn part_load_head(stop: f64) -> String {
+    format!(
+        "part load: drivetrain C at 4 m/s (scenes/c-normal-6dof, c2mw), {stop} s, after {} s; reference: Newmark at 0.25 ms\n\
+         {:<24} {:>9} {:>12} {:>12} {:>14} {:>16}",
+        part_load_skipped_steps(stop) as f64 * 1e-3,
+        "integrator",
+        "ms per s",
+        "HSS T p99",
+        "HSS T max",
+        "IMS mesh max",
+        "gen speed jitter"
+    )
+}
+
+/// The foot of the part-load table: what its columns are.
+pub const PART_LOAD_FOOT: &str = "HSS T: HSS torque, N·m; IMS mesh: the first parallel stage's mesh force, N; gen speed \
+    jitter: RMS change of the generator's speed per millisecond, rad/s\n";
+
+impl PartLoadRow {
+    /// The row of this run over `stop` s.
+    pub fn row(&self, stop: f64) -> String {
+        format!(
+            "{:<24} {:>9.1} {:>12.0} {:>12.0} {:>14.0} {:>16.4}",
+            self.label,
+            self.wall_s / stop * 1e3,
+            self.hss_p99,
+            self.hss_max,
+            self.mesh_max,
+            self.speed_jitter,
+        )
+    }
+}
+
 /// Drivetrain C at cut-in wind (4 m/s, the rotor's torque under 1 % of rated) in the scene folder
 /// `dir` (scenes/c-normal-6dof): the teeth and the roller sets open and close. Newmark's rule keeps
 /// every mode's amplitude, so at 1 ms the contacts' stiff modes, which the step cannot resolve, ring
@@ -263,6 +357,37 @@ pub struct ExplicitImplicit {
     /// The physical limit: kflop per step and Mflop per simulated second.
     pub kflop_per_step: f64,
     pub mflop_per_s: f64,
+}
+
+/// The two paragraphs `windrive bench gearbox` ends with.
+impl fmt::Display for ExplicitImplicit {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        writeln!(
+            f,
+            "explicit against implicit (35 slices, linear bearings, rated torque, bare physics): the stiffest mode is {:.0} Hz, so RK4 \
+             needs h ≤ {:.2e} s: {:.0} ms per simulated s; Newmark at 1 ms: {:.1} ms per s ({:.0}× faster; the default step)",
+            self.omega_max / std::f64::consts::TAU,
+            self.rk4_limit_s,
+            self.rk4_ms_per_s,
+            self.implicit_ms_per_s,
+            self.rk4_ms_per_s / self.implicit_ms_per_s
+        )?;
+        writeln!(
+            f,
+            "work per implicit step: {:.2} Newton iterations, {:.3} factorisations; per iteration the contact \
+             sums cost ≈ {:.0} flops ({} slices) and the dense back-substitution {:.0} flops ({} DOFs); a \
+             factorisation {:.0} flops. Physical limit: ≈ {:.0} kflop per step, {:.1} Mflop per simulated s",
+            self.newton_per_step,
+            self.factorizations_per_step,
+            self.contact_flops,
+            self.slices,
+            self.solve_flops,
+            self.dofs,
+            self.factor_flops,
+            self.kflop_per_step,
+            self.mflop_per_s,
+        )
+    }
 }
 
 /// RK4 at its stability limit against the implicit 1 ms step (the default step; Newmark, which at

@@ -54,6 +54,27 @@ impl Compared {
     pub fn per_fmu_step_us(&self, seconds: f64) -> f64 {
         seconds / self.fmu_steps * 1e6
     }
+
+    /// The row of the scene `name` run with `algorithm`, under [`head`].
+    pub fn row(&self, name: &str, algorithm: Algorithm) -> String {
+        format!(
+            "{name:<18} {:<13} {:>5} {:>22.2} {:>20.2} {:>12.2} {:>7.2}×",
+            algorithm.name(),
+            self.fmus,
+            self.per_fmu_step_us(self.in_process_s),
+            self.per_fmu_step_us(self.isolated_s),
+            self.per_fmu_step_us(self.isolated_s - self.in_process_s),
+            self.isolated_s / self.in_process_s
+        )
+    }
+}
+
+/// The head of the table, a [`Compared::row`] per case.
+pub fn head() -> String {
+    format!(
+        "{:<18} {:<13} {:>5} {:>22} {:>20} {:>12} {:>8}",
+        "scene", "algorithm", "FMUs", "in-process µs/FMU-step", "isolated µs/FMU-step", "added µs", "ratio"
+    )
 }
 
 /// `scene` (named `name`) with `algorithm` over `stop` s (at most the scene's own stop time), both

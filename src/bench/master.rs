@@ -69,6 +69,17 @@ impl Overhead {
     pub fn per_fmu_step_us(&self, seconds: f64) -> f64 {
         seconds / (self.macro_steps as f64 * self.fmus) * 1e6
     }
+
+    /// The line `windrive bench master` prints for the scene named `scene`.
+    pub fn to_json(&self, scene: &str) -> serde_json::Value {
+        let per = |s: f64| self.per_fmu_step_us(s);
+        serde_json::json!({
+            "scene": scene, "fmus": self.fmus, "macro_steps": self.macro_steps, "step_s": self.step_s,
+            "master_s": self.master_s, "bare_fmi_loop_s": self.bare_fmi_loop_s,
+            "master_us_per_fmu_step": per(self.master_s), "bare_us_per_fmu_step": per(self.bare_fmi_loop_s),
+            "overhead_us_per_fmu_step": per(self.master_s - self.bare_fmi_loop_s),
+        })
+    }
 }
 
 pub fn run(scene: &Scene, steps: u64) -> anyhow::Result<Overhead> {

@@ -41,6 +41,17 @@ pub struct Counted {
     pub dels: Vec<f64>,
 }
 
+impl Counted {
+    /// The line `windrive bench rainflow` prints for a series of `samples` points (benches/rainflow.py
+    /// reads it).
+    pub fn to_json(&self, samples: usize) -> serde_json::Value {
+        let dels = &self.dels;
+        serde_json::json!({"samples": samples, "seconds": self.seconds, "cycles": self.cycles,
+            "sum_count_range": self.sum_count_range, "sum_count": self.sum_count,
+            "del": {"3": dels[0], "6": dels[1], "9": dels[2]}})
+    }
+}
+
 pub fn run(x: &[f64]) -> Counted {
     let mut best = f64::MAX;
     let mut result = (0usize, 0.0, 0.0, Vec::new());

@@ -4,6 +4,7 @@
 //! cached one), and the kind the automatic choice takes.
 
 use crate::solver::factor::{Kind, Solver, block_sparse};
+use std::fmt;
 
 /// Seconds per call of `f`, the best of three 0.1 s batches (the machine is shared).
 fn seconds_per_call(mut f: impl FnMut()) -> f64 {
@@ -34,6 +35,36 @@ pub struct Row {
     /// The automatic choice with the factorisation reused, and used once.
     pub chosen_reused: Kind,
     pub chosen_once: Kind,
+}
+
+/// The head of the table; each [`Row`] displays as one of its rows.
+pub fn head() -> String {
+    format!(
+        "block-sparse iteration matrices of 6-DOF bodies; times per call, ratios against dense LU (> 1: faster)\n\
+         {:>5} {:>6} {:>13} {:>10} {:>10} {:>12} {:>10} {:>10}  chosen (reused / once)",
+        "DOFs", "fill", "LU f+s / µs", "inverse", "sparse", "LU s / µs", "inverse", "sparse"
+    )
+}
+
+/// Times per call, and ratios against dense LU (> 1: faster).
+impl fmt::Display for Row {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        let (fs, s) = (&self.factor_solve, &self.solve);
+        write!(
+            f,
+            "{:>5} {:>5.1}% {:>13.1} {:>10.2} {:>10.2} {:>12.2} {:>10.2} {:>10.2}  {:?} / {:?}",
+            self.dofs,
+            self.fill_percent,
+            fs[0] * 1e6,
+            fs[0] / fs[1],
+            fs[0] / fs[2],
+            s[0] * 1e6,
+            s[0] / s[1],
+            s[0] / s[2],
+            self.chosen_reused,
+            self.chosen_once
+        )
+    }
 }
 
 /// Every size from 2 to 64 bodies; `row` after each.

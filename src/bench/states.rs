@@ -25,6 +25,24 @@ pub struct StateCost {
 }
 
 /// The state costs of the packed FMU at `path`, one step into a run.
+/// The head of the state-cost table; each [`StateCost`] renders as a row of it ([`StateCost::row`]).
+pub fn head() -> String {
+    format!(
+        "{:<12} {:>16} {:>15} {:>26} {:>21}",
+        "FMU", "serialised bytes", "get + free, µs", "update in place + set, µs", "serialise + load, µs"
+    )
+}
+
+impl StateCost {
+    /// The row of the FMU `name`.
+    pub fn row(&self, name: &str) -> String {
+        format!(
+            "{name:<12} {:>16} {:>15.3} {:>26.3} {:>21.1}",
+            self.bytes, self.take_us, self.roll_back_us, self.round_trip_us
+        )
+    }
+}
+
 pub fn state_cost(path: &Path) -> anyhow::Result<StateCost> {
     let fmu = Fmu::open(path)?;
     let mut inst = fmu.instantiate("bench", false)?;
@@ -109,6 +127,34 @@ pub struct Coupled {
     /// Iterative at input order 1 (the default) and 0.
     pub iterative: Timed,
     pub iterative_order_0: Timed,
+}
+
+impl Coupled {
+    /// What the runs of `scene` over `stop` s say, the paragraph `windrive bench states` ends with.
+    pub fn report(&self, scene: &str, stop: f64) -> String {
+        let (gs, gs1, it, it0) = (
+            self.gauss_seidel,
+            self.gauss_seidel_order_1,
+            self.iterative,
+            self.iterative_order_0,
+        );
+        let sweeps = it.sweeps_per_step();
+        format!(
+            "{scene}, {stop} s at 1 ms, best of 7 each:\n  gauss-seidel (order 0, the default; the baseline) {:.4} s\n  \
+             gauss-seidel with order-1 inputs                  {:.4} s\n  iterative (order 1, the default)                  {:.4} s, \
+             {sweeps:.2} sweeps per step\niterative / gauss-seidel: {:.2}× ({:.2}× per sweep); against gauss-seidel with the same \
+             order-1 inputs: {:.2}×\niterative with order-0 inputs: {:.4} s, {:.2} sweeps per step, {:.2}× gauss-seidel at the same order",
+            gs.wall_s,
+            gs1.wall_s,
+            it.wall_s,
+            it.wall_s / gs.wall_s,
+            it.wall_s / gs.wall_s / sweeps,
+            it.wall_s / gs1.wall_s,
+            it0.wall_s,
+            it0.sweeps_per_step(),
+            it0.wall_s / gs.wall_s,
+        )
+    }
 }
 
 /// The four runs of `scene` over `stop` s, alternating so that a busy machine slows all of them

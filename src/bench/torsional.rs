@@ -7,6 +7,7 @@
 use crate::analysis::signal::metrics::{peak_and_rms_errors as errors, trajectory_error};
 use crate::fmi2::host::import::Fmu;
 use crate::reference::step::{Scenario, rk4_step_limit, run_fmi, run_native};
+use std::fmt;
 
 /// What the FMU must reach: this many times real time, and the HSS torque's peak and RMS error
 /// within this fraction of the reference's.
@@ -46,6 +47,66 @@ impl Bench {
     /// Real time over wall time.
     pub fn real_time_factor(&self, t: &Timed) -> f64 {
         self.scenario.stop_time / t.wall_s
+    }
+}
+
+/// The table `windrive bench torsional` prints: the scenario and its reference, each run's speed and
+/// errors, the ratios between them and whether the targets are met.
+impl fmt::Display for Bench {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        let sc = &self.scenario;
+        writeln!(
+            f,
+            "Drivetrain {} full fidelity, rated-torque step, {} s at {} s communication steps ({} steps)",
+            sc.preset, sc.stop_time, sc.step, self.steps
+        )?;
+        writeln!(
+            f,
+            "reference: RK4 at {:.1} µs; against RK4 at {:.1} µs it differs by {:.1e} of its peak (trajectory)",
+            0.25 * self.rk4_limit * 1e6,
+            0.5 * self.rk4_limit * 1e6,
+            self.reference_check
+        )?;
+        writeln!(f)?;
+        writeln!(
+            f,
+            "{:<44} {:>12} {:>14} {:>12} {:>12}",
+            "run", "real time x", "steps/s", "peak error", "RMS error"
+        )?;
+        for (label, t) in [
+            ("FMU through FMI (implicit, default settings)".to_string(), &self.fmi),
+            ("same model, no FMI boundary".to_string(), &self.native),
+            (
+                format!("RK4 at 0.9 x stability limit ({:.1} µs)", 0.9 * self.rk4_limit * 1e6),
+                &self.rk4,
+            ),
+        ] {
+            writeln!(
+                f,
+                "{:<44} {:>12.0} {:>14.0} {:>12.2e} {:>12.2e}",
+                label,
+                self.real_time_factor(t),
+                self.steps / t.wall_s,
+                t.peak_error,
+                t.rms_error
+            )?;
+        }
+        let met = |yes: bool| if yes { "met" } else { "NOT met" };
+        writeln!(f)?;
+        writeln!(
+            f,
+            "ratios: FMI overhead {:.2}x the bare model; implicit {:.1}x faster than RK4; target >= {}x real time: {}",
+            self.fmi.wall_s / self.native.wall_s,
+            self.rk4.wall_s / self.fmi.wall_s,
+            REAL_TIME_TARGET,
+            met(self.real_time_factor(&self.fmi) >= REAL_TIME_TARGET)
+        )?;
+        writeln!(
+            f,
+            "accuracy target: HSS torque peak and RMS within {} % of the reference: {}",
+            ACCURACY_TARGET * 100.0,
+            met(self.fmi.peak_error <= ACCURACY_TARGET && self.fmi.rms_error <= ACCURACY_TARGET)
+        )
     }
 }
 
@@ -125,6 +186,27 @@ pub struct SweepPoint {
     pub wall_s: f64,
     /// Trajectory error of the HSS torque against the reference, relative to its peak.
     pub error: f64,
+}
+
+/// The head of the sweep's table; each [`SweepPoint`] displays as one of its rows.
+pub fn sweep_head() -> String {
+    format!(
+        "work-precision sweep (bare model, best of 3 per point)\n{:<10} {:>14} {:>12} {:>12}",
+        "integrator", "internal step", "CPU time / s", "max error"
+    )
+}
+
+impl fmt::Display for SweepPoint {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        write!(
+            f,
+            "{:<10} {:>11.1} µs {:>12.4} {:>12.2e}",
+            self.integrator,
+            self.step_s * 1e6,
+            self.wall_s,
+            self.error
+        )
+    }
 }
 
 /// The error of the HSS torque against CPU time for a sweep of internal steps of both integrators

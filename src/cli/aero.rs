@@ -6,9 +6,9 @@ use crate::physics::aero::AIR_DENSITY;
 use crate::physics::bem::BemRotor;
 use crate::physics::blade::Blade;
 use crate::physics::drivetrain::Drivetrain;
-use crate::physics::rotor::{Aerodynamics, preset_rotor, rated_wind_speed};
+use crate::physics::rotor::preset_rotor;
+use crate::studies::aero::{Sweep, rated_point, report};
 use anyhow::{Context, anyhow, bail};
-use serde_json::json;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -96,80 +96,25 @@ pub fn run(args: &AeroArgs) -> anyhow::Result<()> {
         (None, Some(p), Some(rpm)) => Some((p, rpm * std::f64::consts::PI / 30.0)),
         _ => None,
     };
-    let rated = match rated {
-        Some((power, speed)) => {
-            let aero = Aerodynamics::Bem(rotor.clone());
-            let v = rated_wind_speed(&aero, power, speed).map_err(|e| anyhow!(e))?;
-            let tsr = speed * radius / v;
-            Some(json!({
-                "power_w": power,
-                "rotor_speed_rpm": speed * 30.0 / std::f64::consts::PI,
-                "wind_m_s": v,
-                "tsr": tsr,
-                "cp": rotor.coefficients(tsr, 0.0, v).cp,
-                "pitch_deg": 0.0,
-            }))
-        }
-        None => None,
-    };
-
-    let mut points = Vec::new();
+    let rated = rated
+        .map(|(power, speed)| rated_point(&rotor, radius, power, speed))
+        .transpose()
+        .map_err(|e| anyhow!(e))?;
     for &pitch_deg in &args.pitch {
         for &tsr in &args.tsr {
             if !tsr.is_finite() || !pitch_deg.is_finite() {
                 bail!("--tsr and --pitch take finite numbers (got {tsr}, {pitch_deg})");
             }
-            let pitch = pitch_deg.to_radians();
-            let c = rotor.coefficients(tsr, pitch, args.wind);
-            let omega = tsr * args.wind / radius;
-            let loads = rotor.loads(args.wind, omega, pitch);
-            let mut point = json!({
-                "tsr": tsr,
-                "pitch_deg": pitch_deg,
-                "cp": c.cp,
-                "cq": c.cq,
-                "ct": c.ct,
-                "rotor_speed_rad_s": omega,
-                "torque_nm": loads.torque,
-                "thrust_n": loads.thrust,
-                "converged": loads.elements.iter().all(|e| e.converged),
-            });
-            if args.elements {
-                point["elements"] = serde_json::to_value(&loads.elements)?;
-            }
-            points.push(point);
         }
     }
-    let stations: Vec<_> = rotor
-        .stations
-        .iter()
-        .map(|s| {
-            json!({
-                "radius_m": s.radius,
-                "chord_m": s.chord,
-                "twist_deg": s.twist.to_degrees(),
-                "airfoil": rotor.blade.polars[s.airfoil].name,
-            })
-        })
-        .collect();
-    let out = json!({
-        "blade": reference.name,
-        "blade_dir": dir.display().to_string(),
-        "radius_m": radius,
-        "hub_radius_m": rotor.blade.hub_radius,
-        "blades": rotor.blade.blades,
-        "air_density_kg_m3": AIR_DENSITY,
-        "wind_m_s": args.wind,
-        "options": {
-            "tip_loss": rotor.options.tip_loss,
-            "hub_loss": rotor.options.hub_loss,
-            "wake_rotation": rotor.options.wake_rotation,
-            "use_cd": rotor.options.use_cd,
-        },
-        "stations": stations,
-        "rated": rated,
-        "points": points,
-    });
+    let sweep = Sweep {
+        tsr: &args.tsr,
+        pitch_deg: &args.pitch,
+        wind: args.wind,
+        elements: args.elements,
+    };
+    let dir_shown = dir.display().to_string();
+    let out = report(&reference.name, &dir_shown, &rotor, radius, rated, &sweep)?;
     println!("{}", serde_json::to_string_pretty(&out)?);
     Ok(())
 }

@@ -78,64 +78,6 @@ pub fn run(args: &GearboxArgs) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string_pretty(&r)?);
         return Ok(());
     }
-    println!(
-        "{}: static equilibrium at {:.0} kN·m rotor torque, {:.3} rad/s{}",
-        r.gearbox,
-        r.rotor_torque_nm / 1e3,
-        r.rotor_speed_rad_s,
-        r.load_sharing_factor
-            .map_or(String::new(), |k| format!(", K_γ = {k:.3}"))
-    );
-    println!(
-        "\n{:<14} {:>7} {:>10} {:>9} {:>10} {:>7} {:>9} {:>8} {:>8} {:>8} {:>7} {:>11} {:>11}",
-        "bearing",
-        "model",
-        "radial kN",
-        "axial kN",
-        "tilt kN·m",
-        "rollers",
-        "Q_max kN",
-        "p_i MPa",
-        "p_o MPa",
-        "τ MPa",
-        "z mm",
-        "k_r GN/m",
-        "linear GN/m"
-    );
-    for b in &r.bearings {
-        println!(
-            "{:<14} {:>7} {:>10.1} {:>9.1} {:>10.2} {:>7} {:>9.2} {:>8.0} {:>8.0} {:>8.0} {:>7.3} {:>11} {:>11.2}",
-            b.name,
-            b.model,
-            b.radial_n / 1e3,
-            b.axial_n / 1e3,
-            b.tilting_nm / 1e3,
-            b.rollers_in_contact,
-            b.max_roller_load_n / 1e3,
-            b.inner_race_pressure_pa / 1e6,
-            b.outer_race_pressure_pa / 1e6,
-            b.max_subsurface_shear_pa / 1e6,
-            b.max_shear_depth_m * 1e3,
-            b.radial_stiffness_n_per_m
-                .map_or("-".into(), |k| format!("{:.2}", k / 1e9)),
-            b.linear_radial_stiffness_n_per_m / 1e9
-        );
-    }
-    println!(
-        "\n{:<18} {:>10} {:>14} {:>7} {:>9} {:>8} {:>7}",
-        "mesh", "force kN", "max slice kN", "K_Hβ", "p_H MPa", "τ MPa", "z mm"
-    );
-    for m in &r.meshes {
-        println!(
-            "{:<18} {:>10.1} {:>14.2} {:>7.3} {:>9.0} {:>8.0} {:>7.3}",
-            m.name,
-            m.force_n / 1e3,
-            m.max_slice_load_n / 1e3,
-            m.face_load_factor,
-            m.contact_pressure_pa / 1e6,
-            m.max_subsurface_shear_pa / 1e6,
-            m.max_shear_depth_m * 1e3
-        );
-    }
+    print!("{r}");
     Ok(())
 }

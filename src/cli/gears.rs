@@ -1,7 +1,7 @@
 //! `windrive gears`: every gear tooth of a gearbox rated from one series (ISO 6336 stresses, load
 //! cycles from the speeds, two-slope S-N, Miner) through [`crate::analysis::rating::gear_set`].
 
-use crate::analysis::rating::gear_set::{ToothDamage, channels, fmu_mesh_force, gear_table, rate_series};
+use crate::analysis::rating::gear_set::{channels, fmu_mesh_force, gear_table, rate_series, table};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -44,40 +44,5 @@ pub fn run(args: &GearsArgs) -> anyhow::Result<()> {
     }
     let series = args.series.as_ref().expect("clap requires it without --channels");
     let rated = rate_series(series, &teeth, args.rating.transient)?;
-    super::rating::print_rated(&rated, args.rating.json, text)
-}
-
-fn text(rated: &[ToothDamage]) -> String {
-    let mut s = format!(
-        "{:<5} {:<42} {:>6} {:>6} {:>10} {:>10} {:>11} {:>12} {:>12}\n",
-        "tooth", "", "Y_F", "Y_S", "σ_H max", "σ_F max", "cycles", "D_flank/day", "D_root/day"
-    );
-    s.push_str(&format!(
-        "{:<5} {:<42} {:>6} {:>6} {:>10} {:>10} {:>11} {:>12} {:>12}\n",
-        "", "", "", "", "MPa", "MPa", "", "", ""
-    ));
-    let or_dash = |x: f64, f: &dyn Fn(f64) -> String| if x.is_nan() { "-".to_string() } else { f(x) };
-    // a stress of 0 is one the tooth is not rated for
-    let mpa = |x: f64| {
-        if x > 0.0 {
-            format!("{:.1}", x / 1e6)
-        } else {
-            "-".to_string()
-        }
-    };
-    for r in rated {
-        s.push_str(&format!(
-            "{:<5} {:<42} {:>6} {:>6} {:>10} {:>10} {:>11.4e} {:>12} {:>12}\n",
-            r.name,
-            r.description,
-            or_dash(r.y_f, &|x| format!("{x:.3}")),
-            or_dash(r.y_s, &|x| format!("{x:.3}")),
-            mpa(r.max_contact_stress),
-            mpa(r.max_root_stress),
-            r.load_cycles,
-            or_dash(r.flank_damage_per_day, &|x| format!("{x:.4e}")),
-            or_dash(r.root_damage_per_day, &|x| format!("{x:.4e}")),
-        ));
-    }
-    s
+    super::rating::print_rated(&rated, args.rating.json, table)
 }

@@ -42,26 +42,7 @@ fn run_gearbox(args: &ModesArgs, name: &str) -> anyhow::Result<()> {
     let g = Gearbox::new(&d).map_err(|e| anyhow!("{name}: {e}"))?;
     let m = gearbox_modes::modes(&g);
     if let Some(path) = &args.plot {
-        let mut clouds: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
-        for mode in m
-            .iter()
-            .filter(|x| x.frequency_hz > 0.0 && x.family != gearbox_modes::Family::Rigid)
-        {
-            let label = serde_json::to_value(mode.family)?.as_str().unwrap_or("").to_string();
-            let point = (mode.torsional_projection, mode.frequency_hz.log10());
-            match clouds.iter_mut().find(|(l, _)| *l == label) {
-                Some((_, pts)) => pts.push(point),
-                None => clouds.push((label, vec![point])),
-            }
-        }
-        crate::plot::scatter(
-            path,
-            &format!("{}: natural frequencies", d.name),
-            "torsional share of kinetic energy",
-            "log10(f / Hz)",
-            &clouds,
-        )
-        .with_context(|| format!("writing {}", path.display()))?;
+        crate::plot::gearbox_modes(path, &d.name, &m).with_context(|| format!("writing {}", path.display()))?;
     }
     if args.json {
         let frequencies: Vec<f64> = m.iter().map(|x| x.frequency_hz).collect();
@@ -77,21 +58,7 @@ fn run_gearbox(args: &ModesArgs, name: &str) -> anyhow::Result<()> {
         g.dofs(),
         g.gear_ratio
     );
-    println!(
-        "{:>4}  {:>12}  {:<14} {:>10}  dominant body",
-        "mode", "f / Hz", "family", "torsional"
-    );
-    for (i, x) in m.iter().enumerate() {
-        let family = serde_json::to_value(x.family)?.as_str().unwrap_or("").to_string();
-        println!(
-            "{:>4}  {:>12.4}  {:<14} {:>10.3}  {}",
-            i + 1,
-            x.frequency_hz,
-            family,
-            x.torsional_projection,
-            x.dominant_body
-        );
-    }
+    print!("{}", gearbox_modes::table(&m));
     if let Some(path) = &args.plot {
         println!("plot written to {}", path.display());
     }

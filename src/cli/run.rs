@@ -3,6 +3,7 @@
 use crate::analysis::case::CaseSpec;
 use crate::cosim::recorder::Recorder;
 use crate::cosim::settings::{Missing, Settings};
+use crate::cosim::summary::Summary;
 use crate::cosim::{Acceleration, Algorithm, Master, Record, Scene, System};
 use anyhow::{Context, anyhow, bail};
 use std::io::IsTerminal;
@@ -188,7 +189,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         Missing::Step => anyhow!("no step size: give --step (the scene and its FMUs declare none)"),
         Missing::StopTime => anyhow!("no stop time: give --stop-time (the scene and its FMUs declare none)"),
     })?;
-    let (step, stop) = (opts.step, opts.stop_time);
+    let stop = opts.stop_time;
 
     let analyse = args.analyse.as_deref().map(read_case_spec).transpose()?;
     let out = match (&args.out, &analyse) {
@@ -224,9 +225,10 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         Ok(())
     });
     let stats = master.stats.clone();
-    let final_time = stats.final_time;
     let flushed = match &result {
-        Ok(()) => recorder.finish(final_time, &mut system).map_err(anyhow::Error::from),
+        Ok(()) => recorder
+            .finish(stats.final_time, &mut system)
+            .map_err(anyhow::Error::from),
         Err(_) => recorder.flush().map_err(anyhow::Error::from),
     };
     if let Some(bar) = progress {
@@ -235,54 +237,18 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let elapsed = wall.elapsed().as_secs_f64();
     system.terminate();
     if !args.quiet || result.is_err() {
-        let simulated = final_time - t0;
-        eprintln!("scene       {} ({} components)", scene.name, system.units.len());
-        eprintln!(
-            "algorithm   {}, extrapolation order {}, step {} s{}",
-            opts.algorithm.name(),
-            opts.order,
-            step,
-            if opts.threads > 1 {
-                format!(", {} threads", opts.threads)
-            } else {
-                String::new()
-            }
-        );
-        eprintln!(
-            "simulated   {simulated} s of {} s in {elapsed:.3} s wall ({:.1}× real time)",
-            stop - t0,
-            simulated / elapsed.max(1e-12)
-        );
-        eprintln!(
-            "steps       {} accepted, {} rejected, {} sweeps{}{}",
-            stats.steps,
-            stats.rejected,
-            stats.sweeps,
-            if stats.unconverged > 0 {
-                format!(
-                    ", {} not converged in {} iterations",
-                    stats.unconverged, opts.max_iterations
-                )
-            } else {
-                String::new()
-            },
-            if opts.algorithm == Algorithm::Adaptive && stats.steps > 0 {
-                format!(", step {:.3e}–{:.3e} s", stats.min_step_taken, stats.max_step_taken)
-            } else {
-                String::new()
-            }
-        );
-        eprintln!(
-            "results     {} ({} rows × {} columns)",
-            shown(),
-            recorder.rows,
-            system.recorded.len() + 1
-        );
-        if stats.stopped_early {
-            eprintln!(
-                "warning: stopped at t = {final_time} s: the stop time is not a whole number of steps and an FMU cannot shorten its last step"
-            );
-        }
+        let summary = Summary {
+            scene: &scene.name,
+            components: system.units.len(),
+            opts: &opts,
+            stats: &stats,
+            start_time: t0,
+            wall_s: elapsed,
+            results: shown(),
+            rows: recorder.rows,
+            columns: system.recorded.len() + 1,
+        };
+        eprint!("{summary}");
     }
     flushed.with_context(|| format!("writing {}", shown()))?;
     if let Err(e) = result {
@@ -300,14 +266,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         let started = Instant::now();
         let statistics = crate::analysis::case::analyse(&series.time, &series.names, &series.columns, &spec)
             .map_err(|e| anyhow!("analysis: {e}"))?;
-        // a struct, not json!: the row keeps its order (channels as the spec lists them, then teeth, bearings)
-        #[derive(serde::Serialize)]
-        struct Report<'a> {
-            statistics: &'a crate::analysis::case::Statistics,
-            simulation_s: f64,
-            analysis_s: f64,
-        }
-        let report = Report {
+        let report = crate::analysis::case::Report {
             statistics: &statistics,
             simulation_s: elapsed,
             analysis_s: started.elapsed().as_secs_f64(),

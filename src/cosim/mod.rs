@@ -1,6 +1,7 @@
 //! The co-simulation master: SSP scenes (`ssp`), made runnable and checked (`system`), stepped by
 //! an algorithm (`master`) with the options a run's settings and its scene give (`settings`),
-//! recorded to CSV (`recorder`); where each algorithm is stable in theory (`stability`).
+//! recorded to CSV (`recorder`) and summed up when it ends (`summary`); where each algorithm is stable
+//! in theory (`stability`).
 
 pub mod acceleration;
 mod checks;
@@ -11,6 +12,7 @@ pub mod recorder;
 pub mod settings;
 pub mod ssp;
 pub mod stability;
+pub mod summary;
 pub mod system;
 pub mod unit;
 pub mod xml;

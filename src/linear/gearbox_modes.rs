@@ -18,6 +18,19 @@ pub enum Family {
     AxialTilting,
 }
 
+impl Family {
+    /// Its name, as it serialises.
+    pub fn name(self) -> &'static str {
+        match self {
+            Family::Rigid => "rigid",
+            Family::Rotational => "rotational",
+            Family::Translational => "translational",
+            Family::Planet => "planet",
+            Family::AxialTilting => "axial-tilting",
+        }
+    }
+}
+
 #[derive(Debug, Clone, Serialize)]
 pub struct GearMode {
     pub frequency_hz: f64,
@@ -26,6 +39,26 @@ pub struct GearMode {
     pub torsional_projection: f64,
     /// Body holding the largest share of the kinetic energy.
     pub dominant_body: String,
+}
+
+/// The modes as `windrive modes --gearbox` lists them: number, frequency, family, torsional share and
+/// dominant body, a row each.
+pub fn table(m: &[GearMode]) -> String {
+    let mut s = format!(
+        "{:>4}  {:>12}  {:<14} {:>10}  dominant body\n",
+        "mode", "f / Hz", "family", "torsional"
+    );
+    for (i, x) in m.iter().enumerate() {
+        s += &format!(
+            "{:>4}  {:>12.4}  {:<14} {:>10.3}  {}\n",
+            i + 1,
+            x.frequency_hz,
+            x.family.name(),
+            x.torsional_projection,
+            x.dominant_body
+        );
+    }
+    s
 }
 
 /// Every mode, lowest first.

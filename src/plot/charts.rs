@@ -3,6 +3,7 @@
 //! generic line, scatter and heat-map charts are in the parent module.
 
 use super::{Series, lines_named, register_font};
+use crate::linear::gearbox_modes::{Family, GearMode};
 use crate::linear::modes::Modes;
 use anyhow::{Context, anyhow};
 use plotters::prelude::*;
@@ -40,6 +41,27 @@ pub fn mode_shapes(path: &Path, title: &str, m: &Modes) -> anyhow::Result<()> {
         Some(&m.dof_names),
     )
     .context("mode-shape plot")
+}
+
+/// A gearbox's modes: frequency (log10) against torsional share of kinetic energy, a cloud per family,
+/// the rigid modes left out.
+pub fn gearbox_modes(path: &Path, gearbox: &str, m: &[GearMode]) -> anyhow::Result<()> {
+    let mut clouds: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    for mode in m.iter().filter(|x| x.frequency_hz > 0.0 && x.family != Family::Rigid) {
+        let label = mode.family.name().to_string();
+        let point = (mode.torsional_projection, mode.frequency_hz.log10());
+        match clouds.iter_mut().find(|(l, _)| *l == label) {
+            Some((_, pts)) => pts.push(point),
+            None => clouds.push((label, vec![point])),
+        }
+    }
+    super::scatter(
+        path,
+        &format!("{gearbox}: natural frequencies"),
+        "torsional share of kinetic energy",
+        "log10(f / Hz)",
+        &clouds,
+    )
 }
 
 /// Campbell diagram: natural frequencies (horizontal), excitation orders (rays from the origin),

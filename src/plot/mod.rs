@@ -43,7 +43,9 @@ macro_rules! on_backend {
 
 // after the macro: the charts draw through it
 mod charts;
-pub use charts::{StabilityPanel, campbell, mode_shapes, stability_panels, work_precision, write_stability_map};
+pub use charts::{
+    StabilityPanel, campbell, gearbox_modes, mode_shapes, stability_panels, work_precision, write_stability_map,
+};
 
 /// Writes `table` to STEM.csv and a chart to STEM.png and STEM.svg by `draw(path)`, and says where.
 pub fn write_chart_and_table(

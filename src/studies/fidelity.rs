@@ -12,6 +12,7 @@ use crate::linear::modes::{Boundary, modes};
 use crate::physics::drivetrain::Drivetrain;
 use crate::physics::torsional::{Fidelity, ModelOptions, TorsionalModel};
 use anyhow::{anyhow, bail};
+use std::fmt::{self, Write as _};
 
 /// A rung of the ladder: its name and the parameters that make it.
 pub struct Level {
@@ -148,6 +149,147 @@ impl Modal {
         (0..kept)
             .map(|i| (modes[i] - full[i]).abs() / full[i])
             .fold(0.0, f64::max)
+    }
+}
+
+/// The measured ladder as `windrive fidelity --json` prints it: the recommended level, each level's CPU
+/// time and errors, and with `modal` the band and each fidelity's modes.
+pub fn to_json(
+    study: &Study,
+    levels: &[Level],
+    measured: &[Measured],
+    recommended: Option<&str>,
+    modal: Option<&Modal>,
+) -> serde_json::Value {
+    let qs = &study.quantities;
+    let levels_json: Vec<serde_json::Value> = levels
+        .iter()
+        .zip(measured)
+        .map(|(l, m)| {
+            serde_json::json!({
+                "name": l.name,
+                "cpu_s": m.cpu_s,
+                "error": m.worst(),
+                "error_in_tolerances": m.worst_in_tolerances(qs),
+                "within_tolerance": m.within(qs),
+                "errors": qs.iter().zip(&m.errors).map(|(q, e)| serde_json::json!({"quantity": q.name, "error": e, "tolerance": q.tolerance})).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    let mut out = serde_json::json!({ "recommended": recommended, "levels": levels_json, "reference_step_s": study.reference.step });
+    if let Some(modal) = modal {
+        out["excitation_band_hz"] = serde_json::json!(modal.band_hz);
+        out["excitation_inputs"] = serde_json::json!(modal.inputs);
+        out["preset"] = serde_json::json!(modal.preset);
+        out["modes_hz"] = serde_json::json!(
+            modal
+                .modes
+                .iter()
+                .map(|(n, f)| (n.to_string(), f.clone()))
+                .collect::<std::collections::BTreeMap<_, _>>()
+        );
+    }
+    out
+}
+
+/// The measured ladder as `windrive fidelity` prints it: a row per level (CPU time, largest error,
+/// within tolerance, the quantity nearest its tolerance), then the recommendation.
+pub fn table(study: &Study, levels: &[Level], measured: &[Measured], recommended: Option<&str>) -> String {
+    let qs = &study.quantities;
+    let mut s = format!(
+        "\n{:<40} {:>9} {:>14} {:>12}  worst quantity\n",
+        "level", "CPU [s]", "max rel err", "within tol"
+    );
+    for (l, m) in levels.iter().zip(measured) {
+        let worst = m
+            .errors
+            .iter()
+            .zip(qs)
+            .max_by(|a, b| (a.0 / a.1.tolerance).total_cmp(&(b.0 / b.1.tolerance)))
+            .map(|(e, q)| format!("{} ({:.2} % of {:.1} %)", q.name, e * 100.0, q.tolerance * 100.0))
+            .unwrap_or_default();
+        let _ = writeln!(
+            s,
+            "{:<40} {:>9.3} {:>14.3e} {:>12}  {worst}",
+            l.name,
+            m.cpu_s,
+            m.worst(),
+            if m.within(qs) { "yes" } else { "no" }
+        );
+    }
+    let _ = match recommended {
+        Some(r) => writeln!(
+            s,
+            "\nrecommended: {r} (the cheapest level with every quantity within its tolerance; levels within {:.0} % of its CPU time count as as cheap, the most accurate of them wins)",
+            SAME_COST * 100.0
+        ),
+        None => writeln!(
+            s,
+            "\nno level is within every tolerance at the scene's macro step: refine the step or widen the tolerances"
+        ),
+    };
+    s
+}
+
+/// The modal reasoning as `windrive fidelity` prints it: the band, each fidelity's modes and how
+/// many lie inside it, what each reduced model keeps, and what modes cannot tell.
+impl fmt::Display for Modal {
+    fn fmt(&self, out: &mut fmt::Formatter) -> fmt::Result {
+        let band = self.band_hz;
+        writeln!(
+            out,
+            "\nexcitation: 99 % of the spectral energy of {} lies below {band:.2} Hz",
+            self.inputs.join(" and ")
+        )?;
+        writeln!(
+            out,
+            "free-free modes of drivetrain {} [Hz] (rigid mode left out):",
+            self.preset
+        )?;
+        let full = self.full();
+        for (name, f) in &self.modes {
+            let shown: Vec<String> = f.iter().take(6).map(|x| format!("{x:.2}")).collect();
+            writeln!(
+                out,
+                "  {name:<16} {}{}   ({} inside the band)",
+                shown.join(", "),
+                if f.len() > 6 { ", ..." } else { "" },
+                self.inside(f)
+            )?;
+        }
+        let inside_full = self.inside(full);
+        if inside_full == 0 {
+            writeln!(
+                out,
+                "  no elastic mode lies inside the band: the drivetrain follows these inputs quasi-statically, and every level \
+                 keeps the first mode ({:.2} Hz in the full model) within {:.1} %",
+                full[0],
+                self.first_mode_spread() * 100.0
+            )?;
+        }
+        for (name, f) in &self.modes[..self.modes.len() - 1] {
+            let kept = f.len().min(inside_full);
+            if inside_full > 0 && kept == inside_full {
+                writeln!(
+                    out,
+                    "  {name}: keeps every full-model mode inside the band ({inside_full}) within {:.1} %; condenses the {} above it",
+                    self.kept_error(f, kept) * 100.0,
+                    full.len() - inside_full
+                )?;
+            } else if inside_full > 0 {
+                writeln!(
+                    out,
+                    "  {name}: has {} elastic modes, the band holds {inside_full} of the full model's: it cannot follow the rest",
+                    f.len()
+                )?;
+            }
+        }
+        writeln!(
+            out,
+            "  what modes cannot tell: the transients (brake engagement, lock, mesh reversal) ring modes far above the band, \
+             and a lumped model's HSS torque is its one shaft's torque over the gear ratio, carrying the gear stages' inertia \
+             that the real HSS does not: the errors above say whether that matters for the scene's quantities"
+        )
     }
 }
 

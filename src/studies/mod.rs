@@ -21,6 +21,8 @@
 //! The studies that report with `anyhow` errors or run the master come with the `cli` feature, as
 //! those do.
 
+#[cfg(feature = "cli")]
+pub mod aero;
 pub mod calibration;
 #[cfg(feature = "cli")]
 pub mod fidelity;

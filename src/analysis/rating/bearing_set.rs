@@ -28,6 +28,15 @@ pub enum RollerKind {
 }
 
 impl RollerKind {
+    /// Its name, as it serialises.
+    pub fn name(self) -> &'static str {
+        match self {
+            RollerKind::Cylindrical => "cylindrical",
+            RollerKind::Tapered => "tapered",
+            RollerKind::Spherical => "spherical",
+        }
+    }
+
     pub fn of(r: &Rollers) -> RollerKind {
         match (r.contact, r.contact_angle_deg) {
             (Contact::Point, _) => RollerKind::Spherical,
@@ -358,6 +367,42 @@ impl BearingTable {
         let speed = columns[2].iter().map(|w| w * b.speed_ratio).collect();
         Ok(BearingSeries { t, load, speed })
     }
+}
+
+/// The table `windrive bearings` prints: a row per rated bearing (type, rating, loads, revolutions,
+/// damage per day, L10 life and the thesis's count beside it).
+pub fn table(rated: &[BearingDamage]) -> String {
+    let mut s = format!(
+        "{:<14} {:<12} {:>3} {:>6} {:>8} {:>8} {:>9} {:>9} {:>11} {:>11} {:>11} {:>11}\n",
+        "bearing", "type", "Z", "α", "C_r", "n/n_rot", "P_eq", "P_max", "revolutions", "D/day", "L10h", "thesis/day"
+    );
+    s.push_str(&format!(
+        "{:<14} {:<12} {:>3} {:>6} {:>8} {:>8} {:>9} {:>9} {:>11} {:>11} {:>11} {:>11}\n",
+        "", "", "", "deg", "kN", "", "kN", "kN", "", "", "h", ""
+    ));
+    for r in rated {
+        let rows = if r.rows > 1 {
+            format!("{}×", r.rows)
+        } else {
+            String::new()
+        };
+        s.push_str(&format!(
+            "{:<14} {:<12} {:>3} {:>6.1} {:>8.0} {:>8.3} {:>9.1} {:>9.1} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e}\n",
+            r.name,
+            format!("{rows}{}", r.kind.name()),
+            r.rollers,
+            r.contact_angle_deg,
+            r.dynamic_load_rating / 1e3,
+            r.speed_ratio,
+            r.equivalent_load / 1e3,
+            r.max_equivalent_load / 1e3,
+            r.revolutions,
+            r.damage_per_day,
+            r.life_hours,
+            r.thesis_damage_per_day,
+        ));
+    }
+    s
 }
 
 #[cfg(test)]
