@@ -2,9 +2,8 @@
 //! design life and the IEC normal turbulence model's intensity ([`WindDistribution::dlc_bins`]). The
 //! campaign driver expands its DLC 1.2 cases from this output.
 
-use crate::analysis::fatigue::lifetime::HOURS_PER_YEAR;
-use crate::analysis::fatigue::operating_hours::{WindBin, WindDistribution};
-use crate::physics::turbulence::{TurbulenceModel, class_reference_intensity, iec_sigma};
+use crate::analysis::fatigue::operating_hours::WindDistribution;
+use crate::physics::turbulence::class_reference_intensity;
 use anyhow::bail;
 
 #[derive(clap::Args)]
@@ -45,15 +44,6 @@ pub struct ClimateArgs {
     pub json: bool,
 }
 
-#[derive(serde::Serialize)]
-struct Row {
-    #[serde(flatten)]
-    bin: WindBin,
-    hours: f64,
-    /// σ1 / V_hub of the IEC normal turbulence model at the bin's speed.
-    ntm_turbulence_intensity: f64,
-}
-
 pub fn run(args: &ClimateArgs) -> anyhow::Result<()> {
     let positive = |x: f64| x.is_finite() && x > 0.0;
     let wind = match (&args.weibull, args.rayleigh) {
@@ -82,15 +72,7 @@ pub fn run(args: &ClimateArgs) -> anyhow::Result<()> {
     let Some(i_ref) = class_reference_intensity(&args.class) else {
         bail!("--class {:?}: use A, B or C", args.class);
     };
-    let rows: Vec<Row> = wind
-        .dlc_bins(args.cut_in, args.cut_out, args.bin_width)
-        .into_iter()
-        .map(|bin| Row {
-            hours: bin.probability * HOURS_PER_YEAR * args.years,
-            ntm_turbulence_intensity: iec_sigma(TurbulenceModel::Ntm, bin.speed, i_ref, 50.0) / bin.speed,
-            bin,
-        })
-        .collect();
+    let rows = wind.dlc12_bins(args.cut_in, args.cut_out, args.bin_width, args.years, i_ref);
     if args.json {
         println!("{}", serde_json::to_string_pretty(&rows)?);
         return Ok(());

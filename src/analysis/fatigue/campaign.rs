@@ -17,7 +17,7 @@
 //!
 //! D is a damage sum in load^m × cycles, not a Miner damage: no S-N curve is attached to a channel here.
 
-use super::lifetime::HOURS_PER_YEAR;
+use super::operating_hours::HOURS_PER_YEAR;
 use crate::physics::turbulence::SplitMix;
 use serde::ser::{SerializeMap, Serializer};
 use serde::{Deserialize, Serialize};

@@ -7,7 +7,7 @@
 
 use crate::analysis::fatigue::damage;
 use crate::analysis::fatigue::ldd;
-use crate::analysis::fatigue::operating_hours::{WindDistribution, time_factor};
+use crate::analysis::fatigue::operating_hours::{HOURS_PER_YEAR, WindDistribution, time_factor};
 use crate::analysis::fatigue::rainflow;
 use crate::analysis::fatigue::sn_curve;
 use crate::analysis::rating::gear::{self, Factors, GearPair, MeshForce, Tooth, ToothStress};
@@ -16,8 +16,6 @@ use crate::analysis::rating::tooth_root::{BasicRack, LoadPoint, root_form};
 use crate::analysis::signal::series::{self, SeriesError};
 use serde::Serialize;
 use std::path::Path;
-
-pub const HOURS_PER_YEAR: f64 = 8760.0;
 
 #[derive(Debug, thiserror::Error)]
 pub enum LifeError {

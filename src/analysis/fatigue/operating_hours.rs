@@ -1,6 +1,11 @@
 //! Operating hours per wind-speed bin from a Weibull or Rayleigh distribution, and the time factor
 //! that scales a simulated load case to those hours (thesis Ch. 5.4 and 7.2.4).
 
+use crate::physics::turbulence::{TurbulenceModel, iec_sigma};
+
+/// Hours a year, as thesis Table 7.1 counts them.
+pub const HOURS_PER_YEAR: f64 = 8760.0;
+
 /// A long-term distribution of the hub-height mean wind speed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum WindDistribution {
@@ -41,7 +46,30 @@ pub struct WindBin {
     pub probability: f64,
 }
 
+/// A DLC 1.2 bin as a campaign weighs it: its hours in the design life and the IEC normal turbulence
+/// model's intensity σ1 / V_hub at its speed.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Dlc12Bin {
+    #[serde(flatten)]
+    pub bin: WindBin,
+    pub hours: f64,
+    pub ntm_turbulence_intensity: f64,
+}
+
 impl WindDistribution {
+    /// [`Self::dlc_bins`] with each bin's hours over `years` (8760 h a year) and the NTM intensity of the
+    /// IEC turbulence class with reference intensity `i_ref` (A 0.16, B 0.14, C 0.12).
+    pub fn dlc12_bins(&self, cut_in: f64, cut_out: f64, width: f64, years: f64, i_ref: f64) -> Vec<Dlc12Bin> {
+        self.dlc_bins(cut_in, cut_out, width)
+            .into_iter()
+            .map(|bin| Dlc12Bin {
+                hours: bin.probability * HOURS_PER_YEAR * years,
+                ntm_turbulence_intensity: iec_sigma(TurbulenceModel::Ntm, bin.speed, i_ref, 50.0) / bin.speed,
+                bin,
+            })
+            .collect()
+    }
+
     /// The DLC 1.2 bins of a campaign: speeds cut_in, cut_in + w, cut_in + 2w, … (w = `width`); bin j
     /// covers [v_j − w/2, v_j + w/2] clipped to [cut_in, cut_out], so the bins tile cut-in to cut-out
     /// and their probabilities add up to F(cut_out) − F(cut_in). A last bin cut short by cut_out is
