@@ -326,9 +326,11 @@ impl Params {
                     Some(_) if ti > 0.0 => ti * mean_wind,
                     Some(m) => iec_sigma(m, mean_wind, i_ref, 50.0),
                 };
-                // a day at 0.05 s is 1.7 million samples; beyond it the series would only cost memory
-                if !(0.0..=86_400.0).contains(&self.turbulence_period) {
-                    let why = "must be 0 to 86 400 s (0 = 3276.8 s)";
+                // a day at 0.05 s is 1.7 million samples, beyond it the series would only cost memory; below
+                // a second there is no turbulence to speak of, and the spacing would shrink without end
+                let period = self.turbulence_period;
+                if !(period == 0.0 || (1.0..=86_400.0).contains(&period)) {
+                    let why = "must be 0 (3276.8 s) or 1 to 86 400 s";
                     return Err(ParameterError::invalid("turbulence_period", &self.turbulence_period, why).into());
                 }
                 let turbulence = (sigma > 0.0).then(|| {

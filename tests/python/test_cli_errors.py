@@ -126,6 +126,8 @@ def one_fmu_scene(tmp_path, name):
     ("rotor", ["blade=no-such-blade"], ["no-such-blade/blade.csv"]),
     ("rotor", ["scale_blade_to_radius=false", "radius=40"], ["radius = 40 m", "scale_blade_to_radius = false", "tip radius 35 m"]),
     ("rotor", ["initial_pitch=2"], ["initial_pitch = 2", "pitch_max"]),
+    ("rotor", ["turbulence=ntm", "turbulence_period=0.5"], ["turbulence_period = 0.5", "0 (3276.8 s) or 1 to 86 400 s"]),
+    ("rotor", ["turbulence=ntm", "turbulence_period=1e6"], ["turbulence_period = 1000000", "above its maximum 86400"]),
 ])
 def test_bad_fmu_parameters_are_named(windrive, tmp_path, fmu, params, words):
     scene = one_fmu_scene(tmp_path, fmu)
