@@ -524,8 +524,14 @@ pub fn compute(table: &CampaignTable) -> Result<CampaignLife, CampaignLifeError>
         ldd,
         ratios,
         used: cases.len(),
-        operating_hours: cases.iter().filter(|c| c.group == "dlc12").map(|c| c.hours).sum(),
-        events: cases.iter().filter(|c| c.group == "event").map(|c| c.weight).sum(),
+        operating_hours: cases
+            .iter()
+            .filter(|c| c.group == "dlc12")
+            .fold(0.0, |sum, c| sum + c.hours),
+        events: cases
+            .iter()
+            .filter(|c| c.group == "event")
+            .fold(0.0, |sum, c| sum + c.weight),
         left_out,
         gears,
         bearings,
