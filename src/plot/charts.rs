@@ -199,14 +199,10 @@ pub fn work_precision(
     front: &[(f64, f64)],
     tolerance: Option<f64>,
 ) -> anyhow::Result<()> {
-    let series: Vec<Series> = lines
-        .iter()
-        .map(|(label, points)| Series {
-            label: label.clone(),
-            points,
-        })
-        .collect();
-    on_backend!(path, draw_work_precision(title, &series, front, tolerance))
+    on_backend!(
+        path,
+        draw_work_precision(title, &super::labelled(lines), front, tolerance)
+    )
 }
 
 fn draw_work_precision<DB: DrawingBackend>(

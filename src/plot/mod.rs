@@ -93,14 +93,18 @@ pub fn named_lines(
     lines: &[(String, Vec<(f64, f64)>)],
     markers: &[(f64, String)],
 ) -> anyhow::Result<()> {
-    let series: Vec<Series> = lines
+    self::lines(path, title, x_label, y_label, &labelled(lines), markers)
+}
+
+/// (label, points) pairs as the series the charts draw.
+pub(crate) fn labelled(lines: &[(String, Vec<(f64, f64)>)]) -> Vec<Series<'_>> {
+    lines
         .iter()
         .map(|(label, points)| Series {
             label: label.clone(),
             points,
         })
-        .collect();
-    self::lines(path, title, x_label, y_label, &series, markers)
+        .collect()
 }
 
 /// As [`lines`], with category names for integer x positions.
