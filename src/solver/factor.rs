@@ -233,8 +233,10 @@ pub fn padded(n: usize) -> usize {
 
 /// y += Σ A_k·x_k for column-major blocks A_k whose columns have y.len() rows (a multiple of
 /// LANES): every column of every block is accumulated into registers holding all of y at once
-/// (register blocking), so y is loaded and stored once per step. On x86_64 this uses SSE2, part of
-/// the x86_64 baseline, so the FMU still runs on every x86_64 CPU; elsewhere it is plain Rust.
+/// (register blocking), so y is loaded and stored once per step. On x86_64 this uses AVX where the CPU
+/// has it (checked at run time; four rows per register) and SSE2 otherwise (part of the x86_64
+/// baseline, so the FMU still runs on every x86_64 CPU); elsewhere it is plain Rust. Every path adds
+/// the same products in the same order without fused multiply–adds: the result is the same to the bit.
 pub fn axpy_columns<const B: usize>(blocks: [(&[f64], &[f64]); B], y: &mut [f64]) {
     let rows = y.len();
     assert!(rows.is_multiple_of(LANES));
@@ -244,19 +246,31 @@ pub fn axpy_columns<const B: usize>(blocks: [(&[f64], &[f64]); B], y: &mut [f64]
     #[cfg(target_arch = "x86_64")]
     {
         // SAFETY (all arms): the asserts above guarantee every block holds rows × x.len() values and
-        // y holds rows values; the kernel reads and writes exactly those.
-        match rows / 2 {
-            1 => return unsafe { sse2_kernel::<1, B>(blocks, y) },
-            2 => return unsafe { sse2_kernel::<2, B>(blocks, y) },
-            3 => return unsafe { sse2_kernel::<3, B>(blocks, y) },
-            4 => return unsafe { sse2_kernel::<4, B>(blocks, y) },
-            5 => return unsafe { sse2_kernel::<5, B>(blocks, y) },
-            6 => return unsafe { sse2_kernel::<6, B>(blocks, y) },
-            7 => return unsafe { sse2_kernel::<7, B>(blocks, y) },
-            8 => return unsafe { sse2_kernel::<8, B>(blocks, y) },
-            _ => {}
+        // y holds rows values; the kernels read and write exactly those, and the AVX kernels run only
+        // on a CPU that has AVX.
+        if std::arch::is_x86_feature_detected!("avx") {
+            match rows / 2 {
+                1 => return unsafe { avx_kernel::<0, 1, B>(blocks, y) },
+                2 => return unsafe { avx_kernel::<1, 0, B>(blocks, y) },
+                3 => return unsafe { avx_kernel::<1, 1, B>(blocks, y) },
+                4 => return unsafe { avx_kernel::<2, 0, B>(blocks, y) },
+                5 => return unsafe { avx_kernel::<2, 1, B>(blocks, y) },
+                6 => return unsafe { avx_kernel::<3, 0, B>(blocks, y) },
+                7 => return unsafe { avx_kernel::<3, 1, B>(blocks, y) },
+                8 => return unsafe { avx_kernel::<4, 0, B>(blocks, y) },
+                _ => {}
+            }
+        }
+        if let Some(()) = sse2_axpy(blocks, y) {
+            return;
         }
     }
+    plain_axpy(blocks, y)
+}
+
+/// `axpy_columns` in plain Rust: the order of operations every kernel keeps.
+fn plain_axpy<const B: usize>(blocks: [(&[f64], &[f64]); B], y: &mut [f64]) {
+    let rows = y.len();
     for (a, x) in blocks {
         for (column, &s) in a.chunks_exact(rows).zip(x) {
             for (yi, ai) in y.iter_mut().zip(column) {
@@ -264,6 +278,29 @@ pub fn axpy_columns<const B: usize>(blocks: [(&[f64], &[f64]); B], y: &mut [f64]
             }
         }
     }
+}
+
+/// `axpy_columns` with SSE2 for up to 16 rows; None (nothing done) for more.
+#[cfg(target_arch = "x86_64")]
+fn sse2_axpy<const B: usize>(blocks: [(&[f64], &[f64]); B], y: &mut [f64]) -> Option<()> {
+    let rows = y.len();
+    assert!(rows.is_multiple_of(LANES));
+    for (a, x) in blocks {
+        assert_eq!(a.len(), rows * x.len());
+    }
+    // SAFETY (all arms): checked just above, as in axpy_columns.
+    match rows / 2 {
+        1 => unsafe { sse2_kernel::<1, B>(blocks, y) },
+        2 => unsafe { sse2_kernel::<2, B>(blocks, y) },
+        3 => unsafe { sse2_kernel::<3, B>(blocks, y) },
+        4 => unsafe { sse2_kernel::<4, B>(blocks, y) },
+        5 => unsafe { sse2_kernel::<5, B>(blocks, y) },
+        6 => unsafe { sse2_kernel::<6, B>(blocks, y) },
+        7 => unsafe { sse2_kernel::<7, B>(blocks, y) },
+        8 => unsafe { sse2_kernel::<8, B>(blocks, y) },
+        _ => return None,
+    }
+    Some(())
 }
 
 /// `axpy_columns` for 2·P rows held in P SSE2 registers.
@@ -288,6 +325,45 @@ unsafe fn sse2_kernel<const P: usize, const B: usize>(blocks: [(&[f64], &[f64]);
         }
         for (k, r) in acc.iter().enumerate() {
             _mm_storeu_pd(out.add(2 * k), *r);
+        }
+    }
+}
+
+/// `axpy_columns` for 4·Q + 2·R rows (R = 0 or 1) held in Q AVX registers and R SSE register: half
+/// the multiplies and adds of the SSE2 kernel for the same products.
+///
+/// # Safety
+/// The CPU has AVX; `y` has 4·Q + 2·R entries and every block's matrix has that many × x.len() entries.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+unsafe fn avx_kernel<const Q: usize, const R: usize, const B: usize>(blocks: [(&[f64], &[f64]); B], y: &mut [f64]) {
+    use std::arch::x86_64::{
+        __m128d, __m256d, _mm_add_pd, _mm_loadu_pd, _mm_mul_pd, _mm_set1_pd, _mm_storeu_pd, _mm256_add_pd,
+        _mm256_loadu_pd, _mm256_mul_pd, _mm256_set1_pd, _mm256_storeu_pd,
+    };
+    unsafe {
+        let out = y.as_mut_ptr();
+        let rows = 4 * Q + 2 * R;
+        let mut acc: [__m256d; Q] = std::array::from_fn(|k| _mm256_loadu_pd(out.add(4 * k)));
+        let mut tail: [__m128d; R] = std::array::from_fn(|_| _mm_loadu_pd(out.add(4 * Q)));
+        for (a, x) in blocks {
+            let mut column = a.as_ptr();
+            for &s in x {
+                let sv = _mm256_set1_pd(s);
+                for (k, r) in acc.iter_mut().enumerate() {
+                    *r = _mm256_add_pd(*r, _mm256_mul_pd(_mm256_loadu_pd(column.add(4 * k)), sv));
+                }
+                for r in tail.iter_mut() {
+                    *r = _mm_add_pd(*r, _mm_mul_pd(_mm_loadu_pd(column.add(4 * Q)), _mm_set1_pd(s)));
+                }
+                column = column.add(rows);
+            }
+        }
+        for (k, r) in acc.iter().enumerate() {
+            _mm256_storeu_pd(out.add(4 * k), *r);
+        }
+        for r in tail.iter() {
+            _mm_storeu_pd(out.add(4 * Q), *r);
         }
     }
 }
@@ -366,6 +442,38 @@ mod tests {
             j[(n - 1, n - 1)] = 0.0;
             for kind in [Kind::Inverse, Kind::DenseLu, Kind::SparseLu] {
                 assert!(Solver::with_kind(j.clone(), kind).is_none(), "n = {n}, {kind:?}");
+            }
+        }
+    }
+
+    /// Every kernel of the step-map product (AVX where the CPU has it, SSE2, plain Rust) gives the same
+    /// bits for every row count, so a model's results do not depend on the CPU that runs it.
+    #[test]
+    fn product_kernels_agree_to_the_bit() {
+        let mut seed = 3u64;
+        let mut rand = move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 1e3f64.powf(((seed >> 7) % 5) as f64 - 2.0)
+        };
+        for rows in (2..=20).step_by(2) {
+            let (n1, n2) = (rows + 3, 2);
+            let a1: Vec<f64> = (0..rows * n1).map(|_| rand()).collect();
+            let a2: Vec<f64> = (0..rows * n2).map(|_| rand()).collect();
+            let x1: Vec<f64> = (0..n1).map(|_| rand()).collect();
+            let x2: Vec<f64> = (0..n2).map(|_| rand()).collect();
+            let start: Vec<f64> = (0..rows).map(|_| rand()).collect();
+            let blocks = [(&a1[..], &x1[..]), (&a2[..], &x2[..])];
+            let mut plain = start.clone();
+            plain_axpy(blocks, &mut plain);
+            let mut dispatched = start.clone();
+            axpy_columns(blocks, &mut dispatched);
+            assert_eq!(plain, dispatched, "{rows} rows, dispatched kernel");
+            #[cfg(target_arch = "x86_64")]
+            {
+                let mut sse2 = start.clone();
+                if sse2_axpy(blocks, &mut sse2).is_some() {
+                    assert_eq!(plain, sse2, "{rows} rows, SSE2");
+                }
             }
         }
     }
