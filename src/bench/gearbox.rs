@@ -357,6 +357,9 @@ pub struct ExplicitImplicit {
     /// The physical limit: kflop per step and Mflop per simulated second.
     pub kflop_per_step: f64,
     pub mflop_per_s: f64,
+    /// Share of the implicit run's wall time in the model's code (forces, tangent, contact pattern);
+    /// the rest is the solver's (factorisations, solves, the step).
+    pub model_share: f64,
 }
 
 /// The two paragraphs `windrive bench gearbox` ends with.
@@ -386,6 +389,13 @@ impl fmt::Display for ExplicitImplicit {
             self.factor_flops,
             self.kflop_per_step,
             self.mflop_per_s,
+        )?;
+        writeln!(
+            f,
+            "where the implicit step's time goes: model (forces, tangent, contact pattern) {:.0} %, solver \
+             (factorisations, solves, the step) {:.0} %",
+            100.0 * self.model_share,
+            100.0 * (1.0 - self.model_share)
         )
     }
 }
@@ -410,21 +420,24 @@ pub fn explicit_against_implicit() -> anyhow::Result<ExplicitImplicit> {
     let (q, v) = equilibrium(&g, &[t, t / g.gear_ratio, 0.0], speed).map_err(|e| anyhow::anyhow!(e))?;
     let u = [t, t / g.gear_ratio, 0.0];
     let span: f64 = 0.05;
-    let timed = |method: Method, h: f64| -> anyhow::Result<(f64, Driver)> {
+    let model = super::profile::Timed::new(&g);
+    let timed = |method: Method, h: f64| -> anyhow::Result<(f64, Driver, f64)> {
         let mut st = DynState::new(q.clone(), v.clone());
         let mut driver = Driver::new(method);
+        let in_model = model.model_s();
         let start = Instant::now();
         let steps = (span / 1e-3).round() as usize;
         for k in 0..steps {
-            driver.advance(&g, &mut st, k as f64 * 1e-3, 1e-3, h, 3, |_, out| {
+            driver.advance(&model, &mut st, k as f64 * 1e-3, 1e-3, h, 3, |_, out| {
                 out.copy_from_slice(&u)
             })?;
         }
-        Ok((start.elapsed().as_secs_f64() / span * 1e3, driver))
+        let wall = start.elapsed().as_secs_f64();
+        Ok((wall / span * 1e3, driver, (model.model_s() - in_model) / wall))
     };
     let step = 1e-3;
-    let (ms_implicit, implicit) = timed(Method::Implicit(Alpha::NEWMARK), step)?;
-    let (ms_rk4, _) = timed(Method::Rk4 { stability_limit: h_rk4 }, 0.99 * h_rk4)?;
+    let (ms_implicit, implicit, model_share) = timed(Method::Implicit(Alpha::NEWMARK), step)?;
+    let (ms_rk4, _, _) = timed(Method::Rk4 { stability_limit: h_rk4 }, 0.99 * h_rk4)?;
     let s = implicit.stats;
     let per_step = |x: u64| x as f64 / s.steps as f64;
     let n = g.dofs() as f64;
@@ -448,5 +461,6 @@ pub fn explicit_against_implicit() -> anyhow::Result<ExplicitImplicit> {
         mflop_per_s: (per_step(s.newton_iterations) * (contact + solve) + per_step(s.factorizations) * factor)
             / step
             / 1e6,
+        model_share,
     })
 }

@@ -11,12 +11,14 @@
 //! - [`coupling`]: every co-simulation algorithm on d-grid-step against its exact solution;
 //! - [`states`], [`master`], [`isolate`]: what an FMU state, our master and `--isolate` cost;
 //! - [`rainflow`], [`solvers`]: cycle counting with DELs, and the linear solvers on gearbox-shaped
-//!   matrices.
+//!   matrices;
+//! - [`profile`]: a model wrapper that times the model's own calls, for a model/solver split.
 
 pub mod coupling;
 pub mod gearbox;
 pub mod isolate;
 pub mod master;
+pub mod profile;
 pub mod rainflow;
 pub mod solvers;
 pub mod states;
