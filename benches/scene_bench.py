@@ -4,7 +4,8 @@ generator; 1 ms macro steps) in our master, libcosim and fmpy's SSP support, in 
     .venv/bin/python benches/scene_bench.py [--repeat 3]
 
 Prints wall times (best of --repeat, FMU loading and initialisation left out for every master), real-time factors and
-ratios to ours. Our master runs Jacobi like libcosim's fixed-step algorithm, and the default
+ratios to ours, and what recording every output at every step costs against the simulation alone, as CSV and as
+Parquet (`--out FILE.parquet`). Our master runs Jacobi like libcosim's fixed-step algorithm, and the default
 Gauss–Seidel; recording every 1000th row (libcosim records nothing here), and every output at every
 step (fmpy records every connector at every step).
 
@@ -57,12 +58,19 @@ def main():
     ssp = ROOT / "target" / "ssp" / "c-shutdown-spring.ssp"
     subprocess.run([str(WINDRIVE), "pack-scene", str(SCENE), "--out", str(ssp)], check=True, cwd=ROOT,
                    capture_output=True)
-    tmp = ROOT / "target" / "bench-scene.csv"
+    csv = ROOT / "target" / "bench-scene.csv"
+    parquet = ROOT / "target" / "bench-scene.parquet"
 
     rows = []
+    recording = []  # (algorithm, simulation alone, every output every step: CSV, Parquet)
     for alg in ("jacobi", "gauss-seidel"):
-        for every, what in ((1000, "every 1000th row"), (1, "every output, every step")):
-            rows.append((f"windrive {alg}, {what}", ours(n, alg, every, tmp)))
+        alone = ours(n, alg, 10**9, csv)  # the first and the last row: the simulation alone
+        rows.append((f"windrive {alg}, first and last row only", alone))
+        rows.append((f"windrive {alg}, every 1000th row", ours(n, alg, 1000, csv)))
+        full = [ours(n, alg, 1, out) for out in (csv, parquet)]
+        rows.append((f"windrive {alg}, every output, every step, CSV", full[0]))
+        rows.append((f"windrive {alg}, every output, every step, Parquet", full[1]))
+        recording.append((alg, alone, *full))
     t_ours = rows[0][1]
 
     from libcosimpy.CosimExecution import CosimExecution
@@ -93,6 +101,10 @@ def main():
     print(f"{'master':<48} {'wall s':>8} {'× real time':>12} {'÷ ours':>8}")
     for name, t in rows:
         print(f"{name:<48} {t:>8.3f} {STOP / t:>12.0f} {t / t_ours:>8.1f}")
+    print()
+    print("full recording (every output, every step) against the simulation alone (target: Parquet <= 1.5x)")
+    for alg, alone, full_csv, full_parquet in recording:
+        print(f"  {alg:<13} CSV {full_csv / alone:.2f}x   Parquet {full_parquet / alone:.2f}x")
     print(json.dumps({name: t for name, t in rows}))
 
 

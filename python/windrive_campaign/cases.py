@@ -54,11 +54,11 @@ class Case:
     hours: float = math.nan  # DLC 1.2: hours over the design life this case stands for
     events: float = math.nan  # events: occurrences over the design life
 
-    def command(self, windrive: str, out_csv: str | None, record: list[str]) -> list[str]:
-        """`windrive run` of this case; the series is written to `out_csv` if given."""
+    def command(self, windrive: str, out: str | None, record: list[str]) -> list[str]:
+        """`windrive run` of this case; the series is written to `out` (.csv or .parquet) if given."""
         cmd = [windrive, "run", self.scene, "--stop-time", repr(self.stop_time), "--quiet"]
-        if out_csv is not None:
-            cmd += ["--out", out_csv]
+        if out is not None:
+            cmd += ["--out", out]
         if self.step is not None:
             cmd += ["--step", repr(self.step)]
         if record:

@@ -4,7 +4,7 @@
     OUT/scenes/*.ssp           scene snapshots (cases.snapshot_scene)
     OUT/bin/windrive-<digest>  the windrive binary the cases run (cases.snapshot_windrive)
     OUT/cases/<id>.json        one finished case (ok, failed or timeout)
-    OUT/cases/<id>/series.csv  its time series, with keep_series = true
+    OUT/cases/<id>/series.parquet  its time series, with keep_series = true
     OUT/<name>.parquet         one row per case of the campaign, pending ones included
     OUT/cost.json              the last run's cost figures
 

@@ -60,7 +60,9 @@ pub struct RunArgs {
     /// Worker threads for the jacobi algorithm
     #[arg(long, default_value_t = 1)]
     pub threads: usize,
-    /// Results CSV [default: results/<scene name>.csv; with --analyse, none unless given]
+    /// Results file: CSV, or Parquet when the name ends in .parquet (same columns; read as is by pandas,
+    /// polars and pyarrow, and by windrive fatigue, gears and bearings) [default: results/<scene
+    /// name>.csv; with --analyse, none unless given]
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// After the run, analyse the recorded series in this process and print one JSON object on stdout:

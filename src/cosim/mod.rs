@@ -1,6 +1,6 @@
 //! The co-simulation master: SSP scenes (`ssp`), made runnable and checked (`system`), stepped by
 //! an algorithm (`master`) with the options a run's settings and its scene give (`settings`),
-//! recorded to CSV (`recorder`) and summed up when it ends (`summary`); where each algorithm is stable
+//! recorded to CSV or Parquet (`recorder`, `parquet`) and summed up when it ends (`summary`); where each algorithm is stable
 //! in theory (`stability`).
 
 pub mod acceleration;
@@ -8,6 +8,7 @@ mod checks;
 pub mod divergence;
 pub mod error;
 pub mod master;
+pub mod parquet;
 pub mod recorder;
 pub mod settings;
 pub mod ssp;

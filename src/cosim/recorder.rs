@@ -1,12 +1,14 @@
 //! Results as CSV in fmpy's layout: `time,<component>.<variable>,...`, one row per recorded
-//! communication point. Rows are written as they come, whole (a row never straddles a buffer
+//! communication point, or as Parquet with the same columns when the file's name ends in `.parquet`
+//! ([`super::parquet`]). CSV rows are written as they come, whole (a row never straddles a buffer
 //! flush), and the buffer reaches the file at least every quarter second of wall time, on finish and
 //! on drop: a run that fails keeps every row up to its last good step, and a run whose process an
 //! FMU crashes loses at most the last quarter second. [`CsvWriter`] is the one writer of
 //! that layout; every command that writes a CSV goes through it. A recorder can also keep its rows in
-//! memory ([`Recorder::in_memory`]), for an analysis in the same process that needs no file.
+//! memory ([`Recorder::new`] with `in_memory`), for an analysis in the same process that needs no file.
 
 use super::master::{MasterError, read_recorded};
+use super::parquet::{ParquetWriter, is_parquet};
 use super::system::System;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -78,8 +80,41 @@ pub struct Series {
     pub columns: Vec<Vec<f64>>,
 }
 
+/// Where a recorder writes: the file's format follows its name.
+enum Sink {
+    Csv(CsvWriter),
+    /// Boxed: its column buffers and writer are five times the CSV writer's size.
+    Parquet(Box<ParquetWriter>),
+}
+
+impl Sink {
+    fn create<'a>(path: &Path, columns: impl IntoIterator<Item = &'a str>) -> std::io::Result<Self> {
+        Ok(if is_parquet(path) {
+            Sink::Parquet(Box::new(ParquetWriter::create(path, columns)?))
+        } else {
+            Sink::Csv(CsvWriter::create(path, columns)?)
+        })
+    }
+
+    fn row(&mut self, time: f64, values: impl IntoIterator<Item = f64>) -> std::io::Result<()> {
+        match self {
+            Sink::Csv(w) => w.row(time, values),
+            Sink::Parquet(w) => w.row(time, values),
+        }
+    }
+
+    /// CSV: the rows so far reach the file. Parquet: the file is completed (its footer written), as
+    /// this is called only when the run is over.
+    fn finish(&mut self) -> std::io::Result<()> {
+        match self {
+            Sink::Csv(w) => w.flush(),
+            Sink::Parquet(w) => w.close(),
+        }
+    }
+}
+
 pub struct Recorder {
-    out: Option<(CsvWriter, PathBuf)>,
+    out: Option<(Sink, PathBuf)>,
     /// With [`Recorder::in_memory`]: the time, then each recorded variable, one value per row kept.
     memory: Option<Series>,
     every: u64,
@@ -100,7 +135,7 @@ impl Recorder {
     pub fn new(path: Option<&Path>, in_memory: bool, system: &System, every: u64) -> std::io::Result<Self> {
         let names = || system.recorded.iter().map(|(name, _, _)| name.as_str());
         let out = match path {
-            Some(p) => Some((CsvWriter::create(p, names())?, p.to_path_buf())),
+            Some(p) => Some((Sink::create(p, names())?, p.to_path_buf())),
             None => None,
         };
         let memory = in_memory.then(|| Series {
@@ -123,7 +158,7 @@ impl Recorder {
         self.last_time
     }
 
-    /// The CSV written, if any.
+    /// The file written, if any.
     pub fn path(&self) -> Option<&Path> {
         self.out.as_ref().map(|(_, p)| p.as_path())
     }
@@ -168,11 +203,11 @@ impl Recorder {
         Ok(self.flush()?)
     }
 
-    /// After a failed run: flushes the rows written so far. The units may hold values from the
-    /// failed step, so no final row is added.
+    /// After a failed run: flushes the rows written so far (and completes a Parquet file). The units
+    /// may hold values from the failed step, so no final row is added.
     pub fn flush(&mut self) -> std::io::Result<()> {
         match &mut self.out {
-            Some((out, _)) => out.flush(),
+            Some((out, _)) => out.finish(),
             None => Ok(()),
         }
     }

@@ -136,8 +136,8 @@ def test_report_agrees_with_windrive_life(tiny_life, windrive):
     out, report, rep = tiny_life
     assert rep.returncode == 0, rep.stderr
     t = pd.read_parquet(out / "tiny-life.parquet")
-    normal = out / "cases" / t[t.group == "dlc12"].id.iloc[0] / "series.csv"
-    shutdown = out / "cases" / t[t.group == "event"].id.iloc[0] / "series.csv"
+    normal = out / "cases" / t[t.group == "dlc12"].id.iloc[0] / "series.parquet"
+    shutdown = out / "cases" / t[t.group == "event"].id.iloc[0] / "series.parquet"
     ours = json.loads((report / "lifetime.json").read_text())
     for channel, m in [(LSS, "3,6"), ("torsional.hss_torque", "6,9")]:
         theirs = windrive_life(windrive, normal, shutdown, channel, m)

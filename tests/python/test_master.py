@@ -324,3 +324,28 @@ def test_isolated_an_fmu_that_stops_answering_is_killed_after_the_call_timeout(t
     # without --isolate the option is refused
     bad = run_master(windrive, scene, out, "--call-timeout", "1")
     assert bad.returncode == 2 and "--isolate" in bad.stderr, bad.stderr
+
+
+def test_parquet_results_read_as_is_by_pandas_and_pyarrow(tmp_path, windrive, our_fmus):
+    """`windrive run --out FILE.parquet`: pandas and pyarrow read the file as it is (no conversion), with
+    the CSV's columns, every one float64, and the CSV's values to the bit."""
+    import pandas as pd
+    import pyarrow.parquet as pq
+
+    scene = tmp_path / "d-grid-step"
+    (scene / "resources").mkdir(parents=True)
+    for f in (ROOT / "scenes" / "d-grid-step").iterdir():
+        if f.is_file():
+            shutil.copy(f, scene / f.name)
+    for name in ("torsional", "generator"):
+        shutil.copy(our_fmus / f"{name}.fmu", scene / "resources" / f"{name}.fmu")
+    for out in ("r.csv", "r.parquet"):
+        proc = run_master(windrive, scene, tmp_path / out, "--stop-time", "0.5")
+        assert proc.returncode == 0, proc.stderr
+    csv = pd.read_csv(tmp_path / "r.csv", float_precision="round_trip")
+    table = pd.read_parquet(tmp_path / "r.parquet")
+    assert list(table.columns) == list(csv.columns) and len(table) == len(csv) > 100
+    assert (table.dtypes == "float64").all()
+    assert (table.to_numpy() == csv.to_numpy()).all()
+    schema = pq.read_schema(tmp_path / "r.parquet")
+    assert schema.names[0] == "time" and all(str(t) == "double" for t in schema.types)

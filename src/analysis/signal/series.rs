@@ -1,5 +1,6 @@
-//! Reading a time series from a CSV file in fmpy's layout: a header `time,<name>,...`, then numbers.
-//! Files are read line by line, so a channel of a recording larger than memory can be streamed
+//! Reading a time series from a CSV file in fmpy's layout: a header `time,<name>,...`, then numbers,
+//! or from a Parquet file with the same columns (`windrive run --out FILE.parquet`; [`super::parquet`]).
+//! CSV files are read line by line, so a channel of a recording larger than memory can be streamed
 //! through a counter ([`stream_channel`]) without holding the file or the series.
 
 use std::io::BufRead;
@@ -52,6 +53,10 @@ pub fn stream_channels(
     channels: &[&str],
     mut sample: impl FnMut(f64, &[f64]),
 ) -> Result<Extent, SeriesError> {
+    #[cfg(feature = "cli")]
+    if super::parquet::is_parquet(path) {
+        return super::parquet::stream_channels(path, channels, sample);
+    }
     let p = path.display().to_string();
     let read_error = |e: std::io::Error| SeriesError::Read {
         path: p.clone(),
@@ -81,11 +86,8 @@ pub fn stream_channels(
         );
     }
     let last_needed = columns.iter().copied().max().unwrap_or(0);
-    let mut extent = Extent {
-        samples: 0,
-        first_time: f64::NAN,
-        last_time: f64::NAN,
-    };
+    let names: Vec<&str> = columns.iter().map(|&c| header[c].as_str()).collect();
+    let mut rows = CheckedRows::new(p.clone(), &names);
     // byte span of each slot's cell in the current line (empty when the row is short) and its value
     let mut spans = vec![(0usize, 0usize); columns.len()];
     let mut values = vec![0.0; columns.len()];
@@ -109,24 +111,59 @@ pub fn stream_channels(
         }
         for ((value, &(from, to)), &c) in values.iter_mut().zip(&spans).zip(&columns) {
             let cell = line[from..to].trim();
-            let v: f64 = cell.parse().map_err(|_| SeriesError::Value {
+            *value = cell.parse().map_err(|_| SeriesError::Value {
                 path: p.clone(),
                 row,
                 message: format!("{:?} is not a number in column {}", cell, header[c]),
             })?;
-            if !v.is_finite() {
-                return Err(SeriesError::Value {
-                    path: p.clone(),
-                    row,
-                    message: format!("{} is {v}", header[c]),
-                });
-            }
-            *value = v;
+        }
+        rows.accept(row, &values, &mut sample)?;
+    }
+    rows.finish()
+}
+
+/// The checks every row of a series passes, whatever its file format: finite values, increasing
+/// time; and the extent of the rows accepted.
+pub(crate) struct CheckedRows<'a> {
+    path: String,
+    /// The time's column name, then the channels'.
+    names: &'a [&'a str],
+    extent: Extent,
+}
+
+impl<'a> CheckedRows<'a> {
+    pub(crate) fn new(path: String, names: &'a [&'a str]) -> Self {
+        Self {
+            path,
+            names,
+            extent: Extent {
+                samples: 0,
+                first_time: f64::NAN,
+                last_time: f64::NAN,
+            },
+        }
+    }
+
+    /// Checks row `row` (numbered as the file shows it) of `values` (the time, then the channels) and
+    /// hands it to `sample`.
+    pub(crate) fn accept(
+        &mut self,
+        row: usize,
+        values: &[f64],
+        sample: &mut impl FnMut(f64, &[f64]),
+    ) -> Result<(), SeriesError> {
+        if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+            return Err(SeriesError::Value {
+                path: self.path.clone(),
+                row,
+                message: format!("{} is {}", self.names[i], values[i]),
+            });
         }
         let t = values[0];
+        let extent = &mut self.extent;
         if extent.samples > 0 && t <= extent.last_time {
             return Err(SeriesError::Value {
-                path: p.clone(),
+                path: self.path.clone(),
                 row,
                 message: format!("time {t} does not increase (previous {})", extent.last_time),
             });
@@ -137,11 +174,16 @@ pub fn stream_channels(
         extent.last_time = t;
         extent.samples += 1;
         sample(t, &values[1..]);
+        Ok(())
     }
-    if extent.samples == 0 {
-        return Err(SeriesError::Empty { path: p });
+
+    /// The extent of the rows accepted; none is an error.
+    pub(crate) fn finish(self) -> Result<Extent, SeriesError> {
+        if self.extent.samples == 0 {
+            return Err(SeriesError::Empty { path: self.path });
+        }
+        Ok(self.extent)
     }
-    Ok(extent)
 }
 
 /// Time and several channels of a CSV file read in one pass, with the checks of [`stream_channel`].
