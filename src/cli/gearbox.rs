@@ -70,7 +70,7 @@ fn description(args: &GearboxArgs) -> anyhow::Result<Description> {
         d.model.gravity = g;
     }
     if let Some(m) = args.rotor_mass {
-        if !(m > 0.0 && m.is_finite()) {
+        if m <= 0.0 || !m.is_finite() {
             return Err(anyhow!("--rotor-mass {m}: a mass in kg above 0"));
         }
         let rotor = d

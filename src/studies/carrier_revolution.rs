@@ -58,7 +58,7 @@ pub fn revolution(
     speed_rad_s: f64,
     probe: Option<&str>,
 ) -> anyhow::Result<Revolution> {
-    if !(speed_rad_s > 0.0) {
+    if speed_rad_s.is_nan() || speed_rad_s <= 0.0 {
         return Err(anyhow!(
             "{}: a revolution needs a positive speed, not {speed_rad_s} rad/s",
             g.name

@@ -155,14 +155,12 @@ fn the_2mw_planets_upwind_bearings_peak_right_of_the_sun_under_the_rotors_weight
     d.model.bearings = BearingModel::Lamina;
     let g = Gearbox::new(&d).unwrap();
     let r = revolution(&d, &g, d.rated_rotor_speed_rpm.unwrap(), None);
-    let from_right = r.peak_from_right_deg();
-    for p in 0..3 {
-        assert!(r.swing[p] > 1.02, "planet {}: once-per-rev swing {}", p + 1, r.swing[p]);
+    for (p, (swing, from_right)) in r.swing.iter().zip(r.peak_from_right_deg()).enumerate() {
+        assert!(*swing > 1.02, "planet {}: once-per-rev swing {swing}", p + 1);
         assert!(
-            from_right[p] < 20.0,
-            "planet {}: peak {:.0}° from the right horizontal",
-            p + 1,
-            from_right[p]
+            from_right < 20.0,
+            "planet {}: peak {from_right:.0}° from the right horizontal",
+            p + 1
         );
     }
 }
@@ -185,14 +183,12 @@ fn a_carrier_revolution_shows_the_once_per_rev_swing_and_the_roller_passage() {
     let g = grc(BearingModel::Lamina);
     let rpm = d.rated_rotor_speed_rpm.unwrap();
     let r = revolution(&d, &g, rpm, Some("hss_a"));
-    let from_right = r.peak_from_right_deg();
-    for p in 0..3 {
-        assert!(r.swing[p] > 1.05, "planet {}: once-per-rev swing {}", p + 1, r.swing[p]);
+    for (p, (swing, from_right)) in r.swing.iter().zip(r.peak_from_right_deg()).enumerate() {
+        assert!(*swing > 1.05, "planet {}: once-per-rev swing {swing}", p + 1);
         assert!(
-            from_right[p] > 135.0,
-            "planet {}: peak {:.0}° from the right horizontal",
-            p + 1,
-            from_right[p]
+            from_right > 135.0,
+            "planet {}: peak {from_right:.0}° from the right horizontal",
+            p + 1
         );
     }
     let hss_load = r.probe;
