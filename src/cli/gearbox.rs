@@ -2,9 +2,11 @@
 //! rotor torque, gravity, the rotor's moments and thrust, the chain turning at rated speed): every
 //! bearing's loads, rollers in contact and race stresses, every mesh's slice loads and contact
 //! stress, and each roller set's stiffness there beside the linear value of its description. The
-//! study is [`crate::studies::operating_point`].
+//! study is [`crate::studies::operating_point`]; `--revolution` turns the carrier once at that point
+//! instead ([`crate::studies::carrier_revolution`]).
 
-use crate::physics::gearbox::{Description, description::BearingModel};
+use crate::physics::gearbox::{Description, Gearbox, description::BearingModel};
+use crate::studies::carrier_revolution::revolution;
 use crate::studies::operating_point::{OperatingPoint, fit_carrier_webs, report};
 use anyhow::anyhow;
 
@@ -43,6 +45,16 @@ pub struct GearboxArgs {
     /// description's [stage.planetary.carrier_webs]
     #[arg(long, value_name = "RATIO")]
     pub fit_webs: Option<f64>,
+    /// Turn the carrier once at this operating point instead (Newmark, 1 ms, from the static
+    /// equilibrium) and print where each planet's upwind bearing load peaks and how far it swings
+    /// (thesis §7.1.1, Fig. 7.3: the planet horizontal to the right of the sun seen from upwind)
+    #[arg(long)]
+    pub revolution: bool,
+    /// The rotor body's mass, kg, in place of the description's: with a small value (1 kg) the
+    /// overhung rotor's weight is gone, as on a dynamometer, which drives the main shaft through a
+    /// coupling (the mass must be positive; its inertias stay the description's)
+    #[arg(long, value_name = "KG")]
+    pub rotor_mass: Option<f64>,
 }
 
 /// The description with the command line's bearing model and gravity.
@@ -56,6 +68,16 @@ fn description(args: &GearboxArgs) -> anyhow::Result<Description> {
     }
     if let Some(g) = args.gravity {
         d.model.gravity = g;
+    }
+    if let Some(m) = args.rotor_mass {
+        if m <= 0.0 || !m.is_finite() {
+            return Err(anyhow!("--rotor-mass {m}: a mass in kg above 0"));
+        }
+        let rotor = d
+            .rotor
+            .as_mut()
+            .ok_or_else(|| anyhow!("--rotor-mass: {} has no [rotor]", args.gearbox))?;
+        rotor.mass = Some(m);
     }
     Ok(d)
 }
@@ -73,11 +95,34 @@ pub fn run(args: &GearboxArgs) -> anyhow::Result<()> {
         println!("carrier webs torsional = {k:.4e} N·m/rad gives upwind/downwind {ratio:.4} (target {target})");
         return Ok(());
     }
+    if args.revolution {
+        return print_revolution(args, &point);
+    }
     let r = report(&args.gearbox, &description(args)?, &point)?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&r)?);
         return Ok(());
     }
     print!("{r}");
+    Ok(())
+}
+
+/// `--revolution`: the gearbox with the operating point's moments and thrust, turned once at its
+/// torque and speed.
+fn print_revolution(args: &GearboxArgs, point: &OperatingPoint) -> anyhow::Result<()> {
+    let d = description(args)?;
+    let mut g = Gearbox::new(&d).map_err(|e| anyhow!("{}: {e}", args.gearbox))?;
+    g.external_moment = [point.tilt_moment_nm, point.yaw_moment_nm];
+    g.thrust = point.thrust_n;
+    let rated = g
+        .rated_rotor_torque
+        .ok_or_else(|| anyhow!("{}: the description gives no rated power and speed", args.gearbox))?;
+    let speed = point.speed_ratio * d.rated_rotor_speed_rpm.unwrap_or(0.0) * std::f64::consts::TAU / 60.0;
+    let r = revolution(&d, &g, point.torque_ratio * rated, speed, None)?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&r)?);
+    } else {
+        print!("{r}");
+    }
     Ok(())
 }

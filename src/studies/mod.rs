@@ -13,7 +13,8 @@
 //! - numerics: the integrators' stability on the torsional model (`integrators`), chatter at the
 //!   brake and the backlash (`nonsmooth`), the co-simulation stability map (`stability`);
 //! - the 6-DOF gearbox at a steady operating point: its bearings' and meshes' loads and stresses, and
-//!   the carrier-web stiffness that gives a measured load split (`operating_point`);
+//!   the carrier-web stiffness that gives a measured load split (`operating_point`), and one carrier
+//!   revolution there: where each planet's upwind bearing peaks (`carrier_revolution`);
 //! - lifetime fatigue: the climate, the gear tooth or bearing a channel loads, and the reports of
 //!   their lifetimes (`life`);
 //! - shared: a preset's modes chosen by name (`preset_modes`).
@@ -24,6 +25,8 @@
 #[cfg(feature = "cli")]
 pub mod aero;
 pub mod calibration;
+#[cfg(feature = "cli")]
+pub mod carrier_revolution;
 #[cfg(feature = "cli")]
 pub mod fidelity;
 #[cfg(feature = "cli")]

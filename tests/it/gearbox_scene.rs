@@ -6,9 +6,10 @@
 //! the RMS torque of every shaft in normal operation and while the brake slips within 3 % (measured
 //! 1 %), and while the brake holds within 5 % (measured 3.4 %: the held rotor rocks through zero
 //! torque, where the roller bearings' clearance lets the planets and shafts float, softer than the
-//! torsional model's linear springs; docs/GEARBOX.md). The planets' upwind bearings carry 6–10 rollers
-//! in normal operation and fall to 2 or fewer when the torque reverses in the shutdown (thesis ch. 7:
-//! 6–7, then 1–2). Back-flank contact in normal operation appears in both models or in neither.
+//! torsional model's linear springs; docs/GEARBOX.md). Planet 1's upwind bearing carries 6–10 rollers
+//! in normal operation (measured 8–9) and falls to 2 or fewer (measured 0) when the torque reverses in
+//! the shutdown (the thesis's 2 MW gearbox, §7.2.2: 6–7, then 1). Back-flank contact in normal
+//! operation appears in both models or in neither.
 
 use crate::common;
 

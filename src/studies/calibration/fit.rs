@@ -292,7 +292,8 @@ pub fn markdown(e: &Evaluation, start: &Evaluation, evaluations: usize) -> Strin
     );
     let _ = writeln!(
         s,
-        "Drivetrain C's scenes (scenes/c-normal, scenes/c-shutdown) against the thesis's measured statistics;\n\
+        "Drivetrain C's scenes (scenes/c-normal, scenes/c-shutdown) against the thesis's statistics (ch. 3: \
+         measured on the field turbine; §6.2: its simulations of drivetrain C);\n\
          misfit = ln(achieved / target), 0 inside a stated bound. Objective (sum of squared misfits): {:.4} \
          ({evaluations} evaluations; {:.4} at the start).\n",
         e.objective, start.objective

@@ -1,7 +1,9 @@
-//! What the thesis measured on drivetrain C's field turbine (its ch. 3; the sun–planet force ranges are
-//! its drivetrain C results, §6.2), as statistics of a normal-operation and a shutdown run, and each
-//! one's misfit: the objective the scene inputs that no source gives (turbulence intensity, brake torque
-//! and ramp, pitch rate, trip delay) are fitted to by `windrive calibrate`.
+//! What the thesis measured on drivetrain C's field turbine (its ch. 3) and, where it measured nothing,
+//! what its own drivetrain C model gave (the sun–planet force ranges, §6.2.1; the peak torque ratio,
+//! §6.2.2, Fig. 6.17: 1.32–1.38 over A–C's shafts, a model output), as statistics of a
+//! normal-operation and a shutdown run, and each one's misfit: the objective the scene inputs that no
+//! source gives (turbulence intensity, brake torque and ramp, pitch rate, trip delay) are fitted to by
+//! `windrive calibrate`.
 //!
 //! Misfits are logarithmic, ln(achieved / target), so a factor of two weighs the same whichever the
 //! statistic's size: zero inside a bound the thesis states as "more than" or "between", the distance
@@ -165,7 +167,7 @@ pub fn statistics() -> Vec<Statistic> {
         },
         Statistic {
             name: "peak LSS torque / rated, shutdown",
-            source: "ch. 3: 1.32–1.38",
+            source: "§6.2.2 (A–C simulated): 1.32–1.38",
             unit: "",
             target: Target::Between(1.32, 1.38),
             compute: |r, c| r.shutdown_lss.iter().fold(0.0f64, |m, v| m.max(v.abs())) / c.rated_lss,
