@@ -61,15 +61,15 @@ pub struct RunArgs {
     #[arg(long, default_value_t = 1)]
     pub threads: usize,
     /// Results file: CSV, or Parquet when the name ends in .parquet (same columns; read as is by pandas,
-    /// polars and pyarrow, and by windrive fatigue, gears and bearings) [default: results/<scene
-    /// name>.csv; with --analyse, none unless given]
+    /// polars and pyarrow, and by windrive rainflow, del, ldd, spectrum, gears, bearings and life)
+    /// [default: results/<scene name>.csv; with --analyse, none unless given]
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// After the run, analyse the recorded series in this process and print one JSON object on stdout:
     /// {"statistics": {...}, "simulation_s": ..., "analysis_s": ...}. SPEC is a JSON file or inline JSON
     /// naming the transient, f_eq, the channels with their Wöhler slopes and LDD bins, and optionally
     /// [gears] and [bearings] tables to rate (format: docs/CAMPAIGNS.md, "One case, one process"). The
-    /// series stays in memory: no CSV is written unless --out is given
+    /// series stays in memory: no file is written unless --out is given
     #[arg(long, value_name = "SPEC")]
     pub analyse: Option<String>,
     /// Record only these variables (component.variable, comma-separated) [default: every output]
