@@ -97,7 +97,7 @@ pub struct VariantRow {
     pub upwind_pressure: f64,
     pub hss_pressure: f64,
     /// The fewest rollers carrying planet 1's upwind bearing in normal operation, this run's and the
-    /// reference's.
+    /// reference's (NaN when the run ends before 1 s).
     pub fewest_rollers: f64,
     pub reference_fewest_rollers: f64,
     /// RMS difference of the HSS torque from the reference's, % of its RMS.
@@ -142,11 +142,16 @@ fn percent(x: f64) -> String {
     format!("{x:+.2}%")
 }
 
+/// A roller count, or "—" where the run did not reach normal operation's window.
+fn rollers(x: f64) -> String {
+    if x.is_nan() { "—".into() } else { format!("{x:.0}") }
+}
+
 impl VariantRow {
     /// The row of this variant over `stop` s, against the torsional baseline's `t_tor` s.
     pub fn row(&self, stop: f64, t_tor: f64) -> String {
         format!(
-            "{:<24} {:>9.1} {:>7.2} {:>11.0} {:>11} {:>11} {:>11} {:>4.0} ({:.0}) {:>11} {:>11} {:>9.3}%",
+            "{:<24} {:>9.1} {:>7.2} {:>11.0} {:>11} {:>11} {:>11} {:>4} ({}) {:>11} {:>11} {:>9.3}%",
             self.label,
             self.wall_s / stop * 1e3,
             stop / self.wall_s,
@@ -154,8 +159,8 @@ impl VariantRow {
             percent(self.sun_planet),
             percent(self.gear_pinion),
             percent(self.planet_upwind),
-            self.fewest_rollers,
-            self.reference_fewest_rollers,
+            rollers(self.fewest_rollers),
+            rollers(self.reference_fewest_rollers),
             percent(self.upwind_pressure),
             percent(self.hss_pressure),
             self.hss_rms_error,
@@ -220,8 +225,15 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         let r = reference.get_or_insert_with(|| cols.clone());
         let rel = |k: usize| 100.0 * (peak(&cols[k]) / peak(&r[k]) - 1.0);
         // the fewest rollers carrying the upwind planet bearing in normal operation (1 s to the trip
-        // at 5 s; the shutdown takes every bearing through zero load)
-        let fewest = |c: &[f64]| c.iter().take(5000).skip(1000).fold(f64::MAX, |m, &x| m.min(x));
+        // at 5 s; the shutdown takes every bearing through zero load); NaN for a run shorter than 1 s
+        let fewest = |c: &[f64]| {
+            c.iter()
+                .take(5000)
+                .skip(1000)
+                .copied()
+                .reduce(f64::min)
+                .unwrap_or(f64::NAN)
+        };
         row(&VariantRow {
             label,
             wall_s: wall,
