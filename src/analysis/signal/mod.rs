@@ -5,5 +5,6 @@ pub mod metrics;
 #[cfg(feature = "cli")]
 pub mod parquet;
 pub mod quantities;
+pub mod rows;
 pub mod series;
 pub mod spectrum;

@@ -2,7 +2,7 @@
 //! or pyarrow with a `time` column and Float64 channels. Only the columns asked for are decoded, one
 //! record batch at a time, and every row passes the checks a CSV row does ([`super::series`]).
 
-use super::series::{CheckedRows, Extent, SeriesError};
+use super::rows::{CheckedRows, Extent, SeriesError};
 use arrow_array::{Array, Float64Array};
 use parquet::arrow::ProjectionMask;
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
