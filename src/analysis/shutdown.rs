@@ -27,6 +27,8 @@ pub struct ShaftLoad {
     pub rated_torque: f64,
     /// max |T| in the shutdown / rated
     pub peak_ratio: f64,
+    /// max |T| in normal operation / rated
+    pub normal_peak_ratio: f64,
     /// torque range in the shutdown / in normal operation
     pub range_ratio: f64,
 }
@@ -71,6 +73,10 @@ pub struct Summary {
     /// Smallest mesh forces, N: (sun-planet 1, last stage's mesh) in the shutdown and in normal operation.
     pub shutdown_min_mesh: (f64, f64),
     pub normal_min_mesh: (f64, f64),
+    /// Mesh-force ranges in the shutdown over those in normal operation: (sun-planet 1, last stage's mesh).
+    pub mesh_range_ratio: (f64, f64),
+    /// The dominant HSS-torque frequency of normal operation, Hz (None: too short a record).
+    pub normal_dominant_hz: Option<f64>,
     /// The held rotor's rocking, largest |rotor speed| (rad/s) over the first and the last 2 s of the
     /// held phase: how much damping the parked rotor has (its blades, the shafts).
     pub held_rocking: Option<(f64, f64)>,
@@ -110,6 +116,11 @@ fn min(x: &[f64]) -> f64 {
     x.iter().cloned().fold(f64::MAX, f64::min)
 }
 
+/// The largest |x|.
+fn peak(x: &[f64]) -> f64 {
+    x.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+}
+
 /// Reads the two recordings (component `torsional` and `rotor` outputs, as the scenes record them) and
 /// summarises them; `free_mode_hz` and `locked_mode_hz` are the modes the ringing is compared with.
 pub fn summarise(
@@ -136,7 +147,7 @@ pub fn summarise(
     }
     let names: Vec<&str> = names.iter().map(String::as_str).collect();
     // normal operation has no brake: only the shafts and meshes are read from it
-    let (_, mut normal) = read_channels(normal_csv, &names[..n_shafts + 2])?;
+    let (normal_t, mut normal) = read_channels(normal_csv, &names[..n_shafts + 2])?;
     let (t, mut shut) = read_channels(shutdown_csv, &names)?;
     let rows = shafts
         .iter()
@@ -144,7 +155,8 @@ pub fn summarise(
         .map(|(k, (name, rated))| ShaftLoad {
             name,
             rated_torque: *rated,
-            peak_ratio: shut[k].iter().fold(0.0f64, |m, v| m.max(v.abs())) / rated,
+            peak_ratio: peak(&shut[k]) / rated,
+            normal_peak_ratio: peak(&normal[k]) / rated,
             range_ratio: range(&shut[k]) / range(&normal[k]),
         })
         .collect();
@@ -174,6 +186,13 @@ pub fn summarise(
         .map(|l| (peak_speed(l, l + 2.0), peak_speed(end - 2.0, end + 1.0)));
     let shutdown_min_mesh = (min(&shut[n_shafts]), min(&shut[n_shafts + 1]));
     let normal_min_mesh = (min(&normal[n_shafts]), min(&normal[n_shafts + 1]));
+    let mesh_range_ratio = (
+        range(&shut[n_shafts]) / range(&normal[n_shafts]),
+        range(&shut[n_shafts + 1]) / range(&normal[n_shafts + 1]),
+    );
+    let normal_end = normal_t.last().copied().unwrap_or(0.0);
+    let normal_dominant_hz =
+        dominant_in_window(&normal_t, &normal[n_shafts - 1], 0.0, normal_end + 1.0, F_MIN_HZ).map(|(f, _, _)| f);
     let mut take = |k: usize| std::mem::take(&mut shut[k]);
     let series = ShutdownSeries {
         lss_torque: take(0),
@@ -197,6 +216,8 @@ pub fn summarise(
         last_mesh_label,
         shutdown_min_mesh,
         normal_min_mesh,
+        mesh_range_ratio,
+        normal_dominant_hz,
         held_rocking,
         series,
     })

@@ -4,7 +4,7 @@
 //! - the thesis's main case: a drivetrain's normal operation and shutdown through the master, their
 //!   summary and charts (`shutdown`);
 //! - the thesis beside us: every number of the thesis we compute, beside ours (`reproduce`, its values
-//!   in data/thesis.toml); the calibration of drivetrain C's estimated inputs against the thesis's
+//!   in data/thesis.toml, its 6-DOF gearbox quantities in `chapter7`); the calibration of drivetrain C's estimated inputs against the thesis's
 //!   measured statistics ([`calibration`], its fit over C's scenes in `calibration::fit`, with the
 //!   [`nelder_mead`] minimiser);
 //! - which method, step and model for a scene: error against CPU time over a grid of runs
@@ -27,6 +27,8 @@ pub mod aero;
 pub mod calibration;
 #[cfg(feature = "cli")]
 pub mod carrier_revolution;
+#[cfg(feature = "cli")]
+pub mod chapter7;
 #[cfg(feature = "cli")]
 pub mod fidelity;
 #[cfg(feature = "cli")]
