@@ -156,7 +156,7 @@ fn summary(field: &WindField, seconds: f64) -> serde_json::Value {
 fn print_summary(field: &WindField, seconds: f64, args: &WindArgs) {
     let what = if args.from.is_some() { "read" } else { "generated" };
     println!(
-        "{} × {} points (dy {:.3} m, dz {:.3} m, bottom {:.2} m), {} steps of {} s ({} s{}), {what} in {seconds:.2} s",
+        "{} × {} points (dy {:.3} m, dz {:.3} m, bottom {:.2} m), {} steps of {:.6} s ({:.3} s{}), {what} in {seconds:.2} s",
         field.ny,
         field.nz,
         field.dy,

@@ -79,7 +79,7 @@ pub fn parse(bytes: &[u8]) -> Result<WindField, String> {
             "nz = {nz}, ny = {ny}, nt = {nt}, n_tower = {n_tower}, description length {chars}: counts must be positive"
         ));
     }
-    if !(dt.is_finite() && dt > 0.0) || !dz.is_finite() || !dy.is_finite() {
+    if !(dt.is_finite() && dt > 0.0 && dz.is_finite() && dy.is_finite()) {
         return Err(format!(
             "dt = {dt}, dy = {dy}, dz = {dz}: dt must be positive, all finite"
         ));

@@ -10,7 +10,7 @@ use faer::Side;
 use realfft::RealFftPlanner;
 use realfft::num_complex::Complex;
 
-use super::coherence::GridOffsets;
+use super::coherence::{GridOffsets, iec_coherence};
 use super::spectra::{coherence_length, iec_kaimal};
 use super::{FieldSpec, WindField, WindFieldError};
 use crate::physics::turbulence::{SplitMix, Variance, sampling, variance_scale};
@@ -105,21 +105,31 @@ pub fn generate(spec: &FieldSpec) -> Result<WindField, WindFieldError> {
     let mut coefficients: [Vec<Complex<f64>>; 3] = std::array::from_fn(|_| vec![zero; points * bins]);
     let mut streams: [SplitMix; 3] = std::array::from_fn(|c| SplitMix::stream(spec.seed, c as u64));
     let mut phases = faer::Mat::<f64>::zeros(points, 2);
+    // beyond the frequency where even the closest points' coherence is below f64's epsilon, C is the
+    // identity to working precision and so is its Cholesky factor: the factorisation is skipped there
+    // (most bins of a 0.05 s series: above 3·V/d for the smallest spacing d)
+    let nearest = dy.min(dz);
     for k in 1..n / 2 {
         let f = k as f64 * df;
-        let coherence = offsets.matrix(f, v_hub, length_c);
-        let llt = coherence
-            .llt(Side::Lower)
-            .map_err(|_| WindFieldError::NotPositiveDefinite { frequency_hz: f })?;
         for p in 0..points {
             let (s, c) = (std::f64::consts::TAU * streams[0].next_f64()).sin_cos();
             phases[(p, 0)] = c;
             phases[(p, 1)] = s;
         }
-        let mixed = llt.L() * phases.as_ref();
         let a = half_amplitude[0][k];
-        for p in 0..points {
-            coefficients[0][p * bins + k] = Complex::new(a * mixed[(p, 0)], a * mixed[(p, 1)]);
+        if iec_coherence(f, nearest, v_hub, length_c) >= f64::EPSILON {
+            let llt = offsets
+                .matrix(f, v_hub, length_c)
+                .llt(Side::Lower)
+                .map_err(|_| WindFieldError::NotPositiveDefinite { frequency_hz: f })?;
+            let mixed = llt.L() * phases.as_ref();
+            for p in 0..points {
+                coefficients[0][p * bins + k] = Complex::new(a * mixed[(p, 0)], a * mixed[(p, 1)]);
+            }
+        } else {
+            for p in 0..points {
+                coefficients[0][p * bins + k] = Complex::new(a * phases[(p, 0)], a * phases[(p, 1)]);
+            }
         }
         for c in 1..3 {
             let a = half_amplitude[c][k];
