@@ -71,6 +71,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Chart(windrive::cli::ChartCommand::Integrators(args)) => windrive::cli::integrators::run(&args),
         Command::Chart(windrive::cli::ChartCommand::NonSmooth(args)) => windrive::cli::nonsmooth::run(&args),
         Command::Aero(args) => windrive::cli::aero::run(&args),
+        Command::Wind(args) => windrive::cli::wind::run(&args),
         Command::Blade(command) => windrive::cli::blade::run(&command),
         Command::FmuHost(args) => windrive::cli::fmu_host(&args),
     }

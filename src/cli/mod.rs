@@ -23,6 +23,7 @@ pub mod shutdown;
 pub mod stability;
 pub mod step;
 pub mod study;
+pub mod wind;
 pub mod work_precision;
 
 use clap::{Parser, Subcommand};
@@ -208,6 +209,16 @@ pub enum Command {
     ///   windrive aero --radius 35 --rated-power 1.5e6 --rated-rpm 17.5    the paper's 1.5 MW rotor's rated wind
     #[command(verbatim_doc_comment)]
     Aero(aero::AeroArgs),
+    /// IEC 61400-1 ed. 3 full-field turbulence (TurbSim's IEC Kaimal model: u, v, w on a rotor-plane grid,
+    /// exponential coherence of u, power-law shear, Veers' method) written as a TurbSim .bts file that
+    /// OpenFAST's InflowWind reads; or a .bts file read and written again.
+    ///
+    /// Examples:
+    ///   windrive wind --out turb.bts                             15×15 over 150 m, 90 m hub, 11.4 m/s, class A, 600 s
+    ///   windrive wind --out turb.bts --wind 16 --class B --seed 3 --grid 21x15 --width 160 --height 120
+    ///   windrive wind --from turbsim.bts --out copy.bts --json   our reader and writer on a TurbSim file
+    #[command(verbatim_doc_comment)]
+    Wind(wind::WindArgs),
     /// Blade data of the rotor's blade-element momentum model: importing an OpenFAST AeroDyn blade.
     #[command(subcommand)]
     Blade(blade::BladeCommand),

@@ -11,3 +11,4 @@ pub mod hertz;
 pub mod rotor;
 pub mod torsional;
 pub mod turbulence;
+pub mod wind_field;

@@ -61,9 +61,14 @@ pub fn iec_sigma(model: TurbulenceModel, v_hub: f64, i_ref: f64, v_ref: f64) -> 
     }
 }
 
+/// The turbulence scale parameter Λ1 of IEC 61400-1 ed. 3 §6.3.1: 0.7·z_hub below 60 m, else 42 m.
+pub fn scale_parameter(hub_height: f64) -> f64 {
+    if hub_height < 60.0 { 0.7 * hub_height } else { 42.0 }
+}
+
 /// Longitudinal integral length scale L_u = 8.1 Λ1.
 pub fn kaimal_length(hub_height: f64) -> f64 {
-    8.1 * if hub_height < 60.0 { 0.7 * hub_height } else { 42.0 }
+    8.1 * scale_parameter(hub_height)
 }
 
 /// One-sided Kaimal spectral density, (m/s)²/Hz.
@@ -123,6 +128,12 @@ fn mix64(mut z: u64) -> u64 {
 pub struct SplitMix(pub u64);
 
 impl SplitMix {
+    /// Stream `index` of a seed: independent streams for the components of one seed's wind field
+    /// (the index is mixed in, so stream 1 of seed s is not stream 0 of seed s + 1).
+    pub fn stream(seed: u64, index: u64) -> Self {
+        Self(mix64(seed ^ mix64(index.wrapping_add(0x6a09_e667_f3bc_c909))))
+    }
+
     pub fn next_f64(&mut self) -> f64 {
         self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
         (mix64(self.0) >> 11) as f64 / (1u64 << 53) as f64
@@ -147,6 +158,27 @@ pub enum Variance {
 
 /// IEC 61400-1's averaging time of σ1, s.
 pub const TEN_MINUTES: f64 = 600.0;
+
+/// The factor on a one-sided point density `spectrum_at` (its σ being `sigma`) that gives a series of
+/// `n` samples at `dt`, synthesised on the bins 1..n/2, the variance `variance` asks for: 1 for the
+/// spectrum's own; for the 10-minute σ, σ² over what the spectrum holds in a 10-minute record's bins
+/// (the series' own when its period is longer) up to the series' Nyquist frequency.
+pub fn variance_scale(spectrum_at: impl Fn(f64) -> f64, sigma: f64, dt: f64, n: usize, variance: Variance) -> f64 {
+    match variance {
+        Variance::Spectrum => 1.0,
+        Variance::TenMinute => {
+            let df = 1.0 / (n as f64 * dt);
+            let held = if n as f64 * dt >= TEN_MINUTES {
+                (1..n / 2).map(|k| spectrum_at(k as f64 * df)).sum::<f64>() * df
+            } else {
+                let (df_10, nyquist) = (1.0 / TEN_MINUTES, 0.5 / dt);
+                let top = ((nyquist / df_10).ceil() as usize).saturating_sub(1);
+                (1..=top).map(|k| spectrum_at(k as f64 * df_10)).sum::<f64>() * df_10
+            };
+            if held > 0.0 { sigma * sigma / held } else { 0.0 }
+        }
+    }
+}
 
 /// A synthesised fluctuation series u'(t), periodic over `period()`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -206,20 +238,7 @@ impl TurbulenceSeries {
         // the mean (k = 0) and Nyquist bins stay real and zero
         let bins = 1..n / 2;
         let point: Vec<f64> = bins.clone().map(|k| spectrum_at(k as f64 * df)).collect();
-        let scale = match variance {
-            Variance::Spectrum => 1.0,
-            Variance::TenMinute => {
-                // the point spectrum's variance over a 10-minute record (the series' own grid when longer)
-                let held = if n as f64 * dt >= TEN_MINUTES {
-                    point.iter().sum::<f64>() * df
-                } else {
-                    let (df_10, nyquist) = (1.0 / TEN_MINUTES, 0.5 / dt);
-                    let top = ((nyquist / df_10).ceil() as usize).saturating_sub(1);
-                    (1..=top).map(|k| spectrum_at(k as f64 * df_10)).sum::<f64>() * df_10
-                };
-                if held > 0.0 { sigma * sigma / held } else { 0.0 }
-            }
-        };
+        let scale = variance_scale(&spectrum_at, sigma, dt, n, variance);
         let mut rng = SplitMix(seed);
         let plan = RealFftPlanner::<f64>::new().plan_fft_inverse(n);
         let mut spectrum = plan.make_input_vec();
