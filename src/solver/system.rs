@@ -66,7 +66,13 @@ impl Mass<'_> {
                     j[(i, i)] += c * mi;
                 }
             }
-            Mass::Dense(m) => *j += *m * c,
+            // in place: `*j += *m * c` built the product as a temporary matrix every factorisation
+            Mass::Dense(m) => {
+                assert_eq!(j.shape(), m.shape());
+                for (x, mi) in j.as_mut_slice().iter_mut().zip(m.as_slice()) {
+                    *x += mi * c;
+                }
+            }
         }
     }
 
