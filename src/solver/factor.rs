@@ -13,9 +13,10 @@
 //!   break even with dense there, 4× faster at 288);
 //! - otherwise dense LU (nalgebra).
 
+use super::lu::DenseLu;
 use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, Triplet};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 
 /// Up to this many DOFs a reused J is inverted explicitly.
 pub const EXPLICIT_INVERSE_LIMIT: usize = 64;
@@ -41,7 +42,8 @@ const CACHE_LIMIT: usize = 64;
 pub enum Solver {
     /// J⁻¹, column-major: Δ += Σ_j r_j·(column j) vectorises, a row-by-row dot product would not.
     Inverse(Vec<f64>),
-    Lu(nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>),
+    /// Ours: nalgebra's arithmetic in vectorised column loops (`lu.rs`).
+    Lu(DenseLu),
     /// Boxed: faer's factors are several hundred bytes inline, the other kinds a pointer or two.
     SparseLu(Box<faer::sparse::linalg::solvers::Lu<usize, f64>>),
 }
@@ -72,7 +74,8 @@ impl Kind {
 impl Solver {
     /// Factorises J with the kind its size, fill and reuse call for; None when it is singular.
     pub fn new(j: DMatrix<f64>, reused: bool) -> Option<Self> {
-        let nonzeros = j.iter().filter(|x| **x != 0.0).count();
+        // the storage slice: a contiguous loop, not nalgebra's strided element iterator
+        let nonzeros = j.as_slice().iter().filter(|x| **x != 0.0).count();
         let kind = Kind::for_matrix(j.nrows(), nonzeros, reused);
         Self::with_kind(j, kind)
     }
@@ -87,10 +90,7 @@ impl Solver {
                     .all(|x| x.is_finite())
                     .then(|| Self::Inverse(inv.as_slice().to_vec()))
             }
-            Kind::DenseLu => {
-                let lu = j.lu();
-                lu.is_invertible().then_some(Self::Lu(lu))
-            }
+            Kind::DenseLu => DenseLu::new(j).map(Self::Lu),
             Kind::SparseLu => {
                 let mut triplets = Vec::new();
                 for c in 0..n {
@@ -125,9 +125,9 @@ impl Solver {
                 }
             }
             Self::Lu(lu) => {
-                let mut b = DVector::from_column_slice(r);
-                lu.solve_mut(&mut b);
-                for (xi, bi) in x.iter_mut().zip(b.iter()) {
+                let mut b = r.to_vec();
+                lu.solve_in_place(&mut b);
+                for (xi, bi) in x.iter_mut().zip(&b) {
                     *xi += bi;
                 }
             }
@@ -404,6 +404,7 @@ pub fn block_sparse(bodies: usize, seed: u64) -> DMatrix<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::DVector;
 
     /// Every kind solves alike at both sides of each cross-over, checked by the residual, and the
     /// automatic choice follows size and fill.

@@ -44,7 +44,13 @@ pub struct MassSolver {
 
 impl MassSolver {
     fn factor(&mut self, m: &nalgebra::DMatrix<f64>) -> Option<&nalgebra::Cholesky<f64, nalgebra::Dyn>> {
-        if self.matrix.as_ref() != Some(m) {
+        // compared as storage slices: nalgebra's matrix equality walks generic strided views and
+        // took 6 % of the GRC shutdown's instructions at one comparison per communication step
+        let same = self
+            .matrix
+            .as_ref()
+            .is_some_and(|f| f.shape() == m.shape() && f.as_slice() == m.as_slice());
+        if !same {
             self.factor = m.clone().cholesky();
             self.matrix = Some(m.clone());
             self.compliance = None;

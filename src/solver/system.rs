@@ -48,10 +48,13 @@ impl Mass<'_> {
                     *yi += c * mi * xi;
                 }
             }
+            // column by column over the storage, not m[(i, j)] with its bounds check per entry (a
+            // Newton iteration's residual takes one such product; same products, order and bits)
             Mass::Dense(m) => {
-                for (j, xj) in x.iter().enumerate() {
-                    for (i, yi) in y.iter_mut().enumerate() {
-                        *yi += c * m[(i, j)] * xj;
+                assert_eq!((m.nrows(), m.ncols()), (y.len(), x.len()));
+                for (column, xj) in m.as_slice().chunks_exact(y.len()).zip(x) {
+                    for (yi, mij) in y.iter_mut().zip(column) {
+                        *yi += c * mij * xj;
                     }
                 }
             }
@@ -66,7 +69,13 @@ impl Mass<'_> {
                     j[(i, i)] += c * mi;
                 }
             }
-            Mass::Dense(m) => *j += *m * c,
+            // in place: `*j += *m * c` built the product as a temporary matrix every factorisation
+            Mass::Dense(m) => {
+                assert_eq!(j.shape(), m.shape());
+                for (x, mi) in j.as_mut_slice().iter_mut().zip(m.as_slice()) {
+                    *x += mi * c;
+                }
+            }
         }
     }
 

@@ -246,6 +246,10 @@ impl RollerBearing {
     /// Loads at relative displacement x, rate xd and cage angle ψ_c. With `tangent`, also adds
     /// ∂f/∂x to the first and ∂f/∂ẋ to the second matrix (the cage angle held: the load zone
     /// moves slowly against the contact stiffness).
+    ///
+    /// Inlined, so a caller without a tangent (every force evaluation) compiles without the six
+    /// stiffness and damping sums per lamina.
+    #[inline(always)]
     pub fn evaluate(
         &self,
         x: &[f64; 5],
