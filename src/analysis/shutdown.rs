@@ -4,7 +4,7 @@
 //! dominant frequency while the brake slips and once it holds (beside the modes they should match),
 //! and the mesh-force reversals.
 
-use super::signal::metrics::range;
+use super::signal::metrics::{peak, range};
 use super::signal::series::{SeriesError, read_channels};
 use super::signal::spectrum::dominant_in_window;
 use crate::physics::drivetrain::{Drivetrain, Stage};
@@ -114,11 +114,6 @@ pub fn shafts(dt: &Drivetrain) -> Vec<(&'static str, f64)> {
 
 fn min(x: &[f64]) -> f64 {
     x.iter().cloned().fold(f64::MAX, f64::min)
-}
-
-/// The largest |x|.
-fn peak(x: &[f64]) -> f64 {
-    x.iter().fold(0.0f64, |m, v| m.max(v.abs()))
 }
 
 /// Reads the two recordings (component `torsional` and `rotor` outputs, as the scenes record them) and

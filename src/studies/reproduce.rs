@@ -8,6 +8,7 @@
 use crate::analysis::fatigue::operating_hours::WindDistribution;
 use crate::analysis::fatigue::rainflow::cycles;
 use crate::analysis::shutdown::F_MIN_HZ;
+use crate::analysis::signal::metrics::peak;
 use crate::analysis::signal::spectrum::dominant_in_window;
 use crate::cosim::Scene;
 use crate::cosim::master::run_columns;
@@ -458,7 +459,7 @@ impl<'a> Computed<'a> {
         let lock = locked.iter().position(|&l| l > 0.5).map_or(end, |i| t[i]);
         let (f, _, _) = dominant_in_window(t, hss, applied + 0.1, lock - 0.1, F_MIN_HZ)
             .with_context(|| format!("{}: no slipping phase to analyse", scene.root.display()))?;
-        let peak = lss.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let peak = peak(lss);
         self.shutdowns.insert(name.to_string(), (f, peak));
         Ok((f, peak))
     }

@@ -14,7 +14,7 @@ pub mod fit;
 
 use crate::analysis::fatigue::damage::damage_equivalent_load;
 use crate::analysis::fatigue::rainflow::cycles;
-use crate::analysis::signal::metrics::range;
+use crate::analysis::signal::metrics::{peak, range};
 
 /// What the thesis states about a statistic.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -170,7 +170,7 @@ pub fn statistics() -> Vec<Statistic> {
             source: "§6.2.2 (A–C simulated): 1.32–1.38",
             unit: "",
             target: Target::Between(1.32, 1.38),
-            compute: |r, c| r.shutdown_lss.iter().fold(0.0f64, |m, v| m.max(v.abs())) / c.rated_lss,
+            compute: |r, c| peak(&r.shutdown_lss) / c.rated_lss,
         },
         Statistic {
             name: "mean LSS torque / rated, 1 s after the brake is applied",
