@@ -32,6 +32,8 @@ examples (from the repository's root):
       its lifetime report (after run): lifetime.csv/.json/_ldd.csv/.png in results/campaigns/c-dlc12/
   scripts/campaign paper campaigns/tiny-paper.toml
       the paper's Tables 6 and 7 beside ours, η heat maps, shape checks (a grid with [gears], after run)
+  scripts/campaign sensitivity A --out docs/sensitivity
+      drivetrain A's estimates over their ranges (Morris): which reproduction verdicts hold across them
 
 The campaign file's keys: docs/CAMPAIGNS.md.
 """
@@ -52,6 +54,17 @@ examples (from the repository's root):
       in results/campaigns/tiny-paper/paper_*
   scripts/campaign paper results/campaigns/tiny-paper --out /tmp/paper
       the same from the folder, written elsewhere
+"""
+
+
+SENSITIVITY_EPILOG = """\
+examples (from the repository's root):
+  scripts/campaign sensitivity A --out docs/sensitivity
+      drivetrain A's brake, trip and damping estimates: 4 trajectories x 5 points, a few seconds
+  scripts/campaign sensitivity 2MW --trajectories 3 --out docs/sensitivity
+      the 2 MW gearbox's bearing and carrier estimates through the 6-DOF shutdown (a minute per evaluation)
+  windrive reproduce --out docs/REPRODUCTION.md
+      afterwards: the reproduction page with each row's verdict across the bands
 """
 
 
@@ -114,6 +127,26 @@ def main(argv=None) -> int:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     finished_campaign_arguments(pap, "the files")
+    sen = sub.add_parser(
+        "sensitivity",
+        help="vary a group of estimates over their ranges (Morris) and judge the reproduction across them",
+        description="The inputs no source gives (`windrive reproduce --estimates`) of one group varied together "
+        "over their ranges by Morris screening (SALib); each evaluation is `windrive reproduce --set ...` on a "
+        "dask worker. Writes per reproduction row its band, its verdicts across the band and each input's "
+        "Morris mu* and sigma, a tornado chart, and bands.json, which `windrive reproduce` reads "
+        "(docs/SENSITIVITY.md).",
+        epilog=SENSITIVITY_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    sen.add_argument("group", help="estimate group: A, B, C or 2MW")
+    sen.add_argument("--out", type=Path, default=Path("results/sensitivity"), help="output folder [default: %(default)s]")
+    sen.add_argument("--trajectories", type=int, default=4, help="Morris trajectories r: r·(k+1) evaluations [default: %(default)s]")
+    sen.add_argument("--levels", type=int, default=4, help="Morris grid levels [default: %(default)s]")
+    sen.add_argument("--seed", type=int, default=1, help="seed of the Morris sample [default: %(default)s]")
+    sen_where = sen.add_mutually_exclusive_group()
+    sen_where.add_argument("--workers", type=int, help="LocalCluster worker processes [default: all cores]")
+    sen_where.add_argument("--scheduler", metavar="ADDRESS", help="join a running dask scheduler instead")
+    sen.add_argument("--windrive", help=f"windrive binary [default: {WINDRIVE_DEFAULT}]")
     args = p.parse_args(argv)
     try:
         if args.command == "run" and args.workers is not None and args.workers < 1:
@@ -126,6 +159,15 @@ def main(argv=None) -> int:
             from . import paper_report  # pandas and matplotlib, as for report
 
             return paper_report.report(args.campaign, args.out)
+        if args.command == "sensitivity":
+            from . import sensitivity  # SALib, numpy and matplotlib: only this command pays their import
+
+            if args.trajectories < 2 or args.levels < 2:
+                raise CampaignError("--trajectories and --levels: at least 2 (Morris needs two points per input)")
+            return sensitivity.run(
+                args.group, binary.windrive(args.windrive), args.out.resolve(), args.trajectories, args.levels,
+                args.seed, args.workers, args.scheduler,
+            )  # fmt: skip
         campaign = schema.load(args.campaign)
         if args.command == "job-script":
             # the job logs' folder of a `run` without --out

@@ -30,6 +30,8 @@ pub mod carrier_revolution;
 #[cfg(feature = "cli")]
 pub mod chapter7;
 #[cfg(feature = "cli")]
+pub mod estimates;
+#[cfg(feature = "cli")]
 pub mod fidelity;
 #[cfg(feature = "cli")]
 pub mod integrators;

@@ -88,6 +88,19 @@ pub enum Verdict {
     Differs,
 }
 
+impl Verdict {
+    /// The verdict as one plain word or two (for JSON and the sensitivity campaign).
+    pub fn label(&self) -> &'static str {
+        match self {
+            Verdict::Reproduced(_) => "reproduced",
+            Verdict::NotReproduced(_) => "not reproduced",
+            Verdict::Holds => "holds",
+            Verdict::Contradicts => "contradicts",
+            Verdict::Differs => "differs",
+        }
+    }
+}
+
 impl std::fmt::Display for Verdict {
     fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
         match self {
@@ -111,6 +124,8 @@ pub struct Row {
     /// Relative tolerance within which we claim to reproduce a thesis value; None: shown, not claimed.
     pub claimed: Option<f64>,
     pub reason: String,
+    /// Ours comes from a scene run (estimates may move it).
+    pub ours_runs_a_scene: bool,
 }
 
 impl Row {
@@ -138,6 +153,20 @@ impl Row {
 
     pub fn reproduced(&self) -> bool {
         matches!(self.verdict(), Verdict::Reproduced(_))
+    }
+
+    /// Whether the verdict is the same for every value between `low` and `high`: no edge of the
+    /// thesis's bound or of the claimed tolerance lies inside. A value moving continuously with the
+    /// estimates takes every value of its band, so a sample that never lands past such an edge does not
+    /// make the verdict hold.
+    pub fn verdict_constant_over(&self, low: f64, high: f64) -> bool {
+        let edges: Vec<f64> = match (self.thesis, self.claimed) {
+            (Thesis::Bound(Bound::Above(x) | Bound::Below(x)), _) => vec![x],
+            (Thesis::Bound(Bound::Between([lo, hi])), _) => vec![lo, hi],
+            (Thesis::Value(v), Some(t)) => vec![v * (1.0 - t), v * (1.0 + t)],
+            (Thesis::Value(_), None) => vec![],
+        };
+        !edges.iter().any(|&e| low < e && e < high)
     }
 }
 
@@ -245,16 +274,29 @@ pub enum ShutdownQuantity {
 impl Ours {
     /// Whether this number needs a scene run through the master.
     pub fn runs_a_scene(&self) -> bool {
-        matches!(
-            self,
-            Ours::BrakingFrequency { .. }
-                | Ours::PeakLssTorqueRatio { .. }
-                | Ours::Calibration { .. }
-                | Ours::CalibrationRatio { .. }
-                | Ours::MeanGeneratorSpeedRpm { .. }
-                | Ours::Shutdown { .. }
-                | Ours::Gearbox { .. }
-        )
+        !self.scenes().is_empty()
+    }
+
+    /// The scenes (folder names under scenes/) this number runs.
+    pub fn scenes(&self) -> Vec<String> {
+        match self {
+            Ours::BrakingFrequency { scene }
+            | Ours::PeakLssTorqueRatio { scene, .. }
+            | Ours::MeanGeneratorSpeedRpm { scene }
+            | Ours::Gearbox { scene, .. } => vec![scene.clone()],
+            Ours::Calibration { .. } | Ours::CalibrationRatio { .. } => {
+                vec!["c-normal".to_string(), "c-shutdown".to_string()]
+            }
+            Ours::Shutdown { preset, .. } => {
+                let lower = preset.to_ascii_lowercase();
+                vec![format!("{lower}-normal"), format!("{lower}-shutdown")]
+            }
+            Ours::GearRatio { .. }
+            | Ours::MeshOrder { .. }
+            | Ours::Mode { .. }
+            | Ours::OperatingHours { .. }
+            | Ours::RatedRotorSpeedRpm { .. } => vec![],
+        }
     }
 }
 
@@ -269,12 +311,20 @@ pub type OpenScene<'a> = &'a dyn Fn(&str) -> anyhow::Result<Scene>;
 /// Every row: the thesis's value beside ours, in the table's order. `open` opens the scenes the
 /// rows run; each runs once.
 pub fn rows(open: OpenScene) -> anyhow::Result<Vec<Row>> {
+    rows_where(open, &|_| true)
+}
+
+/// The rows whose computation `keep` accepts (e.g. those running the scenes a sensitivity sample
+/// changes), in the table's order.
+pub fn rows_where(open: OpenScene, keep: &dyn Fn(&Ours) -> bool) -> anyhow::Result<Vec<Row>> {
     let mut ours = Computed::new(open);
     entries()?
         .into_iter()
+        .filter(|e| keep(&e.ours))
         .map(|e| {
             Ok(Row {
                 ours: ours.of(&e.ours)?,
+                ours_runs_a_scene: e.ours.runs_a_scene(),
                 quantity: e.quantity,
                 source: e.source,
                 thesis: e.thesis,
@@ -283,6 +333,14 @@ pub fn rows(open: OpenScene) -> anyhow::Result<Vec<Row>> {
             })
         })
         .collect()
+}
+
+/// Every scene some row runs (folder names under scenes/), each once.
+pub fn scenes_run() -> anyhow::Result<Vec<String>> {
+    let mut all: Vec<String> = entries()?.iter().flat_map(|e| e.ours.scenes()).collect();
+    all.sort();
+    all.dedup();
+    Ok(all)
 }
 
 /// The thesis's values of the rows whose quantity starts with `prefix`, in the table's order (for
@@ -478,9 +536,61 @@ impl<'a> Computed<'a> {
     }
 }
 
-/// The rows as docs/REPRODUCTION.md's Markdown table, with its heading and the verdicts' count.
-pub fn markdown(rows: &[Row]) -> String {
+/// What the sensitivity campaign found for one row (`scripts/campaign sensitivity GROUP` writes
+/// docs/sensitivity/bands.json): its value at the nominal estimates, the band over the group's Morris
+/// sample, the verdicts counted there, and the inputs that move it most.
+#[derive(Debug, Clone, Deserialize)]
+pub struct Band {
+    pub quantity: String,
+    pub group: String,
+    pub evaluations: usize,
+    pub nominal: f64,
+    pub low: f64,
+    pub high: f64,
+    pub nominal_verdict: String,
+    /// e.g. "contradicts 20; holds 9"
+    pub verdicts: String,
+    /// The verdict is the same in every evaluation.
+    pub holds: bool,
+    /// The inputs by Morris μ* (relative to |nominal|), largest first.
+    pub drivers: String,
+}
+
+/// The bands by quantity, from bands.json's text.
+pub fn read_bands(json: &str) -> anyhow::Result<HashMap<String, Band>> {
+    let bands: Vec<Band> = serde_json::from_str(json).map_err(|e| anyhow!("bands.json: {e}"))?;
+    Ok(bands.into_iter().map(|b| (b.quantity.clone(), b)).collect())
+}
+
+impl Band {
+    /// The row's verdict is the same over the whole band: in every evaluation, and with no edge of the
+    /// thesis's bound or tolerance inside it.
+    pub fn verdict_holds(&self, row: &Row) -> bool {
+        self.holds && row.verdict_constant_over(self.low, self.high)
+    }
+}
+
+/// A row against the estimates' band: how the verdict fares across it.
+fn across(row: &Row, bands: &HashMap<String, Band>) -> String {
+    let band = |b: &Band| format!("{}–{}", format_ours(b.low), format_ours(b.high));
+    match bands.get(&row.quantity) {
+        Some(b) if b.verdict_holds(row) => format!("same in all {} ({})", b.evaluations, band(b)),
+        Some(b) if b.holds => format!("**flips**: the band ({}) crosses the thesis's edge", band(b)),
+        Some(b) => format!("**flips**: {} ({})", b.verdicts, band(b)),
+        None if row.ours_runs_a_scene => "not yet varied".to_string(),
+        None => "—".to_string(),
+    }
+}
+
+/// The rows as docs/REPRODUCTION.md's Markdown table, with its heading and the verdicts' count; each
+/// row's verdict across the estimates' band where the sensitivity campaign has varied them.
+pub fn markdown(rows: &[Row], bands: &HashMap<String, Band>) -> String {
     let count = |f: fn(&Verdict) -> bool| rows.iter().filter(|r| f(&r.verdict())).count();
+    let studied: Vec<(&Row, &Band)> = rows
+        .iter()
+        .filter_map(|r| bands.get(&r.quantity).map(|b| (r, b)))
+        .collect();
+    let flips = studied.iter().filter(|(r, b)| !b.verdict_holds(r)).count();
     let mut s = format!(
         "# The thesis's numbers beside ours\n\n\
          Written by `windrive reproduce`; tests/it/reproduction.rs fails when this page differs from what the \
@@ -490,17 +600,27 @@ pub fn markdown(rows: &[Row]) -> String {
          claimed, with the reason. The difference column is ours against the thesis's number, or how far \
          outside its bound.\n\n\
          {} rows: {} reproduced, {} hold, {} contradict the thesis, {} differ.\n\n\
-         | quantity | thesis | where | ours | difference | verdict | reason |\n|---|---|---|---|---|---|---|\n",
+         Across the estimates: the inputs no source gives (brakes, trip and pitch sequence, damping, bearing \
+         clearances and roller sets, carrier stiffness; each with its range and reason in \
+         src/studies/data/estimates.toml, `windrive reproduce --estimates`) were varied over their ranges by \
+         `scripts/campaign sensitivity` (docs/SENSITIVITY.md). Of the {} rows varied so far, {} keep their \
+         verdict across the whole band and {} flip: a verdict that flips rests on an estimate, not on the \
+         model.\n\n\
+         | quantity | thesis | where | ours | difference | verdict | across the estimates | reason |\n\
+         |---|---|---|---|---|---|---|---|\n",
         rows.len(),
         count(|v| matches!(v, Verdict::Reproduced(_))),
         count(|v| *v == Verdict::Holds),
         count(|v| *v == Verdict::Contradicts),
         count(|v| *v == Verdict::Differs),
+        studied.len(),
+        studied.len() - flips,
+        flips,
     );
     for r in rows {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} |",
             r.quantity,
             r.thesis,
             r.source,
@@ -511,6 +631,7 @@ pub fn markdown(rows: &[Row]) -> String {
                 d => format!("{:+.2} %", d * 100.0),
             },
             r.verdict(),
+            across(r, bands),
             r.reason
         );
     }
@@ -545,6 +666,30 @@ fn thesis_mesh_orders(dt: &Drivetrain) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A band that straddles an edge of the thesis's bound or of the claimed tolerance flips the
+    /// verdict, whatever the sampled points' verdicts were.
+    #[test]
+    fn a_band_across_an_edge_flips_the_verdict() {
+        let row = |thesis, claimed| Row {
+            quantity: String::new(),
+            source: String::new(),
+            thesis,
+            ours: 1.0,
+            claimed,
+            reason: String::new(),
+            ours_runs_a_scene: true,
+        };
+        let between = row(Thesis::Bound(Bound::Between([1.32, 1.38])), None);
+        assert!(!between.verdict_constant_over(1.21, 2.45));
+        assert!(between.verdict_constant_over(1.4, 2.45));
+        assert!(!row(Thesis::Bound(Bound::Above(1.35)), None).verdict_constant_over(1.2, 1.5));
+        assert!(row(Thesis::Bound(Bound::Below(0.0)), None).verdict_constant_over(0.1, 0.5));
+        let claimed = row(Thesis::Value(10.0), Some(0.05));
+        assert!(claimed.verdict_constant_over(9.6, 10.4));
+        assert!(!claimed.verdict_constant_over(9.6, 10.6));
+        assert!(row(Thesis::Value(10.0), None).verdict_constant_over(1.0, 100.0));
+    }
 
     /// The data file parses, and every row that runs no scene computes.
     #[test]

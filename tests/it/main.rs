@@ -5,6 +5,7 @@
 mod common;
 mod cosim_errors;
 mod cosim_master;
+mod estimates;
 mod fmi_bad_input;
 mod fmi_fuzz;
 mod fmi_lifecycle;

@@ -4,7 +4,7 @@
 //! the verdicts cover chapters 3–7 and the conclusions,
 //! and the committed page is exactly what the code gives today: every number, bound and verdict.
 
-use windrive::cli::reproduce::open_scene;
+use windrive::cli::reproduce::{bands, open_scene};
 use windrive::studies::reproduce::{Verdict, markdown, rows};
 
 #[test]
@@ -55,7 +55,27 @@ fn every_claimed_row_holds_and_the_documentation_is_what_the_code_gives() {
     }
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/docs/REPRODUCTION.md");
     let docs = std::fs::read_to_string(path).unwrap();
-    let generated = markdown(&rows);
+    // the sensitivity campaign's bands were computed on today's scenes: each band's nominal is the value
+    // this row shows (else rerun `scripts/campaign sensitivity GROUP`, docs/SENSITIVITY.md)
+    let bands = bands().unwrap();
+    for (quantity, band) in &bands {
+        let row = rows
+            .iter()
+            .find(|r| &r.quantity == quantity)
+            .unwrap_or_else(|| panic!("docs/sensitivity/bands.json: {quantity:?} is no row any more"));
+        assert!(
+            (band.nominal - row.ours).abs() <= 1e-9 * row.ours.abs(),
+            "{quantity}: bands.json's nominal {} but the row shows {}: rerun scripts/campaign sensitivity {}",
+            band.nominal,
+            row.ours,
+            band.group
+        );
+        assert!(
+            band.low <= row.ours && row.ours <= band.high,
+            "{quantity}: outside its own band"
+        );
+    }
+    let generated = markdown(&rows, &bands);
     for (line, (ours, committed)) in generated.lines().zip(docs.lines()).enumerate() {
         assert_eq!(
             ours,

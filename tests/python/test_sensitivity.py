@@ -1,0 +1,87 @@
+"""The sensitivity campaign (python/windrive_campaign/sensitivity.py, docs/SENSITIVITY.md): Morris's
+elementary effects of a function whose derivatives are known, the band and verdict bookkeeping, bands.json
+as `windrive reproduce` reads it, and one real run of drivetrain A's group on a one-worker LocalCluster
+(each evaluation about a second)."""
+
+import json
+import math
+import os
+import pathlib
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "python"))
+
+from windrive_campaign import sensitivity  # noqa: E402
+
+WINDRIVE = ROOT / "target" / "release" / "windrive"
+
+
+def test_morris_finds_the_inputs_a_linear_function_depends_on():
+    """y = 3 a + 0 b + 0.5 c on [0, 1]³: every elementary effect of a linear function is its slope, so
+    μ* is |slope| exactly and σ is 0; relative to |y(nominal)| = 2."""
+    problem, x = sensitivity.design(
+        [sensitivity.Estimate(n, "T", "", "-", 0.5, 0.0, 1.0, "") for n in "abc"], trajectories=4, levels=4, seed=3
+    )
+    assert x.shape == (4 * 4, 3)
+    y = 3 * x[:, 0] + 0.5 * x[:, 2]
+    nominal = [{"quantity": "y", "ours": 2.0, "verdict": "holds"}]
+    sampled = [[{"quantity": "y", "ours": float(v), "verdict": "holds" if v > 1.0 else "contradicts"}] for v in y]
+    (row,) = sensitivity.analyse(problem, x, nominal, sampled, levels=4)
+    mu = {d["name"]: d["mu_star"] for d in row["drivers"]}
+    assert mu["a"] == pytest.approx(3 / 2) and mu["c"] == pytest.approx(0.5 / 2) and mu["b"] == pytest.approx(0)
+    assert [d["name"] for d in row["drivers"]][0] == "a"
+    assert all(d["sigma"] == pytest.approx(0, abs=1e-12) for d in row["drivers"])
+    assert row["low"] == pytest.approx(min(y.min(), 2.0)) and row["high"] == pytest.approx(max(y.max(), 2.0))
+    assert row["evaluations"] == len(y) + 1
+    # y ranges over [0, 3.5]: the verdict flips, and the counts add up
+    assert not row["holds"] and sum(row["verdicts"].values()) == len(y) + 1
+
+
+def test_bands_merge_per_group(tmp_path):
+    path = tmp_path / "bands.json"
+    row = {"quantity": "q", "nominal": 1.0, "low": 0.5, "high": 2.0, "nominal_verdict": "holds",
+           "verdicts": {"holds": 3}, "holds": True, "drivers": [], "evaluations": 3}  # fmt: skip
+    sensitivity.merge_bands(path, "A", [row])
+    sensitivity.merge_bands(path, "B", [{**row, "quantity": "r"}])
+    sensitivity.merge_bands(path, "A", [{**row, "quantity": "s"}])
+    bands = json.loads(path.read_text())
+    assert [(b["group"], b["quantity"]) for b in bands] == [("A", "s"), ("B", "r")]
+    # a row without a finite value is left out rather than written as NaN, which JSON readers refuse
+    sensitivity.merge_bands(path, "C", [{**row, "quantity": "t", "nominal": math.nan}])
+    assert [b["quantity"] for b in json.loads(path.read_text())] == ["s", "r"]
+
+
+@pytest.mark.skipif(not WINDRIVE.is_file(), reason="needs the release build (scripts/test builds it)")
+def test_group_a_runs_end_to_end(tmp_path):
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "python")}
+    r = subprocess.run(
+        [sys.executable, "-m", "windrive_campaign", "sensitivity", "A", "--trajectories", "2", "--workers", "1",
+         "--out", str(tmp_path), "--windrive", str(WINDRIVE)],
+        capture_output=True, text=True, env=env, timeout=600,
+    )  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    estimates = [e for e in sensitivity.estimates(str(WINDRIVE)) if e.group == "A"]
+    evaluations = (tmp_path / "A_evaluations.csv").read_text().splitlines()
+    assert len(evaluations) == 1 + 2 * (len(estimates) + 1)
+    bands = json.loads((tmp_path / "bands.json").read_text())
+    assert bands and all(b["group"] == "A" for b in bands)
+    for b in bands:
+        assert b["low"] <= b["nominal"] <= b["high"], b
+        assert b["evaluations"] == 2 * (len(estimates) + 1) + 1
+    by = {b["quantity"]: b for b in bands}
+    peak = by["peak torque / rated in A's shutdown, LSS"]
+    # the brake's torque and the trip move A's shutdown peak: the band has a width and a driver
+    assert peak["high"] > peak["low"] and peak["drivers"]
+    assert (tmp_path / "A_tornado.png").stat().st_size > 10_000
+    # the evaluations' nominal row is the reproduction's own (an estimate at its nominal leaves the scene alone)
+    trip = next(e for e in estimates if e.name == "a_trip_delay")
+    listed = subprocess.run([str(WINDRIVE), "reproduce", "--set", f"a_trip_delay={trip.nominal!r}"],
+                            capture_output=True, text=True, check=True)  # fmt: skip
+    at_nominal = {row["quantity"]: row["ours"] for row in json.loads(listed.stdout)}
+    assert np.isfinite(list(at_nominal.values())).all()
+    assert at_nominal["peak torque / rated in A's shutdown, LSS"] == peak["nominal"]
