@@ -114,6 +114,8 @@ def main(argv=None) -> int:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     finished_campaign_arguments(pap, "the files")
+    pap.add_argument("--doc", type=Path, help="also write the comparison as a Markdown page (docs/PAPER.md), "
+                     "generated from the paper_cases.csv written beside the other files")  # fmt: skip
     args = p.parse_args(argv)
     try:
         if args.command == "run" and args.workers is not None and args.workers < 1:
@@ -125,7 +127,7 @@ def main(argv=None) -> int:
         if args.command == "paper":
             from . import paper_report  # pandas and matplotlib, as for report
 
-            return paper_report.report(args.campaign, args.out)
+            return paper_report.report(args.campaign, args.out, args.doc)
         campaign = schema.load(args.campaign)
         if args.command == "job-script":
             # the job logs' folder of a `run` without --out
