@@ -127,6 +127,8 @@ def main(argv=None) -> int:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     finished_campaign_arguments(pap, "the files")
+    pap.add_argument("--doc", type=Path, help="also write the comparison as a Markdown page (docs/PAPER.md), "
+                     "generated from the paper_cases.csv written beside the other files")  # fmt: skip
     sen = sub.add_parser(
         "sensitivity",
         help="vary a group of estimates over their ranges (Morris) and judge the reproduction across them",
@@ -158,7 +160,7 @@ def main(argv=None) -> int:
         if args.command == "paper":
             from . import paper_report  # pandas and matplotlib, as for report
 
-            return paper_report.report(args.campaign, args.out)
+            return paper_report.report(args.campaign, args.out, args.doc)
         if args.command == "sensitivity":
             from . import sensitivity  # SALib, numpy and matplotlib: only this command pays their import
 

@@ -281,8 +281,10 @@ def turbulent_windows(params: dict[str, ParamValue], window: float) -> dict[str,
     """What each turbulent rotor (a component with a `seed`) of a case runs with:
 
     - its turbulence period the analysed window (unless the campaign gives one), so every window has
-      exactly the mean wind its case names and, from 10 minutes on, the intensity
-      (src/physics/turbulence.rs);
+      exactly the mean wind its case names, and its σ read over that period (`turbulence_scaling =
+      "period"`, unless the campaign gives one), so every window also has exactly the intensity its case
+      names, however short (TurbSim's ScaleIEC on a record as long as the window; from 10 minutes on the
+      same as IEC's 10-minute σ; src/physics/turbulence.rs, docs/WIND.md);
     - its seed made the case's own: the campaign's seed number mixed with the rotor's wind speed,
       turbulence model and intensity, so seed 1 at 10 m/s shares no phase with seed 1 at 12 m/s or at
       another intensity (the same case draws the same seed on every machine)."""
@@ -291,6 +293,8 @@ def turbulent_windows(params: dict[str, ParamValue], window: float) -> dict[str,
         rotor = key.removesuffix(".seed")
         if f"{rotor}.turbulence_period" not in params:
             out[f"{rotor}.turbulence_period"] = window
+        if f"{rotor}.turbulence_scaling" not in params:
+            out[f"{rotor}.turbulence_scaling"] = "period"
         if isinstance(params[key], int) and not isinstance(params[key], bool):  # else windrive names the mistake
             out[key] = case_seed(rotor, params)
     return out

@@ -6,6 +6,10 @@ draws its conclusions from. Pure computation on the table; paper_report.py write
   in the paper's Table 7. A turbulent case with TI 0 is not steady: the rotor FMU reads TI 0 as its IEC
   class default, so such a case is left out and named. Our damage per cell is the mean over its cases
   (the seeds); only finished grid cases count.
+- Every η of ours carries a 95 % percentile-bootstrap interval over its cell's seeds (BOOTSTRAP_DRAWS
+  draws of the cell's cases with replacement, the steady reference fixed: it has one case and no seed).
+  The draws come from a generator seeded by BOOTSTRAP_SEED and the cell's coordinates, so the intervals
+  are the same on every run and machine, and adding a cell changes no other cell's interval.
 - η = (D − D_const,rated) / D_const,rated × 100 % (the paper's Eq. 5), D_const,rated the steady 11.5 m/s
   cell. The shapes work on D / D_const,rated = 1 + η/100, so the paper's Table 7 goes through the same
   functions as ours.
@@ -54,6 +58,7 @@ class Cells:
     count: pd.Series  # cases per cell
     used: int
     left_out: dict[str, list[str]] = field(default_factory=dict)  # why -> case names
+    cases: pd.DataFrame | None = None  # every case placed: index (wind_speed, ti_pct), its gear damage columns
 
 
 def cells(t: pd.DataFrame) -> Cells:
@@ -94,7 +99,9 @@ def cells(t: pd.DataFrame) -> Cells:
     mean.index.names = ["wind_speed", "ti_pct"]
     count = grouped.size()
     count.index.names = ["wind_speed", "ti_pct"]
-    return Cells(mean=mean, count=count, used=len(placed), left_out=left_out)
+    cases = placed.set_index(["wind_speed_", "ti_pct"])[gear_columns]
+    cases.index.names = ["wind_speed", "ti_pct"]
+    return Cells(mean=mean, count=count, used=len(placed), left_out=left_out, cases=cases)
 
 
 def const_rated(c: Cells) -> pd.Series:
@@ -158,20 +165,162 @@ def table6(c: Cells) -> pd.DataFrame:
     return t
 
 
-def table7(rel: pd.DataFrame) -> pd.DataFrame:
-    """The paper's Table 7 rows with the paper's η, ours and ours − paper (percentage points)."""
+def table7(rel: pd.DataFrame, ci: pd.DataFrame | None = None) -> pd.DataFrame:
+    """The paper's Table 7 rows with the paper's η, ours and ours − paper (percentage points); with `ci`
+    (eta_intervals) also our interval, `lo` and `hi` in %, and whether the paper's value lies inside it
+    (1 or 0; empty where the cell has no interval: one case, or steady wind)."""
     rows = []
     for v, by_ti in data.TABLE7.items():
         for ti, etas in by_ti.items():
             key = (_key(v), _key(ti))
             row = {"wind_speed": v, "ti_pct": ti}
+            if ci is not None:
+                row["seeds"] = int(ci.at[key, "seeds"]) if key in ci.index else 0
             for name, paper in zip(TABLE7_LABELS, etas):
                 ours = (float(rel.at[key, name]) - 1.0) * 100.0 if key in rel.index else math.nan
                 row[f"{name} paper"] = paper
                 row[f"{name} ours"] = ours
                 row[f"{name} diff"] = ours - paper
+                if ci is not None:
+                    lo = float(ci.at[key, f"{name} lo"]) if key in ci.index else math.nan
+                    hi = float(ci.at[key, f"{name} hi"]) if key in ci.index else math.nan
+                    row[f"{name} lo"], row[f"{name} hi"] = lo, hi
+                    row[f"{name} inside"] = float(lo <= paper <= hi) if lo == lo else math.nan
             rows.append(row)
     return pd.DataFrame(rows)
+
+
+# ---------------------------------------------------------------------------------------------------
+# intervals over seeds
+
+BOOTSTRAP_SEED = 32  # issue 32; fixed so that every run and machine prints the same intervals
+BOOTSTRAP_DRAWS = 4000  # the 2.5 % point then rests on 100 draws
+CONFIDENCE = 0.95
+
+
+def _rng(*key: float) -> np.random.Generator:
+    """The bootstrap's generator for one cell (or pair of cells): BOOTSTRAP_SEED and the coordinates in
+    thousandths, so a cell's draws do not depend on which other cells the campaign has."""
+    return np.random.default_rng([BOOTSTRAP_SEED, *(int(round(k * 1000)) for k in key)])
+
+
+def bootstrap_means(x: np.ndarray, rng: np.random.Generator, draws: int = BOOTSTRAP_DRAWS) -> np.ndarray:
+    """Means of `draws` resamples with replacement of the rows of x (cases × columns): draws × columns."""
+    n = x.shape[0]
+    return x[rng.integers(0, n, size=(draws, n))].mean(axis=1)
+
+
+def _percentiles(draws: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    tail = (1.0 - CONFIDENCE) / 2.0 * 100.0
+    return np.percentile(draws, tail, axis=0), np.percentile(draws, 100.0 - tail, axis=0)
+
+
+def _relative_cases(c: Cells, dc: pd.Series, key) -> np.ndarray:
+    """The cell's cases as D / D_const,rated of the six Table 7 damages: cases × 6."""
+    rows = c.cases.loc[[key]]
+    cols = [damage_column(k, t) for k, t in data.TABLE7_COLUMNS]
+    scale = np.array([1.0 / dc[col] if dc[col] > 0 else math.nan for col in cols])
+    return rows[cols].to_numpy(dtype=float) * scale
+
+
+def eta_intervals(c: Cells, dc: pd.Series) -> pd.DataFrame:
+    """Per cell: the number of seeds and, for each Table 7 damage, the bootstrap interval of η in %
+    (`<label> lo`, `<label> hi`); NaN for a cell of one case, whose seeds cannot be resampled."""
+    rows = {}
+    for key, n in c.count.items():
+        row: dict[str, float] = {"seeds": int(n)}
+        if n >= 2:
+            lo, hi = _percentiles(bootstrap_means(_relative_cases(c, dc, key), _rng(*key)))
+        else:
+            lo = hi = np.full(len(TABLE7_LABELS), math.nan)
+        for i, name in enumerate(TABLE7_LABELS):
+            row[f"{name} lo"], row[f"{name} hi"] = (lo[i] - 1.0) * 100.0, (hi[i] - 1.0) * 100.0
+        rows[key] = row
+    out = pd.DataFrame.from_dict(rows, orient="index")
+    out.index = pd.MultiIndex.from_tuples(out.index, names=["wind_speed", "ti_pct"])
+    return out.sort_index()
+
+
+def _sign(lo: float, hi: float) -> str:
+    """+ or − when the whole interval has that sign, ± when it holds zero, - without an interval."""
+    if lo != lo:
+        return "-"
+    return "+" if lo > 0 else "−" if hi < 0 else "±"
+
+
+def verdicts(t7: pd.DataFrame, c: Cells, dc: pd.Series) -> dict:
+    """What the intervals say about the paper's Table 7:
+
+    - `inside`: per damage, of the paper's turbulent cells where we have an interval, how many paper
+      values lie inside ours;
+    - `sign_at_rated`: per damage and TI at the rated 11.5 m/s, the paper's η, ours with its interval and
+      the sign the interval shows (+, − or ± when it holds zero);
+    - `ti_trend`: above rated (14-20 m/s), per damage, D(TI 24) / D(TI 14) ours with a bootstrap interval
+      (each cell's seeds drawn again on their own) against the paper's (1 + η24) / (1 + η14), and
+      Spearman's rank correlation of η with TI at each speed, ours (cell means) and the paper's."""
+    turbulent = t7[t7.ti_pct > 0]
+    inside = {}
+    for name in TABLE7_LABELS:
+        flags = turbulent[f"{name} inside"].dropna() if f"{name} inside" in turbulent else pd.Series(dtype=float)
+        inside[name] = {"inside": int(flags.sum()), "cells": int(len(flags))}
+    total = {"inside": sum(v["inside"] for v in inside.values()), "cells": sum(v["cells"] for v in inside.values())}
+    rated = turbulent[turbulent.wind_speed == data.RATED_SPEED]
+    sign = {}
+    for name in TABLE7_LABELS:
+        sign[name] = [
+            {
+                "ti_pct": float(r.ti_pct),
+                "paper": float(r[f"{name} paper"]),
+                "ours": float(r[f"{name} ours"]),
+                "lo": float(r[f"{name} lo"]),
+                "hi": float(r[f"{name} hi"]),
+                "sign": _sign(float(r[f"{name} lo"]), float(r[f"{name} hi"])),
+            }
+            for _, r in rated.iterrows()
+        ]
+    counts = {s: sum(x["sign"] == s for v in sign.values() for x in v) for s in ("+", "−", "±", "-")}
+    trend = []
+    lo_ti, hi_ti = 14.0, 24.0
+    for v in sorted(data.TABLE7):
+        if v < FLAT_SPEEDS[0]:
+            continue
+        a, b = (_key(v), _key(lo_ti)), (_key(v), _key(hi_ti))
+        if a not in c.count.index or b not in c.count.index:
+            continue
+        xa, xb = _relative_cases(c, dc, a), _relative_cases(c, dc, b)
+        ratio = xb.mean(axis=0) / xa.mean(axis=0)
+        rlo = rhi = np.full(len(TABLE7_LABELS), math.nan)
+        if len(xa) >= 2 and len(xb) >= 2:
+            rlo, rhi = _percentiles(bootstrap_means(xb, _rng(v, hi_ti, 1)) / bootstrap_means(xa, _rng(v, lo_ti, 1)))
+        paper_row = data.TABLE7[v]
+        by_ti = turbulent[turbulent.wind_speed == v].sort_values("ti_pct")
+        for i, name in enumerate(TABLE7_LABELS):
+            theirs = (1.0 + paper_row[hi_ti][i] / 100.0) / (1.0 + paper_row[lo_ti][i] / 100.0)
+            ours_eta = by_ti[f"{name} ours"].to_numpy(dtype=float)
+            trend.append({
+                "wind_speed": v,
+                "damage": name,
+                "ours": float(ratio[i]),
+                "lo": float(rlo[i]),
+                "hi": float(rhi[i]),
+                "paper": float(theirs),
+                "paper_inside": bool(rlo[i] <= theirs <= rhi[i]) if rlo[i] == rlo[i] else None,
+                "spearman_ours": _spearman(by_ti.ti_pct.to_numpy(dtype=float), ours_eta),
+                "spearman_paper": _spearman(by_ti.ti_pct.to_numpy(dtype=float),
+                                            by_ti[f"{name} paper"].to_numpy(dtype=float)),  # fmt: skip
+            })
+    return {"inside": inside, "inside_total": total, "sign_at_rated": sign, "sign_counts": counts, "ti_trend": trend}
+
+
+def _spearman(x: np.ndarray, y: np.ndarray) -> float:
+    """Spearman's rank correlation (average ranks for ties) of the finite pairs; NaN below 3 pairs."""
+    ok = np.isfinite(x) & np.isfinite(y)
+    if ok.sum() < 3:
+        return math.nan
+    rx, ry = pd.Series(x[ok]).rank().to_numpy(), pd.Series(y[ok]).rank().to_numpy()
+    if rx.std() == 0 or ry.std() == 0:
+        return math.nan
+    return float(np.corrcoef(rx, ry)[0, 1])
 
 
 def missing_cells(c: Cells) -> list[tuple[float, float]]:
@@ -298,6 +447,8 @@ class Comparison:
     shapes_paper: dict
     rankings: dict
     missing: list[tuple[float, float]]
+    intervals: pd.DataFrame  # eta_intervals: seeds and η's bootstrap interval per cell
+    verdicts: dict  # verdicts(): the paper's values inside ours, the sign at rated, the TI trend
 
 
 def compare(t: pd.DataFrame) -> Comparison:
@@ -305,16 +456,20 @@ def compare(t: pd.DataFrame) -> Comparison:
     dc = const_rated(c)
     rel = relative(c, dc)
     t6 = table6(c)
+    ci = eta_intervals(c, dc)
+    t7 = table7(rel, ci)
     return Comparison(
         cells=c,
         const_rated=dc,
         table6=t6,
-        table7=table7(rel),
+        table7=t7,
         relative=rel,
         shapes_ours=shapes(rel),
         shapes_paper=shapes(paper_relative()),
         rankings=rankings(t6),
         missing=missing_cells(c),
+        intervals=ci,
+        verdicts=verdicts(t7, c, dc),
     )
 
 

@@ -3,7 +3,10 @@
     paper_table6.csv, .md   Table 6 beside ours: 1-day damage at 11.5 and 18 m/s, TI 14 %, ratio, ranks
     paper_table7.csv, .md   Table 7 beside ours: η per wind speed × TI, the paper's, ours, the difference
     paper_eta.png           heat maps of η, ours above the paper's, one colour scale per damage
-    paper_summary.json      the shape checks (a)-(d) for both, D_const,rated, cells, cases left out
+    paper_summary.json      the shape checks (a)-(d) for both, D_const,rated, cells, cases left out,
+                            the verdicts of η's intervals over seeds (inside, sign at rated, TI trend)
+    paper_cases.csv         the table's columns this comparison reads, one row per case: the page
+                            (--doc, paper_doc.py) is generated from it, so a test can regenerate it
 
 Cases that are not finished are left out and named, never guessed; the exit status is then 1.
 """
@@ -18,14 +21,14 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from . import paper
+from . import paper, paper_doc
 from . import paper_data as data
 from .errors import CampaignError
 from .report import locate_table, read_table
 
 TABLE_COLUMNS = ("name", "group", "status")  # the grid cases' columns this report reads
 FILES = ("paper_table6.csv", "paper_table6.md", "paper_table7.csv", "paper_table7.md", "paper_eta.png",
-         "paper_summary.json")  # fmt: skip
+         "paper_summary.json", "paper_cases.csv")  # fmt: skip
 
 
 def _num(x: float, digits: int = 4) -> str:
@@ -69,24 +72,33 @@ def write_table6(t6: pd.DataFrame, csv_path: Path, md_path: Path):
     md_path.write_text("\n".join(lines) + "\n")
 
 
+def _interval_text(lo: float, hi: float) -> str:
+    return "-" if lo != lo else f"[{lo:.3g}, {hi:.3g}]"
+
+
 def write_table7(t7: pd.DataFrame, csv_path: Path, md_path: Path):
     t7.to_csv(csv_path, index=False, float_format="%.17g")
-    head = ["V [m/s]", "TI [%]"]
+    head = ["V [m/s]", "TI [%]", "seeds"]
     for name in paper.TABLE7_LABELS:
-        head += [f"{name} paper", "ours", "diff"]
+        head += [f"{name} paper", "ours", f"{paper.CONFIDENCE:.0%} interval", "inside"]
     lines = [
-        "# Table 7: η = (D − D_const,rated) / D_const,rated × 100 %: the paper's, ours, ours − paper",
+        "# Table 7: η = (D − D_const,rated) / D_const,rated × 100 %: the paper's, ours with its interval over seeds",
         "",
         f"D_const,rated is steady wind at {data.RATED_SPEED:g} m/s; TI 0 is steady wind; ours is the mean "
-        "over the seeds of each cell. Bending is the tooth root, contacting the flank.",
+        "over the seeds of each cell, its interval the percentile bootstrap over them "
+        f"({paper.BOOTSTRAP_DRAWS} draws, generator seed {paper.BOOTSTRAP_SEED}); `inside` says whether the "
+        "paper's value lies in it. Bending is the tooth root, contacting the flank.",
         "",
         "| " + " | ".join(head) + " |",
         "|" + "---|" * len(head),
     ]
     for _, r in t7.iterrows():
-        cells = [f"{r.wind_speed:g}", _ti(r.ti_pct)]
+        cells = [f"{r.wind_speed:g}", _ti(r.ti_pct), f"{int(r.seeds)}" if "seeds" in r else "-"]
         for name in paper.TABLE7_LABELS:
-            cells += [_num(r[f"{name} paper"]), _num(r[f"{name} ours"]), _num(r[f"{name} diff"], 3)]
+            lo, hi = r.get(f"{name} lo", math.nan), r.get(f"{name} hi", math.nan)
+            inside = r.get(f"{name} inside", math.nan)
+            cells += [_num(r[f"{name} paper"]), _num(r[f"{name} ours"]), _interval_text(lo, hi),
+                      "-" if inside != inside else ("yes" if inside else "no")]  # fmt: skip
         lines.append("| " + " | ".join(cells) + " |")
     md_path.write_text("\n".join(lines) + "\n")
 
@@ -198,6 +210,8 @@ def summary(cmp: paper.Comparison, table: Path, meta: dict) -> dict:
         },
         "shapes": {"ours": cmp.shapes_ours, "paper": cmp.shapes_paper},
         "rankings": cmp.rankings,
+        "intervals": {"confidence": paper.CONFIDENCE, "bootstrap_draws": paper.BOOTSTRAP_DRAWS,
+                      "bootstrap_seed": paper.BOOTSTRAP_SEED, **cmp.verdicts},
     })  # fmt: skip
 
 
@@ -216,11 +230,18 @@ def print_report(cmp: paper.Comparison, meta: dict, out=sys.stdout):
                          f"{_num(r[f'ours_{s}'] / data.TABLE6_UNIT):>9} ({_num(r[f'ratio_{s}'], 3):>6}) "
                          f"{_rank(r[f'rank_paper_{s}'])}/{_rank(r[f'rank_ours_{s}'])}")  # fmt: skip
         print(f"  {r.stage} {r.gear:15} {r.damage:8} {r.tooth:4} " + "   ".join(parts), file=out)
-    print("\nTable 7: η [%], paper / ours", file=out)
-    print(f"  {'V':>4} {'TI':>3}  " + "".join(f"{n:>16}" for n in paper.TABLE7_LABELS), file=out)
+    print("\nTable 7: η [%], paper / ours (* the paper's value outside our interval over seeds)", file=out)
+    print(f"  {'V':>4} {'TI':>3}  " + "".join(f"{n:>17}" for n in paper.TABLE7_LABELS), file=out)
     for _, r in cmp.table7.iterrows():
-        cells = "".join(f"{_num(r[f'{n} paper'], 4):>7} /{_num(r[f'{n} ours'], 4):>7}" for n in paper.TABLE7_LABELS)
+        cells = "".join(f"{_num(r[f'{n} paper'], 4):>7} /{_num(r[f'{n} ours'], 4):>7}"
+                        f"{'*' if r.get(f'{n} inside', 1.0) == 0.0 else ' '}" for n in paper.TABLE7_LABELS)  # fmt: skip
         print(f"  {r.wind_speed:>4g} {r.ti_pct:>3g}  {cells}", file=out)
+    v = cmp.verdicts
+    tot = v["inside_total"]
+    print(f"\nthe paper's η inside our {paper.CONFIDENCE:.0%} interval: {tot['inside']} of {tot['cells']} "
+          "turbulent values", file=out)  # fmt: skip
+    print(f"sign of η at {data.RATED_SPEED:g} m/s (intervals): " +
+          ", ".join(f"{s} {n}" for s, n in v["sign_counts"].items() if n), file=out)  # fmt: skip
     print_shapes(cmp, out)
 
 
@@ -261,8 +282,20 @@ def _interval(s: dict) -> str:
 # the command
 
 
-def report(given: Path, out_dir: Path | None) -> int:
-    """Writes the comparison; 0 when every grid case counted, 1 when some are pending, failed or timed out."""
+CASE_COLUMNS = ("name", "group", "status", paper.WIND, paper.TI, paper.TURBULENCE, "param.rotor.seed", "run_s")
+
+
+def write_cases(t: pd.DataFrame, path: Path):
+    """The columns the comparison and its page read, one row per case, floats to the bit."""
+    extra = [c for c in t.columns if c.startswith("gear.") and c.endswith((".root_day", ".flank_day"))]
+    extra += [c for c in paper_doc.GLOBAL_COLUMNS if c in t.columns]
+    cols = [c for c in CASE_COLUMNS if c in t.columns] + extra
+    t[cols].sort_values("name", kind="stable").to_csv(path, index=False, float_format="%.17g")
+
+
+def report(given: Path, out_dir: Path | None, doc: Path | None = None) -> int:
+    """Writes the comparison (and with `doc` the page, generated from paper_cases.csv as a test regenerates
+    it); 0 when every grid case counted, 1 when some are pending, failed or timed out."""
     table = locate_table(given)
     t, meta = read_table(table, TABLE_COLUMNS)
     try:
@@ -275,8 +308,11 @@ def report(given: Path, out_dir: Path | None) -> int:
     write_table7(cmp.table7, out_dir / "paper_table7.csv", out_dir / "paper_table7.md")
     heat_maps(cmp.relative, out_dir / "paper_eta.png")
     (out_dir / "paper_summary.json").write_text(json.dumps(summary(cmp, table, meta), indent=1))
+    write_cases(t, out_dir / "paper_cases.csv")
+    if doc is not None:
+        doc.write_text(paper_doc.page_from_csv(out_dir / "paper_cases.csv", meta.get("campaign")))
     print_report(cmp, meta)
-    print(f"\nwritten: {out_dir}/{', '.join(FILES)}")
+    print(f"\nwritten: {out_dir}/{', '.join(FILES)}{f' and {doc}' if doc is not None else ''}")
     return _warn(cmp)
 
 

@@ -154,6 +154,11 @@ pub enum Variance {
     Spectrum,
     /// σ is the 10-minute standard deviation: exact over a period of 600 s or more.
     TenMinute,
+    /// σ is the standard deviation over one period, whatever its length: TurbSim's `ScaleIEC` applied
+    /// to a record as long as the analysed window, so a window shorter than 10 minutes carries the
+    /// whole σ in its own band (above 1/period) instead of the share a cut of a 10-minute record
+    /// would hold on average. From 600 s on it is [`Variance::TenMinute`].
+    Period,
 }
 
 /// IEC 61400-1's averaging time of σ1, s.
@@ -162,13 +167,14 @@ pub const TEN_MINUTES: f64 = 600.0;
 /// The factor on a one-sided point density `spectrum_at` (its σ being `sigma`) that gives a series of
 /// `n` samples at `dt`, synthesised on the bins 1..n/2, the variance `variance` asks for: 1 for the
 /// spectrum's own; for the 10-minute σ, σ² over what the spectrum holds in a 10-minute record's bins
-/// (the series' own when its period is longer) up to the series' Nyquist frequency.
+/// (the series' own when its period is longer) up to the series' Nyquist frequency; for the period's
+/// σ, σ² over what the series' own bins hold.
 pub fn variance_scale(spectrum_at: impl Fn(f64) -> f64, sigma: f64, dt: f64, n: usize, variance: Variance) -> f64 {
     match variance {
         Variance::Spectrum => 1.0,
-        Variance::TenMinute => {
+        Variance::TenMinute | Variance::Period => {
             let df = 1.0 / (n as f64 * dt);
-            let held = if n as f64 * dt >= TEN_MINUTES {
+            let held = if variance == Variance::Period || n as f64 * dt >= TEN_MINUTES {
                 (1..n / 2).map(|k| spectrum_at(k as f64 * df)).sum::<f64>() * df
             } else {
                 let (df_10, nyquist) = (1.0 / TEN_MINUTES, 0.5 / dt);
@@ -394,5 +400,85 @@ mod tests {
         // a period that is no multiple of the spacing: the spacing shrinks to fit it
         let (dt, n) = sampling(61.3, 0.05);
         assert!(n % 2 == 0 && (dt * n as f64 - 61.3).abs() < 1e-12 && dt <= 0.05);
+    }
+    /// Moments of a series over one period: mean and (population) variance.
+    fn moments(s: &TurbulenceSeries) -> (f64, f64) {
+        let mean = s.values.iter().sum::<f64>() / s.values.len() as f64;
+        let var = s.values.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / s.values.len() as f64;
+        (mean, var)
+    }
+
+    /// With σ read over the period, a window shorter than 10 minutes (the paper's 60 s) has exactly the
+    /// mean and σ asked for at the point, for every seed: the amplitudes are fixed and only the phases
+    /// are drawn, so the variance over one period is Σa²/2 whatever the phases. The rotor-effective
+    /// series keeps the disc's share of it, the same share for every seed (its amplitudes are fixed
+    /// too); from 600 s on the period's σ is the 10-minute one to the bit.
+    #[test]
+    fn a_short_period_carries_its_sigma_with_period_scaling() {
+        let (sigma, length, v) = (1.61, 340.2, 11.5);
+        let (dt, n) = sampling(60.0, 0.05);
+        let mut shares = Vec::new();
+        for seed in [1, 2, 3, 1_234_567, 2_147_483_646] {
+            let point = TurbulenceSeries::kaimal(sigma, length, v, dt, n, Variance::Period, seed);
+            let (mean, var) = moments(&point);
+            assert!(mean.abs() < 1e-12, "seed {seed}: window mean {mean}");
+            assert!(
+                (var.sqrt() / sigma - 1.0).abs() < 1e-12,
+                "seed {seed}: window σ {} vs {sigma}",
+                var.sqrt()
+            );
+            let disc = TurbulenceSeries::kaimal_rotor_average(sigma, length, v, 35.0, dt, n, Variance::Period, seed);
+            let (disc_mean, disc_var) = moments(&disc);
+            assert!(disc_mean.abs() < 1e-12 && disc_var < var, "{disc_mean} {disc_var}");
+            shares.push(disc_var / var);
+        }
+        assert!(shares.iter().all(|s| (s / shares[0] - 1.0).abs() < 1e-12), "{shares:?}");
+        let ten = TurbulenceSeries::kaimal(sigma, length, v, dt, n, Variance::TenMinute, 1);
+        assert!(
+            moments(&ten).1 < 0.7 * sigma * sigma,
+            "the 10-minute reading holds less in 60 s"
+        );
+        let (dt, n) = sampling(600.0, 0.05);
+        assert_eq!(
+            TurbulenceSeries::kaimal(sigma, length, v, dt, n, Variance::Period, 9),
+            TurbulenceSeries::kaimal(sigma, length, v, dt, n, Variance::TenMinute, 9)
+        );
+    }
+
+    /// Two seeds draw unrelated phases: the zero-lag correlation of two series over a period is a sum
+    /// of cos(φ_k − φ'_k) weighted by a_k², so with independent phases it has mean 0 and variance
+    /// Σa_k⁴ / (2·(Σa_k²)²) (the Kaimal spectrum's low bins dominate, so that is far from 1/n). Over 400
+    /// pairs of seeds (adjacent seeds, and the 31-bit seeds campaigns derive) the mean squared
+    /// correlation equals that variance within 25 % (its relative standard error is √(2/400) ≈ 7 %),
+    /// and one seed with itself correlates to 1.
+    #[test]
+    fn two_seeds_are_uncorrelated() {
+        let (sigma, length, v) = (1.61, 340.2, 11.5);
+        let (dt, n) = sampling(60.0, 0.05);
+        let series = |seed| TurbulenceSeries::kaimal(sigma, length, v, dt, n, Variance::Period, seed);
+        let correlation = |a: &TurbulenceSeries, b: &TurbulenceSeries| {
+            let dot: f64 = a.values.iter().zip(&b.values).map(|(x, y)| x * y).sum();
+            dot / (moments(a).1 * moments(b).1).sqrt() / a.values.len() as f64
+        };
+        let df = 1.0 / (n as f64 * dt);
+        let power: Vec<f64> = (1..n / 2).map(|k| kaimal(k as f64 * df, sigma, length, v)).collect();
+        let expected = power.iter().map(|p| p * p).sum::<f64>() / (2.0 * power.iter().sum::<f64>().powi(2));
+        let mut sum = 0.0;
+        let pairs = 400;
+        for i in 0..pairs {
+            let (s1, s2) = if i % 2 == 0 {
+                (i, i + 1)
+            } else {
+                (mix64(i) >> 33, mix64(i + 7_777) >> 33)
+            };
+            sum += correlation(&series(s1), &series(s2)).powi(2);
+        }
+        let mean_square = sum / pairs as f64;
+        eprintln!("mean squared correlation {mean_square:.5}, independent phases {expected:.5}");
+        assert!(
+            (mean_square / expected - 1.0).abs() < 0.25,
+            "{mean_square} vs {expected}"
+        );
+        assert!((correlation(&series(5), &series(5)) - 1.0).abs() < 1e-12);
     }
 }

@@ -238,6 +238,17 @@ impl Params {
                 "hub" => false,
                 other => return Err(ParameterError::invalid("wind_averaging", &other, "use rotor or hub")),
             },
+            period_variance: match self.turbulence_scaling.trim() {
+                "ten_minute" => Variance::TenMinute,
+                "period" => Variance::Period,
+                other => {
+                    return Err(ParameterError::invalid(
+                        "turbulence_scaling",
+                        &other,
+                        "use ten_minute or period",
+                    ));
+                }
+            },
             power_control: match self.pitch_control.trim() {
                 "speed" => false,
                 "power" => true,
@@ -335,9 +346,10 @@ impl Params {
                 }
                 let turbulence = (sigma > 0.0).then(|| {
                     // a window of its own: its period, spacing ≤ 0.05 s (content to 10 Hz), σ the 10-minute
-                    // one; else one long record of 2^16 samples at 0.05 s (3276.8 s), the spectrum as it is
+                    // one or the period's (turbulence_scaling); else one long record of 2^16 samples at
+                    // 0.05 s (3276.8 s), the spectrum as it is
                     let ((dt, n), variance) = if self.turbulence_period > 0.0 {
-                        (sampling(self.turbulence_period, 0.05), Variance::TenMinute)
+                        (sampling(self.turbulence_period, 0.05), choices.period_variance)
                     } else {
                         ((0.05, 1 << 16), Variance::Spectrum)
                     };
@@ -454,6 +466,8 @@ struct Choices {
     turbulence: Option<TurbulenceModel>,
     /// Turbulence averaged over the swept disc (the rotor-effective wind), not at the hub point.
     rotor_average: bool,
+    /// What σ holds over when the series has a period of its own (turbulence_scaling).
+    period_variance: Variance,
     /// Pitch to hold rated power (else rated generator speed).
     power_control: bool,
     /// A played-back series is in per-unit of a rated rotor torque (else N·m).

@@ -185,9 +185,9 @@ def test_case_ids_follow_the_simulation_not_the_file(tmp_path):
 
 
 def test_a_turbulent_rotors_period_is_the_analysed_window_and_its_seed_its_own(tmp_path):
-    """Every window carries its mean wind (and from 10 minutes on its intensity) exactly when the series'
-    period is the window (src/physics/turbulence.rs), so a seeded rotor gets turbulence_period =
-    stop_time - transient, and a new transient is then a new simulation; a period the campaign gives
+    """Every window carries its mean wind and its intensity exactly when the series' period is the window
+    and its σ is read over that period (src/physics/turbulence.rs), so a seeded rotor gets
+    turbulence_period = stop_time - transient and turbulence_scaling = "period", and a new transient is then a new simulation; a period the campaign gives
     stays. Its seed is the case's own: one seed number at two wind speeds or intensities draws
     different seeds, the same case the same one."""
     seeded = minimal(grid="rotor.seed = [1, 2]\nrotor.wind_speed = [10.0, 12.0]\nrotor.turbulence_intensity = [0.1, 0.2]")
@@ -195,6 +195,7 @@ def test_a_turbulent_rotors_period_is_the_analysed_window_and_its_seed_its_own(t
     c = schema.load(write_campaign(tmp_path, seeded, "a.toml"))
     found = cases.expand(c, {c.scene: ("s", "d")}, "w")
     assert {k.params["rotor.turbulence_period"] for k in found} == {1.5}
+    assert {k.params["rotor.turbulence_scaling"] for k in found} == {"period"}  # σ over the window itself
     seeds = [k.params["rotor.seed"] for k in found]
     assert len(set(seeds)) == 8 and all(isinstance(x, int) and 1 <= x < 2**31 for x in seeds)
     assert seeds == [k.params["rotor.seed"] for k in cases.expand(c, {c.scene: ("s", "d")}, "w")]
@@ -203,6 +204,8 @@ def test_a_turbulent_rotors_period_is_the_analysed_window_and_its_seed_its_own(t
     given = seeded.replace("rotor.seed", "rotor.turbulence_period = [9.0]\nrotor.seed")
     given = schema.load(write_campaign(tmp_path, given, "c.toml"))
     assert {k.params["rotor.turbulence_period"] for k in cases.expand(given, {c.scene: ("s", "d")}, "w")} == {9.0}
+    ten = schema.load(write_campaign(tmp_path, seeded.replace("rotor.seed", 'rotor.turbulence_scaling = ["ten_minute"]\nrotor.seed'), "d.toml"))
+    assert {k.params["rotor.turbulence_scaling"] for k in cases.expand(ten, {c.scene: ("s", "d")}, "w")} == {"ten_minute"}
 
 
 def test_dlc12_defaults_are_iec_windows_and_six_seeds(tmp_path):

@@ -128,6 +128,7 @@ def one_fmu_scene(tmp_path, name):
     ("rotor", ["initial_pitch=2"], ["initial_pitch = 2", "pitch_max"]),
     ("rotor", ["turbulence=ntm", "turbulence_period=0.5"], ["turbulence_period = 0.5", "0 (3276.8 s) or 1 to 86 400 s"]),
     ("rotor", ["turbulence=ntm", "turbulence_period=1e6"], ["turbulence_period = 1000000", "above its maximum 86400"]),
+    ("rotor", ["turbulence=ntm", "turbulence_scaling=window"], ["turbulence_scaling", "window", "ten_minute or period"]),
 ])
 def test_bad_fmu_parameters_are_named(windrive, tmp_path, fmu, params, words):
     scene = one_fmu_scene(tmp_path, fmu)

@@ -586,6 +586,7 @@ DEFAULTS = [
     ("rotor", r"while scale_blade_to_radius = true \(the start value\)", "scale_blade_to_radius", "true"),
     ("rotor", r"initial_pitch negative \(default\) starts at the trim pitch", "initial_pitch", "-1"),
     ("rotor", r"By default one record of 3276\.8 s with the spectrum's own variance", "turbulence_period", "0"),
+    ("rotor", r"ten_minute \(default\) IEC 61400-1's 10-minute one", "turbulence_scaling", "ten_minute"),
     ("rotor", r"the paper's gains for its 1\.5 MW turbine by default", None, None),
     ("rotor", r"Its pitch gains are this FMU's defaults\.", None, None),
     ("rotor", r"startup_pitch_rate \((\S+)°/s, an estimate\)", "startup_pitch_rate", deg),

@@ -139,7 +139,7 @@ pub fn generate(spec: &FieldSpec) -> Result<WindField, WindFieldError> {
             }
         }
     }
-    if spec.variance == Variance::TenMinute {
+    if matches!(spec.variance, Variance::TenMinute | Variance::Period) {
         // u's points draw L·e^{iφ}, whose squared modulus is 1 only on average: one factor over the grid
         // brings the points' mean variance to the spectrum's (Parseval: var = Σ_k 2|X_k|²)
         let held: f64 = half_amplitude[0].iter().map(|a| 2.0 * a * a).sum::<f64>() * points as f64;
