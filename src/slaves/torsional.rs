@@ -176,18 +176,33 @@ impl TorsionalSlave {
         }
     }
 
-    /// The built model and state, created from the current parameters on first use.
+    /// The built model and state, created from the current parameters on first use. Every step and
+    /// every output read passes here: the check is inlined, the building kept out of line.
+    #[inline]
     pub fn ensure(&mut self) -> SlaveResult<(&Built, &mut DynState)> {
+        if self.built.is_none() || self.state.is_none() {
+            self.build_model_and_state()?;
+        }
+        match (&self.built, &mut self.state) {
+            (Some(built), Some(state)) => Ok((built, state)),
+            _ => Err(err("the model was not built")),
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn build_model_and_state(&mut self) -> SlaveResult<()> {
         if self.built.is_none() {
             let built = self.params.build()?;
             self.driver = Driver::new(built.method);
             self.built = Some(Arc::new(built));
         }
-        let built = self.built.as_ref().unwrap();
-        if self.state.is_none() {
+        if self.state.is_none()
+            && let Some(built) = &self.built
+        {
             self.state = Some(self.params.initial_state(built)?);
         }
-        Ok((built, self.state.as_mut().unwrap()))
+        Ok(())
     }
 
     fn invalidate(&mut self) {

@@ -240,9 +240,18 @@ struct Work {
 }
 
 impl Work {
-    #[inline]
+    /// The check every step makes, inlined; the rebuild stays out of line.
+    #[inline(always)]
     fn fit(&mut self, n: usize) {
         if self.f1.len() != n {
+            self.refit(n);
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn refit(&mut self, n: usize) {
+        {
             let z = vec![0.0; n];
             *self = Self {
                 f1: z.clone(),

@@ -55,11 +55,19 @@ impl DynState {
         }
     }
 
-    /// x·0 is 0 for a finite x and NaN otherwise, so each sum is NaN exactly when some entry is not
-    /// finite: three loops that vectorise, where a chained iterator with early exit does not.
+    /// An entry is infinite or NaN exactly when its exponent field is all ones; adding one at the
+    /// exponent's lowest bit then carries into bit 63, which no finite entry reaches. OR-ed over the
+    /// slices in integers the loops vectorise with SSE2 (and, or, add), where a float fold must
+    /// keep its order and ran as a serial chain of 33 dependent adds (≈ 230 instructions, a tenth
+    /// of the torsional FMU's step, by callgrind).
     pub fn is_finite(&self) -> bool {
-        let poison = |x: &[f64]| x.iter().fold(0.0, |s, v| s + v * 0.0);
-        (poison(&self.q) + poison(&self.v) + poison(&self.a)) == 0.0
+        const EXPONENT: u64 = 0x7ff0_0000_0000_0000;
+        const EXPONENT_ONE: u64 = 1 << 52;
+        let carry = |x: &[f64]| {
+            x.iter()
+                .fold(0u64, |acc, v| acc | (v.to_bits() & EXPONENT).wrapping_add(EXPONENT_ONE))
+        };
+        (carry(&self.q) | carry(&self.v) | carry(&self.a)) >> 63 == 0
     }
 }
 
@@ -118,5 +126,29 @@ impl SolverError {
     /// Whether a shorter step can cure it (contact and convergence failures can; the others not).
     pub fn is_recoverable(&self) -> bool {
         matches!(self, Self::NewtonDiverged { .. } | Self::ContactNotSettled { .. })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::DynState;
+
+    /// Every non-finite value is caught in every vector and at every position; the extremes of the
+    /// finite range (largest, subnormal, negative zero) are not.
+    #[test]
+    fn is_finite_flags_exactly_the_non_finite_states() {
+        let finite = [f64::MAX, -f64::MAX, f64::MIN_POSITIVE, 5e-324, -0.0, 0.0, 1.0, -1e300];
+        let mut st = DynState::new(finite.to_vec(), finite.to_vec());
+        st.a = finite.to_vec();
+        assert!(st.is_finite());
+        for bad in [f64::INFINITY, f64::NEG_INFINITY, f64::NAN, -f64::NAN] {
+            for vector in 0..3 {
+                for i in 0..finite.len() {
+                    let mut s = st.clone();
+                    [&mut s.q, &mut s.v, &mut s.a][vector][i] = bad;
+                    assert!(!s.is_finite(), "{bad} at {i} of vector {vector}");
+                }
+            }
+        }
     }
 }
