@@ -221,15 +221,17 @@ pub fn provide_own_fmus<'a>(fmus: impl IntoIterator<Item = &'a Path>, refresh: b
     Ok(())
 }
 
-/// Copies to a file private to this process and renames it into place: runs of the same scene
-/// started together (a campaign's workers) each open a whole FMU, the old or the new, never one half
-/// written.
+/// Copies to a file private to this call and renames it into place: runs of the same scene started
+/// together (a campaign's workers, or tests opening one scene on several threads of one process) each
+/// open a whole FMU, the old or the new, never one half written, and no copy renames another's file.
 fn copy_atomically(source: &Path, dest: &Path) -> Result<(), PackError> {
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let name = dest
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let tmp = dest.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    let tmp = dest.with_file_name(format!(".{name}.{}-{call}.tmp", std::process::id()));
     let context = |e: std::io::Error| PackError::Io(format!("copying {} to {}: {e}", source.display(), dest.display()));
     std::fs::copy(source, &tmp).map_err(context)?;
     std::fs::rename(&tmp, dest)

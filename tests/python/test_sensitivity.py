@@ -67,7 +67,7 @@ def test_group_a_runs_end_to_end(tmp_path):
     assert r.returncode == 0, r.stderr
     estimates = [e for e in sensitivity.estimates(str(WINDRIVE)) if e.group == "A"]
     evaluations = (tmp_path / "A_evaluations.csv").read_text().splitlines()
-    assert len(evaluations) == 1 + 2 * (len(estimates) + 1)
+    assert len(evaluations) == 1 + 1 + 2 * (len(estimates) + 1)  # the header, the nominal point, the sample
     bands = json.loads((tmp_path / "bands.json").read_text())
     assert bands and all(b["group"] == "A" for b in bands)
     for b in bands:
