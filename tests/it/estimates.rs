@@ -3,10 +3,18 @@
 //! the reproduction runs; and setting one reaches the scene (a parameter binding) or the gearbox (an edited
 //! description the FMU loads by path).
 
-use windrive::cli::reproduce::open_scene;
+use windrive::cosim::Scene;
 use windrive::physics::gearbox::description::Description;
 use windrive::studies::estimates::{self, Setting, Target, key_values, preset_table};
 use windrive::studies::reproduce::scenes_run;
+
+/// A repository scene as written, without packing its FMUs (reading and binding parameters needs none;
+/// packing here would race the other tests that pack).
+fn open_scene(name: &str) -> anyhow::Result<Scene> {
+    Ok(Scene::open(
+        &windrive::pack::workspace_root()?.join("scenes").join(name),
+    )?)
+}
 
 fn close(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-9 * b.abs().max(1e-300)
