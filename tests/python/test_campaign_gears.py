@@ -196,7 +196,7 @@ def test_two_cases_with_one_name_are_an_error(tmp_path):
     clash = '[[grid]]\nrotor.seed = [1]\n[[grid]]\nrotor.seed = ["1"]\n'
     # (the integer seed is the case's own, cases.case_seed; the string is left for windrive to refuse)
     with pytest.raises(CampaignError, match=r"two different cases are named grid-seed=1 \(rotor.seed=\d+ "
-                                            r"rotor.turbulence_period=2.0 and rotor.seed='1' "):  # fmt: skip
+                                            r"rotor.turbulence_period=2.0 rotor.turbulence_scaling='period' and rotor.seed='1' "):  # fmt: skip
         expand(tmp_path, clash)
 
 
