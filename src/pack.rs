@@ -138,8 +138,9 @@ pub fn pack(root: &Path, name: &str) -> Result<PathBuf, PackError> {
     let out_dir = target_dir(root).join("fmu");
     std::fs::create_dir_all(&out_dir).map_err(io(&out_dir))?;
     let out = out_dir.join(format!("{name}.fmu"));
-    // written to a private file and renamed, so concurrent packers never leave a torn archive
-    let tmp = out_dir.join(format!(".{name}.fmu.{}", std::process::id()));
+    // written to a file private to this call and renamed, so concurrent packers (other processes, or
+    // tests opening scenes on several threads of one) never leave a torn archive or rename another's file
+    let tmp = out_dir.join(format!(".{name}.fmu.{}", private_suffix()));
     {
         let file = std::fs::File::create(&tmp).map_err(io(&tmp))?;
         let mut zip = zip::ZipWriter::new(file);
@@ -225,18 +226,23 @@ pub fn provide_own_fmus<'a>(fmus: impl IntoIterator<Item = &'a Path>, refresh: b
 /// together (a campaign's workers, or tests opening one scene on several threads of one process) each
 /// open a whole FMU, the old or the new, never one half written, and no copy renames another's file.
 fn copy_atomically(source: &Path, dest: &Path) -> Result<(), PackError> {
-    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let name = dest
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let tmp = dest.with_file_name(format!(".{name}.{}-{call}.tmp", std::process::id()));
+    let tmp = dest.with_file_name(format!(".{name}.{}.tmp", private_suffix()));
     let context = |e: std::io::Error| PackError::Io(format!("copying {} to {}: {e}", source.display(), dest.display()));
     std::fs::copy(source, &tmp).map_err(context)?;
     std::fs::rename(&tmp, dest)
         .inspect_err(|_| drop(std::fs::remove_file(&tmp)))
         .map_err(context)
+}
+
+/// A suffix no other call, in this process or another, uses: the process id and a count of calls.
+fn private_suffix() -> String {
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    format!("{}-{call}", std::process::id())
 }
 
 /// Writes every file below the scene folder `folder` into the SSP archive `out`, deflated, in the

@@ -7,7 +7,7 @@
 
 use crate::cosim::Scene;
 use crate::studies::estimates::{self, Setting};
-use crate::studies::reproduce::{Band, Row, markdown, read_bands, rows, rows_where};
+use crate::studies::reproduce::{Band, Row, markdown, read_bands, report, rows_where};
 use anyhow::Context;
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -51,8 +51,9 @@ pub fn run(args: &ReproduceArgs) -> anyhow::Result<()> {
     if !args.set.is_empty() {
         return run_set(args);
     }
-    let rows = rows(&open_scene)?;
-    let text = markdown(&rows, &bands()?);
+    let report = report(&open_scene)?;
+    let text = report.markdown(&bands()?);
+    let rows = &report.rows;
     print!("{text}");
     let out = args
         .out

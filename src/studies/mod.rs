@@ -4,7 +4,7 @@
 //! - the thesis's main case: a drivetrain's normal operation and shutdown through the master, their
 //!   summary and charts (`shutdown`);
 //! - the thesis beside us: every number of the thesis we compute, beside ours (`reproduce`, its values
-//!   in data/thesis.toml, its 6-DOF gearbox quantities in `chapter7`); the calibration of drivetrain C's estimated inputs against the thesis's
+//!   in data/thesis.toml, its 6-DOF gearbox quantities in `chapter7`, its 20-year conclusions in `thesis_life`); the calibration of drivetrain C's estimated inputs against the thesis's
 //!   measured statistics ([`calibration`], its fit over C's scenes in `calibration::fit`, with the
 //!   [`nelder_mead`] minimiser);
 //! - which method, step and model for a scene: error against CPU time over a grid of runs
@@ -52,5 +52,7 @@ pub mod scene_study;
 pub mod shutdown;
 #[cfg(feature = "cli")]
 pub mod stability;
+#[cfg(feature = "cli")]
+pub mod thesis_life;
 #[cfg(feature = "cli")]
 pub mod work_precision;

@@ -17,6 +17,7 @@ use crate::studies::calibration::{self, fit::Scenes};
 use crate::studies::chapter7;
 use crate::studies::preset_modes::preset_modes;
 use crate::studies::shutdown::{Reading, read_runs, run_scene};
+use crate::studies::thesis_life;
 use anyhow::{Context, anyhow};
 use serde::Deserialize;
 use std::collections::HashMap;
@@ -243,6 +244,15 @@ pub enum Ours {
         #[serde(default)]
         window: Option<chapter7::Window>,
     },
+    /// A 20-year conclusion of the thesis, from a 6-DOF normal-operation and shutdown scene the thesis's
+    /// way ([`thesis_life`]); `count` is how bearings' damage is counted (not for the flanks).
+    Life {
+        normal: String,
+        shutdown: String,
+        quantity: thesis_life::Quantity,
+        #[serde(default)]
+        count: Option<thesis_life::Count>,
+    },
 }
 
 /// What a [`Ours::Shutdown`] row reads from [`crate::analysis::shutdown::Summary`].
@@ -284,6 +294,7 @@ impl Ours {
             | Ours::PeakLssTorqueRatio { scene, .. }
             | Ours::MeanGeneratorSpeedRpm { scene }
             | Ours::Gearbox { scene, .. } => vec![scene.clone()],
+            Ours::Life { normal, shutdown, .. } => vec![normal.clone(), shutdown.clone()],
             Ours::Calibration { .. } | Ours::CalibrationRatio { .. } => {
                 vec!["c-normal".to_string(), "c-shutdown".to_string()]
             }
@@ -317,8 +328,36 @@ pub fn rows(open: OpenScene) -> anyhow::Result<Vec<Row>> {
 /// The rows whose computation `keep` accepts (e.g. those running the scenes a sensitivity sample
 /// changes), in the table's order.
 pub fn rows_where(open: OpenScene, keep: &dyn Fn(&Ours) -> bool) -> anyhow::Result<Vec<Row>> {
+    Ok(report_where(open, keep)?.rows)
+}
+
+/// Every row, and the 20-year damage per bearing and flank behind the conclusion rows.
+pub struct Report {
+    pub rows: Vec<Row>,
+    /// Per pair of scenes (normal operation, shutdown), in the order the rows first use them.
+    pub lives: Vec<((String, String), thesis_life::Life)>,
+}
+
+impl Report {
+    /// docs/REPRODUCTION.md: the table ([`markdown`]), then the damage behind the 20-year rows.
+    pub fn markdown(&self, bands: &HashMap<String, Band>) -> String {
+        let mut s = markdown(&self.rows, bands);
+        for ((normal, shutdown), life) in &self.lives {
+            s.push('\n');
+            s.push_str(&life.markdown(normal, shutdown));
+        }
+        s
+    }
+}
+
+/// Every row and what stands behind them (the page `windrive reproduce` writes).
+pub fn report(open: OpenScene) -> anyhow::Result<Report> {
+    report_where(open, &|_| true)
+}
+
+fn report_where(open: OpenScene, keep: &dyn Fn(&Ours) -> bool) -> anyhow::Result<Report> {
     let mut ours = Computed::new(open);
-    entries()?
+    let rows = entries()?
         .into_iter()
         .filter(|e| keep(&e.ours))
         .map(|e| {
@@ -332,7 +371,11 @@ pub fn rows_where(open: OpenScene, keep: &dyn Fn(&Ours) -> bool) -> anyhow::Resu
                 reason: e.reason,
             })
         })
-        .collect()
+        .collect::<anyhow::Result<Vec<Row>>>()?;
+    Ok(Report {
+        rows,
+        lives: ours.lives,
+    })
 }
 
 /// Every scene some row runs (folder names under scenes/), each once.
@@ -368,6 +411,8 @@ struct Computed<'a> {
     readings: HashMap<String, Reading>,
     /// Per 6-DOF scene: its run.
     gearbox_runs: HashMap<String, chapter7::Run>,
+    /// Per pair of 6-DOF scenes (normal operation, shutdown): their 20-year damage, in the order computed.
+    lives: Vec<((String, String), thesis_life::Life)>,
 }
 
 impl<'a> Computed<'a> {
@@ -378,6 +423,7 @@ impl<'a> Computed<'a> {
             calibration: None,
             readings: HashMap::new(),
             gearbox_runs: HashMap::new(),
+            lives: Vec::new(),
         }
     }
 
@@ -467,6 +513,33 @@ impl<'a> Computed<'a> {
                 .gearbox_run(scene)?
                 .quantity(*quantity, part.as_deref(), over.as_deref(), *window)
                 .with_context(|| format!("scene {scene}"))?,
+            Ours::Life {
+                normal,
+                shutdown,
+                quantity,
+                count,
+            } => {
+                let key = (normal.clone(), shutdown.clone());
+                let index = match self.lives.iter().position(|(k, _)| *k == key) {
+                    Some(i) => i,
+                    None => {
+                        let life =
+                            thesis_life::Life::of(&(self.open)(normal)?, &(self.open)(shutdown)?, chapter7::TRIP_S)?;
+                        self.lives.push((key, life));
+                        self.lives.len() - 1
+                    }
+                };
+                let bearings = !matches!(
+                    quantity,
+                    thesis_life::Quantity::FlankShutdownShare | thesis_life::Quantity::HssFlankShutdownDamageOverOthers
+                );
+                let count = match count {
+                    Some(c) => *c,
+                    None if !bearings => thesis_life::Count::Iso281,
+                    None => return Err(anyhow!("{quantity:?} needs a count (iso281 or thesis)")),
+                };
+                self.lives[index].1.quantity(*quantity, count)?
+            }
         })
     }
 
@@ -695,7 +768,7 @@ mod tests {
     #[test]
     fn the_thesis_values_parse_and_the_static_rows_compute() {
         let entries = entries().unwrap();
-        assert_eq!(entries.len(), 127);
+        assert_eq!(entries.len(), 137);
         let no_scene: OpenScene = &|name| Err(anyhow!("{name}: no scene in this test"));
         let mut ours = Computed::new(no_scene);
         for e in entries.iter().filter(|e| !e.ours.runs_a_scene()) {
