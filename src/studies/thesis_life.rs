@@ -8,7 +8,7 @@
 //! [`bearing_set`]: crate::analysis::rating::bearing_set
 //! [`gear_set`]: crate::analysis::rating::gear_set
 
-use crate::analysis::rating::bearing_set::{BearingDamage, BearingTable};
+use crate::analysis::rating::bearing_set::{BearingDamage, bearing_table};
 use crate::analysis::rating::gear::MeshForce;
 use crate::analysis::rating::gear_set::{self, ToothDamage, description_table};
 use crate::cosim::Scene;
@@ -107,22 +107,23 @@ impl Life {
     /// description the same) and rates their series: normal operation from [`NORMAL_FROM_S`], the
     /// shutdown from `trip_s`.
     pub fn of(normal: &Scene, shutdown: &Scene, trip_s: f64) -> anyhow::Result<Self> {
-        let gearbox = |s: &Scene| {
-            s.string_parameter(COMPONENT, "gearbox")
-                .map(str::to_string)
-                .ok_or_else(|| anyhow!("scene {}: no gearbox6dof component {COMPONENT:?}", s.name))
+        let load = |s: &Scene| {
+            let name = s
+                .string_parameter(COMPONENT, "gearbox")
+                .ok_or_else(|| anyhow!("scene {}: no gearbox6dof component {COMPONENT:?}", s.name))?;
+            Description::load(name).with_context(|| format!("scene {}: gearbox {name}", s.name))
         };
-        let name = gearbox(normal)?;
-        if gearbox(shutdown)? != name {
+        // each scene may have its own copy (a sensitivity sample edits one per scene): the same gearbox
+        // is the same description
+        let description = load(normal)?;
+        if description != load(shutdown)? {
             bail!(
-                "scenes {} and {} load different gearboxes ({name}, {})",
+                "scenes {} and {} load different gearboxes: the shutdown's damage would be rated on other bearings",
                 normal.name,
-                shutdown.name,
-                gearbox(shutdown)?
+                shutdown.name
             );
         }
-        let description = Description::load(&name).with_context(|| format!("gearbox {name}"))?;
-        let bearings = BearingTable::load(&name, COMPONENT).map_err(|e| anyhow!("{e}"))?;
+        let bearings = bearing_table(&description, COMPONENT).map_err(|e| anyhow!("{e}"))?;
         let teeth = description_table(&description, COMPONENT, MeshForce::Normal);
         let mut channels: Vec<&str> = bearings.channels();
         for c in gear_set::channels(&teeth) {
