@@ -14,6 +14,8 @@ from __future__ import annotations
 import logging
 import os
 import sys
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 from .errors import CampaignError
@@ -31,6 +33,36 @@ def import_fix() -> str:
     if IN_CHECKOUT:
         return f"with PYTHONPATH={PACKAGE_PARENT} (the same path on every node; docs/CAMPAIGNS.md)"
     return f"from a Python with the windrive wheel installed (this one: {sys.executable})"
+
+
+CLOSE_TIMEOUT_S = 20  # for closing the client and the cluster at the end of a run
+
+
+@contextmanager
+def connected(scheduler: str | None, start: Callable[[], object]) -> Iterator[tuple[object, object | None]]:
+    """A dask client, and the cluster this run started or None: of the running scheduler at `scheduler`
+    (`--scheduler ADDRESS`), else of the cluster `start()` returns. Both are closed at the end, each
+    within CLOSE_TIMEOUT_S: after Ctrl-C a worker may sit in a case that never returns (a blocked
+    windrive); its process, and with it the case (PR_SET_PDEATHSIG), goes when the cluster stops."""
+    from distributed import Client
+
+    cluster = None
+    if scheduler:
+        try:
+            client = Client(scheduler, timeout="20s")
+        except OSError as e:
+            raise CampaignError(f"--scheduler {scheduler}: cannot connect: {e}") from None
+    else:
+        cluster = start()
+        client = Client(cluster)
+    try:
+        yield client, cluster
+    finally:
+        for close in (client.close, *([cluster.close] if cluster is not None else [])):
+            try:
+                close(timeout=CLOSE_TIMEOUT_S)
+            except Exception:  # a timeout or a cluster already gone: nothing left to wait for
+                pass
 
 
 def local(workers: int | None):

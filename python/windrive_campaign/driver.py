@@ -167,28 +167,20 @@ def _run(c: Campaign, opts: Options, stream) -> int:
     return 0 if counts.get("ok", 0) == len(all_cases) else 1
 
 
-CLOSE_TIMEOUT_S = 20  # for closing the client and the cluster at the end of a run
-
-
 def _run_cases(c, opts, todo, spec, digest, total, already, stream) -> dict | None:
-    from distributed import Client, as_completed
+    from distributed import as_completed
 
     t_cluster = time.perf_counter()
-    cluster = None
-    if opts.scheduler:
-        try:
-            client = Client(opts.scheduler, timeout="20s")
-        except OSError as e:
-            raise CampaignError(f"--scheduler {opts.scheduler}: cannot connect: {e}") from None
-    else:
+
+    def start():
         if opts.slurm:
             (opts.out / "slurm").mkdir(exist_ok=True)
             cluster = cluster_mod.slurm(c.slurm, c.path, opts.out / "slurm")
             cluster.scale(jobs=c.slurm.jobs)
-        else:
-            cluster = cluster_mod.local(opts.workers)
-        client = Client(cluster)
-    try:
+            return cluster
+        return cluster_mod.local(opts.workers)
+
+    with cluster_mod.connected(opts.scheduler, start) as (client, _):
         if opts.slurm:
             # the start-up check needs a worker to run on; the cases could not start before one anyway
             print(f"waiting for the first of {c.slurm.jobs} Slurm jobs to start (squeue lists them; their "
@@ -220,14 +212,6 @@ def _run_cases(c, opts, todo, spec, digest, total, already, stream) -> dict | No
         # the threads at the end: on a shared scheduler or Slurm, workers may join during the run
         threads = max(threads, cluster_mod.total_threads(client))
         return _cost(finished, wall, threads, startup)
-    finally:
-        # bounded: after Ctrl-C a worker may sit in a case that never returns (a blocked windrive); its
-        # process, and with it the case (PR_SET_PDEATHSIG), goes when the cluster's processes are stopped
-        for close in (client.close, *([cluster.close] if cluster is not None else [])):
-            try:
-                close(timeout=CLOSE_TIMEOUT_S)
-            except Exception:  # a timeout or a cluster already gone: nothing left to wait for
-                pass
 
 
 def _check_workers(client, windrive: str, digest: str, opts: Options) -> None:

@@ -145,21 +145,11 @@ def run(group: str, windrive: str, out: Path, trajectories: int, levels: int, se
 
 
 def _evaluate_all(windrive, points, workers, scheduler, stream) -> list[list[dict]]:
-    from distributed import Client, LocalCluster, as_completed
+    from distributed import as_completed
 
     from . import cluster as cluster_mod
 
-    cluster = None
-    if scheduler:
-        try:
-            client = Client(scheduler, timeout="20s")
-        except OSError as e:
-            raise CampaignError(f"--scheduler {scheduler}: cannot connect: {e}") from None
-    else:
-        cluster = cluster_mod.local(workers)
-        assert isinstance(cluster, LocalCluster)
-        client = Client(cluster)
-    try:
+    with cluster_mod.connected(scheduler, lambda: cluster_mod.local(workers)) as (client, _):
         t0 = time.perf_counter()
         futures = client.map(evaluate, [windrive] * len(points), points, pure=False)
         index = {f.key: i for i, f in enumerate(futures)}
@@ -171,10 +161,6 @@ def _evaluate_all(windrive, points, workers, scheduler, stream) -> list[list[dic
                 raise CampaignError(f"evaluation {index[f.key]} {points[index[f.key]]}: {e}") from None
             print(f"  {done}/{len(points)} evaluations, {time.perf_counter() - t0:.0f} s", file=stream, flush=True)
         return results
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
 
 
 def _write_evaluations(path: Path, names: list[str], points: list[dict], results: list[list[dict]]) -> None:
