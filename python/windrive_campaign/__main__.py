@@ -61,6 +61,8 @@ SENSITIVITY_EPILOG = """\
 examples (from the repository's root):
   scripts/campaign sensitivity A --out docs/sensitivity
       drivetrain A's brake, trip and damping estimates: 4 trajectories x 5 points, a few seconds
+  scripts/campaign sensitivity A --sobol 64 --out docs/sensitivity
+      the same, then Sobol indices of the rows whose verdict flips: 64 x (4 + 2) more evaluations
   scripts/campaign sensitivity 2MW --trajectories 3 --out docs/sensitivity
       the 2 MW gearbox's bearing and carrier estimates through the 6-DOF shutdown (a minute per evaluation)
   windrive reproduce --out docs/REPRODUCTION.md
@@ -145,6 +147,9 @@ def main(argv=None) -> int:
     sen.add_argument("--trajectories", type=int, default=4, help="Morris trajectories r: r·(k+1) evaluations [default: %(default)s]")
     sen.add_argument("--levels", type=int, default=4, help="Morris grid levels [default: %(default)s]")
     sen.add_argument("--seed", type=int, default=1, help="seed of the Morris sample [default: %(default)s]")
+    sen.add_argument("--sobol", type=int, default=0, metavar="N",
+                     help="then Sobol indices (first-order and total) of the rows whose verdict flips, from a "
+                     "Saltelli sample of N·(k+2) evaluations; N a power of 2 [default: no Sobol stage]")  # fmt: skip
     sen_where = sen.add_mutually_exclusive_group()
     sen_where.add_argument("--workers", type=int, help="LocalCluster worker processes [default: all cores]")
     sen_where.add_argument("--scheduler", metavar="ADDRESS", help="join a running dask scheduler instead")
@@ -166,9 +171,11 @@ def main(argv=None) -> int:
 
             if args.trajectories < 2 or args.levels < 2:
                 raise CampaignError("--trajectories and --levels: at least 2 (Morris needs two points per input)")
+            if args.sobol and (args.sobol < 2 or args.sobol & (args.sobol - 1)):
+                raise CampaignError(f"--sobol {args.sobol}: a power of 2, at least 2 (Sobol's sequence balances there)")
             return sensitivity.run(
                 args.group, binary.windrive(args.windrive), args.out.resolve(), args.trajectories, args.levels,
-                args.seed, args.workers, args.scheduler,
+                args.seed, args.workers, args.scheduler, sobol_samples=args.sobol,
             )  # fmt: skip
         campaign = schema.load(args.campaign)
         if args.command == "job-script":

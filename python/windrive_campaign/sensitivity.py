@@ -1,5 +1,6 @@
 """How far the reproduction's numbers move when the inputs no source gives move over their ranges, and
-whether each row's verdict survives: Morris screening (SALib) of one group of estimates at a time.
+whether each row's verdict survives: Morris screening (SALib) of one group of estimates at a time, then
+(`--sobol N`) Sobol indices of the rows whose verdict the screening found to flip.
 
 The estimates, their nominal values, ranges and reasons come from the binary
 (`windrive reproduce --estimates`; src/studies/data/estimates.toml). One evaluation is one
@@ -14,6 +15,9 @@ Outputs, in the output folder:
   <group>_tornado.png       per row whose band is widest or whose verdict flips: the inputs by mu*
   bands.json                every group's rows in one list, which `windrive reproduce` reads to say on
                             docs/REPRODUCTION.md whether a verdict holds across the estimates
+  <group>_sobol.csv         with --sobol: per flipping row and input, the first-order and total Sobol
+                            indices with their 95 % bootstrap half-widths (Saltelli sample of N·(k+2) points)
+  <group>_sobol_evaluations.csv  its evaluations
 """
 
 from __future__ import annotations
@@ -114,12 +118,27 @@ def analyse(problem: dict, x, nominal_rows: list[dict], sampled_rows: list[list[
     return result
 
 
+def sobol(problem: dict, samples: int, seed: int):
+    """The Saltelli sample of Sobol's first-order and total indices: samples·(k + 2) points (no second order)."""
+    from SALib.sample import sobol as sobol_sample
+
+    return sobol_sample.sample(problem, samples, calc_second_order=False, seed=seed)
+
+
+def sobol_indices(problem: dict, y, seed: int) -> dict:
+    """Per input: S1 and ST with their 95 % bootstrap half-widths (SALib's estimators)."""
+    from SALib.analyze import sobol as sobol_analyze
+
+    si = sobol_analyze.analyze(problem, y, calc_second_order=False, print_to_console=False, seed=seed)
+    return {n: {k: float(si[k][i]) for k in ("S1", "S1_conf", "ST", "ST_conf")} for i, n in enumerate(problem["names"])}
+
+
 def _number(x) -> float:
     return math.nan if x is None else float(x)
 
 
 def run(group: str, windrive: str, out: Path, trajectories: int, levels: int, seed: int,
-        workers: int | None, scheduler: str | None, stream=sys.stderr) -> int:  # fmt: skip
+        workers: int | None, scheduler: str | None, stream=sys.stderr, sobol_samples: int = 0) -> int:  # fmt: skip
     chosen = [e for e in estimates(windrive) if e.group == group]
     if not chosen:
         groups = sorted({e.group for e in estimates(windrive)})
@@ -141,7 +160,34 @@ def run(group: str, windrive: str, out: Path, trajectories: int, levels: int, se
     tornado(out / f"{group}_tornado.png", group, rows, chosen)
     held = sum(r["holds"] for r in rows)
     print(f"{held} of {len(rows)} rows keep their verdict across the band; written to {out}", file=stream)
+    if sobol_samples:
+        flipping = [r["quantity"] for r in rows if not r["holds"]]
+        if not flipping:
+            print("no verdict flips: no Sobol stage", file=stream)
+            return 0
+        xs = sobol(problem, sobol_samples, seed)
+        points = [dict(zip(problem["names"], map(float, p))) for p in xs]
+        print(f"Sobol indices of the {len(flipping)} flipping rows: {len(points)} evaluations", file=stream, flush=True)
+        results = _evaluate_all(windrive, points, workers, scheduler, stream)
+        _write_evaluations(out / f"{group}_sobol_evaluations.csv", problem["names"], points, results)
+        _write_sobol(out / f"{group}_sobol.csv", problem, results, flipping, seed)
     return 0
+
+
+def _write_sobol(path: Path, problem: dict, results: list[list[dict]], flipping: list[str], seed: int) -> None:
+    import numpy as np
+
+    quantities = [r["quantity"] for r in results[0]]
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["quantity", "input", "S1", "S1_conf", "ST", "ST_conf"])
+        for q in flipping:
+            i = quantities.index(q)
+            y = np.array([_number(rows[i]["ours"]) for rows in results])
+            if not np.all(np.isfinite(y)) or np.ptp(y) == 0.0:
+                continue  # no variance to share out (or an evaluation without the number)
+            for name, si in sobol_indices(problem, y, seed).items():
+                w.writerow([q, name] + [f"{si[k]:.4f}" for k in ("S1", "S1_conf", "ST", "ST_conf")])
 
 
 def _evaluate_all(windrive, points, workers, scheduler, stream) -> list[list[dict]]:
