@@ -1,6 +1,6 @@
 """How far the reproduction's numbers move when the inputs no source gives move over their ranges, and
 whether each row's verdict survives: Morris screening (SALib) of one group of estimates at a time, then
-(`--sobol N`) Sobol indices of the rows whose verdict the screening found to flip.
+(`--sobol N`) Sobol indices of every row that varies, the rows whose verdict flips first.
 
 The estimates, their nominal values, ranges and reasons come from the binary
 (`windrive reproduce --estimates`; src/studies/data/estimates.toml). One evaluation is one
@@ -15,7 +15,7 @@ Outputs, in the output folder:
   <group>_tornado.png       per row whose band is widest or whose verdict flips: the inputs by mu*
   bands.json                every group's rows in one list, which `windrive reproduce` reads to say on
                             docs/REPRODUCTION.md whether a verdict holds across the estimates
-  <group>_sobol.csv         with --sobol: per flipping row and input, the first-order and total Sobol
+  <group>_sobol.csv         with --sobol: per varying row and input, the first-order and total Sobol
                             indices with their 95 % bootstrap half-widths (Saltelli sample of N·(k+2) points)
   <group>_sobol_evaluations.csv  its evaluations
 """
@@ -161,33 +161,34 @@ def run(group: str, windrive: str, out: Path, trajectories: int, levels: int, se
     held = sum(r["holds"] for r in rows)
     print(f"{held} of {len(rows)} rows keep their verdict across the band; written to {out}", file=stream)
     if sobol_samples:
-        flipping = [r["quantity"] for r in rows if not r["holds"]]
-        if not flipping:
-            print("no verdict flips: no Sobol stage", file=stream)
-            return 0
         xs = sobol(problem, sobol_samples, seed)
         points = [dict(zip(problem["names"], map(float, p))) for p in xs]
-        print(f"Sobol indices of the {len(flipping)} flipping rows: {len(points)} evaluations", file=stream, flush=True)
+        print(f"Sobol indices: {len(points)} evaluations", file=stream, flush=True)
         results = _evaluate_all(windrive, points, workers, scheduler, stream)
         _write_evaluations(out / f"{group}_sobol_evaluations.csv", problem["names"], points, results)
-        _write_sobol(out / f"{group}_sobol.csv", problem, results, flipping, seed)
+        write_sobol(out / f"{group}_sobol.csv", problem, results, rows, seed)
     return 0
 
 
-def _write_sobol(path: Path, problem: dict, results: list[list[dict]], flipping: list[str], seed: int) -> None:
+def write_sobol(path: Path, problem: dict, results: list[list[dict]], rows: list[dict], seed: int) -> None:
+    """Per row whose value varies over the Sobol sample, and per input: S1 and ST with their half-widths;
+    `verdict_flips` says whether the Morris screening found the row's verdict to change (the rows that
+    matter first). Rows first in the order of the flipping ones, then the others, each by the page's order."""
     import numpy as np
 
     quantities = [r["quantity"] for r in results[0]]
+    ordered = [r for r in rows if not r["holds"]] + [r for r in rows if r["holds"]]
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["quantity", "input", "S1", "S1_conf", "ST", "ST_conf"])
-        for q in flipping:
-            i = quantities.index(q)
-            y = np.array([_number(rows[i]["ours"]) for rows in results])
+        w.writerow(["quantity", "verdict_flips", "input", "S1", "S1_conf", "ST", "ST_conf"])
+        for r in ordered:
+            i = quantities.index(r["quantity"])
+            y = np.array([_number(rows_[i]["ours"]) for rows_ in results])
             if not np.all(np.isfinite(y)) or np.ptp(y) == 0.0:
                 continue  # no variance to share out (or an evaluation without the number)
             for name, si in sobol_indices(problem, y, seed).items():
-                w.writerow([q, name] + [f"{si[k]:.4f}" for k in ("S1", "S1_conf", "ST", "ST_conf")])
+                w.writerow([r["quantity"], not r["holds"], name] + [f"{si[k]:.4f}" for k in ("S1", "S1_conf", "ST", "ST_conf")])
+
 
 
 def _evaluate_all(windrive, points, workers, scheduler, stream) -> list[list[dict]]:

@@ -3,6 +3,7 @@ elementary effects of a function whose derivatives are known, the band and verdi
 as `windrive reproduce` reads it, and one real run of drivetrain A's group on a one-worker LocalCluster
 (each evaluation about a second)."""
 
+import csv
 import json
 import math
 import os
@@ -78,8 +79,8 @@ def test_bands_merge_per_group(tmp_path):
 def test_group_a_runs_end_to_end(tmp_path):
     env = {**os.environ, "PYTHONPATH": str(ROOT / "python")}
     r = subprocess.run(
-        [sys.executable, "-m", "windrive_campaign", "sensitivity", "A", "--trajectories", "2", "--workers", "1",
-         "--out", str(tmp_path), "--windrive", str(WINDRIVE)],
+        [sys.executable, "-m", "windrive_campaign", "sensitivity", "A", "--trajectories", "2", "--sobol", "2",
+         "--workers", "1", "--out", str(tmp_path), "--windrive", str(WINDRIVE)],
         capture_output=True, text=True, env=env, timeout=600,
     )  # fmt: skip
     assert r.returncode == 0, r.stderr
@@ -96,6 +97,13 @@ def test_group_a_runs_end_to_end(tmp_path):
     # the brake's torque and the trip move A's shutdown peak: the band has a width and a driver
     assert peak["high"] > peak["low"] and peak["drivers"]
     assert (tmp_path / "A_tornado.png").stat().st_size > 10_000
+    # the Sobol stage: 2·(k + 2) more evaluations, and per varying row one line per input
+    assert len((tmp_path / "A_sobol_evaluations.csv").read_text().splitlines()) == 1 + 2 * (len(estimates) + 2)
+    with open(tmp_path / "A_sobol.csv") as f:
+        sobol = list(csv.DictReader(f))
+    lss = [r for r in sobol if r["quantity"] == "peak torque / rated in A's shutdown, LSS"]
+    assert sorted(r["input"] for r in lss) == sorted(e.name for e in estimates)
+    assert all(math.isfinite(float(r["ST"])) for r in lss)
     # the evaluations' nominal row is the reproduction's own (an estimate at its nominal leaves the scene alone)
     trip = next(e for e in estimates if e.name == "a_trip_delay")
     listed = subprocess.run([str(WINDRIVE), "reproduce", "--set", f"a_trip_delay={trip.nominal!r}"],
