@@ -23,6 +23,7 @@ mod paper_turbine;
 mod physics_modes;
 mod reproduction;
 mod rotor_aero_damping;
+mod rotor_blades;
 mod scene_reference;
 mod scenes_as_simulated;
 mod scenes_thesis;
