@@ -126,9 +126,17 @@ impl std::fmt::Display for Timing {
             f,
             "rotor aerodynamics per step: drivetrain C's BEM rotor (40 m, 3 blades) at rated speed, IEC A field at 11.4 m/s, α = 0.2"
         )?;
-        writeln!(f, "{:<44} {:>10} {:>12} {:>16}", "", "µs/step", "vs averaged", "mean torque N·m")?;
+        writeln!(
+            f,
+            "{:<44} {:>10} {:>12} {:>16}",
+            "", "µs/step", "vs averaged", "mean torque N·m"
+        )?;
         let rows = [
-            ("rotor-averaged BEM (one solve a step)", self.averaged_us, self.torques[0]),
+            (
+                "rotor-averaged BEM (one solve a step)",
+                self.averaged_us,
+                self.torques[0],
+            ),
             ("blades sampled, table (the FMU's)", self.blades_us, self.torques[1]),
             ("blades sampled, every station solved", self.solved_us, self.torques[2]),
         ];

@@ -295,9 +295,7 @@ impl RotorModel {
     /// The hub-height wind at `t`: the rotor-averaged series, or the full field at the hub point.
     pub fn wind(&self, t: f64) -> f64 {
         match &*self.source {
-            Source::Aero {
-                blades: Some(b), ..
-            } => b.field.velocity_at(t, 0.0, b.hub_height)[0],
+            Source::Aero { blades: Some(b), .. } => b.field.velocity_at(t, 0.0, b.hub_height)[0],
             Source::Aero {
                 mean_wind, turbulence, ..
             } => (mean_wind + turbulence.as_ref().map_or(0.0, |s| s.at(t))).max(0.0),

@@ -54,7 +54,7 @@ fn c_blades(file: &str) -> Vec<(&'static str, String)> {
     ]
 }
 
-fn strs(v: &[(&'static str, String)]) -> Vec<(&'static str, &str)> {
+fn strs<'a>(v: &'a [(&'static str, String)]) -> Vec<(&'static str, &'a str)> {
     v.iter().map(|(k, s)| (*k, s.as_str())).collect()
 }
 
@@ -71,7 +71,10 @@ fn unusable_fields_are_refused_by_name() {
     let garbage = path("garbage.bts");
     std::fs::write(&garbage, vec![0x55u8; 300]).unwrap();
     let err = refusal(&fmu, &strs(&c_blades(&garbage)), &[]);
-    assert!(err.contains("wind_file") && err.contains(&garbage) && err.contains("format ID"), "{err}");
+    assert!(
+        err.contains("wind_file") && err.contains(&garbage) && err.contains("format ID"),
+        "{err}"
+    );
 
     let truncated = path("truncated.bts");
     bts::write(std::path::Path::new(&truncated), &uniform(9, 9, 11.0, 4, true), "test").unwrap();
@@ -84,7 +87,10 @@ fn unusable_fields_are_refused_by_name() {
     let small = path("small.bts");
     bts::write(std::path::Path::new(&small), &uniform(3, 3, 15.0, 4, true), "test").unwrap();
     let err = refusal(&fmu, &strs(&c_blades(&small)), &[]);
-    assert!(err.contains(&small) && err.contains("too small for the rotor") && err.contains("radius 40 m"), "{err}");
+    assert!(
+        err.contains(&small) && err.contains("too small for the rotor") && err.contains("radius 40 m"),
+        "{err}"
+    );
 
     let err = refusal(&fmu, &strs(&c_blades("")), &[("shear_exponent", f64::NAN)]);
     assert!(err.contains("shear_exponent"), "{err}");
@@ -95,7 +101,10 @@ fn unusable_fields_are_refused_by_name() {
     assert!(low.contains("hub_height = 30 m"), "{low}");
     // a file the rotor-averaged series would not read
     let err = refusal(&fmu, &[("wind_file", &small)], &[]);
-    assert!(err.contains("wind_file") && err.contains("wind_sampling = blades"), "{err}");
+    assert!(
+        err.contains("wind_file") && err.contains("wind_sampling = blades"),
+        "{err}"
+    );
 
     // a non-periodic file ends: a step beyond its last plane is an error naming it, not a held value
     let short = path("short.bts");
@@ -103,7 +112,10 @@ fn unusable_fields_are_refused_by_name() {
     let mut inst: Instance = initialised(&fmu, &strs(&c_blades(&short)), &[]);
     inst.do_step(0.0, 0.1).unwrap();
     let err = inst.do_step(0.1, 0.2).unwrap_err().to_string();
-    assert!(err.contains("holds wind until t = 0.2 s") && err.contains("short.bts"), "{err}");
+    assert!(
+        err.contains("holds wind until t = 0.2 s") && err.contains("short.bts"),
+        "{err}"
+    );
 }
 
 /// Uniform steady wind through the FMU: the blades' torque and thrust are the rotor-averaged ones to
@@ -125,10 +137,19 @@ fn uniform_wind_through_fmi_matches_the_rotor_average() {
         set(&fmu, inst, "rotor_speed", omega);
         inst.do_step(0.0, 0.37).unwrap();
     }
-    let (q, t) = (get(&fmu, &mut averaged, "rotor_torque"), get(&fmu, &mut averaged, "thrust"));
+    let (q, t) = (
+        get(&fmu, &mut averaged, "rotor_torque"),
+        get(&fmu, &mut averaged, "thrust"),
+    );
     let (qb, tb) = (get(&fmu, &mut bladed, "rotor_torque"), get(&fmu, &mut bladed, "thrust"));
-    assert!((qb / q - 1.0).abs() < 2.5e-3 && (tb / t - 1.0).abs() < 1e-3, "{qb} vs {q}, {tb} vs {t}");
+    assert!(
+        (qb / q - 1.0).abs() < 2.5e-3 && (tb / t - 1.0).abs() < 1e-3,
+        "{qb} vs {q}, {tb} vs {t}"
+    );
     assert!(get(&fmu, &mut bladed, "yaw_moment").abs() < 1e-3 * t * 40.0);
     assert!(get(&fmu, &mut bladed, "tilt_moment").abs() < 1e-3 * t * 40.0);
-    assert_eq!(get(&fmu, &mut bladed, "wind_speed_hub"), get(&fmu, &mut averaged, "wind_speed_hub"));
+    assert_eq!(
+        get(&fmu, &mut bladed, "wind_speed_hub"),
+        get(&fmu, &mut averaged, "wind_speed_hub")
+    );
 }

@@ -61,14 +61,20 @@ fn uniform_wind_gives_the_rotor_averaged_loads() {
         let (q, t) = bem.torque_thrust(v, omega, pitch);
         for azimuth in [0.0, 0.3, 2.0] {
             let solved = sampling.loads_solved(&bem, 1.0, azimuth, omega, pitch);
-            assert!((solved.torque - q).abs() <= 1e-12 * q.abs().max(q_rated), "{v} {omega} {pitch}: {solved:?} vs {q}");
+            assert!(
+                (solved.torque - q).abs() <= 1e-12 * q.abs().max(q_rated),
+                "{v} {omega} {pitch}: {solved:?} vs {q}"
+            );
             assert!((solved.thrust - t).abs() <= 1e-12 * t.abs().max(t_rated));
             assert!(solved.tilt.abs() <= 1e-12 * t_rated * 40.0 && solved.yaw.abs() <= 1e-12 * t_rated * 40.0);
             assert_eq!(solved.hub_wind, v);
             let read = sampling.loads(&bem, 1.0, azimuth, omega, pitch);
             let dq = (read.torque - q).abs() / q.abs().max(q_rated);
             let dt = (read.thrust - t).abs() / t.abs().max(t_rated);
-            assert!(dq < 2.5e-3 && dt < 1e-3, "{v} m/s {omega} rad/s pitch {pitch}: torque {dq:.2e}, thrust {dt:.2e}");
+            assert!(
+                dq < 2.5e-3 && dt < 1e-3,
+                "{v} m/s {omega} rad/s pitch {pitch}: torque {dq:.2e}, thrust {dt:.2e}"
+            );
         }
     }
 }
@@ -99,7 +105,12 @@ fn interpolation_is_exact_on_linear_fields_and_wraps() {
             .map(|(j, k, t)| (c + 1) as f64 * value(field_y(j, ny, dy), z_bottom + k as f64 * dz, t as f64 * dt))
             .collect();
     }
-    for (y, z, t) in [(0.0, 62.0, 0.3), (-17.3, 50.0, 2.4), (19.9, 73.9, 1.75), (20.0, 74.0, 2.5)] {
+    for (y, z, t) in [
+        (0.0, 62.0, 0.3),
+        (-17.3, 50.0, 2.4),
+        (19.9, 73.9, 1.75),
+        (20.0, 74.0, 2.5),
+    ] {
         let got = field.velocity_at(t, y, z);
         for (c, g) in got.iter().enumerate() {
             let want = (c + 1) as f64 * value(y, z, t);
@@ -109,9 +120,15 @@ fn interpolation_is_exact_on_linear_fields_and_wraps() {
     assert_eq!(field.end_time(), Some(2.5));
     // periodic: 2.75 s is halfway from the last plane (2.5 s) back to the first (0 s = 3 s)
     field.periodic = true;
-    let (last, first) = (field.velocity_at(2.5, 0.0, 62.0)[0], field.velocity_at(0.0, 0.0, 62.0)[0]);
+    let (last, first) = (
+        field.velocity_at(2.5, 0.0, 62.0)[0],
+        field.velocity_at(0.0, 0.0, 62.0)[0],
+    );
     assert!((field.velocity_at(2.75, 0.0, 62.0)[0] - 0.5 * (last + first)).abs() < 1e-12);
-    let (again, once) = (field.velocity_at(3.0 + 0.3, 0.0, 62.0), field.velocity_at(0.3, 0.0, 62.0));
+    let (again, once) = (
+        field.velocity_at(3.0 + 0.3, 0.0, 62.0),
+        field.velocity_at(0.3, 0.0, 62.0),
+    );
     assert!((0..3).all(|c| (again[c] - once[c]).abs() < 1e-12), "{again:?} {once:?}");
     assert_eq!(field.end_time(), None);
 }
@@ -153,7 +170,13 @@ fn a_grid_that_misses_the_tips_is_refused() {
     let mut narrow = spec(11.0, 0.0, 0.2);
     narrow.grid.width = 70.0;
     let err = BladeSampling::new(&bem, steady(&narrow).unwrap(), 80.0, 0.0, 1.5).unwrap_err();
-    assert!(err.to_string().contains("y ±35.00 m") && err.to_string().contains("radius 40 m"), "{err}");
+    assert!(
+        err.to_string().contains("y ±35.00 m") && err.to_string().contains("radius 40 m"),
+        "{err}"
+    );
     let low = steady(&spec(11.0, 0.0, 0.2)).unwrap();
-    assert!(BladeSampling::new(&bem, low, 90.0, 0.0, 1.5).is_err(), "the disc reaches above the grid");
+    assert!(
+        BladeSampling::new(&bem, low, 90.0, 0.0, 1.5).is_err(),
+        "the disc reaches above the grid"
+    );
 }

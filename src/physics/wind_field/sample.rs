@@ -107,7 +107,9 @@ impl WindField {
         let half_width = 0.5 * (self.ny - 1) as f64 * self.dy;
         let top = self.z(self.nz - 1);
         let slack = 1e-3;
-        radius <= half_width + slack && hub_height - radius >= self.z_bottom - slack && hub_height + radius <= top + slack
+        radius <= half_width + slack
+            && hub_height - radius >= self.z_bottom - slack
+            && hub_height + radius <= top + slack
     }
 
     /// The grid's extent as text for messages: "y ±a m, z b to c m".

@@ -104,7 +104,11 @@ impl FieldRequest {
             variance,
             seed: self.seed,
         };
-        let made = if self.sigma > 0.0 { generate(&spec) } else { steady(&spec) };
+        let made = if self.sigma > 0.0 {
+            generate(&spec)
+        } else {
+            steady(&spec)
+        };
         made.map_err(|e| SlaveError::new(format!("wind_sampling = blades, generating the field: {e}")))
     }
 }
