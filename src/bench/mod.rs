@@ -10,6 +10,7 @@
 //!   the explicit step against the implicit one;
 //! - [`coupling`]: every co-simulation algorithm on d-grid-step against its exact solution;
 //! - [`states`], [`master`], [`isolate`]: what an FMU state, our master and `--isolate` cost;
+//! - [`rotor`]: the rotationally sampled rotor against the rotor-averaged BEM, per step;
 //! - [`rainflow`], [`solvers`]: cycle counting with DELs, and the linear solvers on gearbox-shaped
 //!   matrices;
 //! - [`profile`]: a model wrapper that times the model's own calls, for a model/solver split.
@@ -20,6 +21,7 @@ pub mod isolate;
 pub mod master;
 pub mod profile;
 pub mod rainflow;
+pub mod rotor;
 pub mod solvers;
 pub mod states;
 pub mod torsional;

@@ -17,7 +17,8 @@ pub struct BenchArgs {
     /// co-simulation algorithm on scenes/d-grid-step against its exact solution), states (each FMU's
     /// state size and cost, iterative against gauss-seidel on scenes/c-shutdown-spring), master (our
     /// master's overhead per FMU-step against the bare FMI calls), isolate (`run --isolate`, each FMU
-    /// in its own process, against in-process on the same scenes)
+    /// in its own process, against in-process on the same scenes), rotor (the blades sampling a full
+    /// field against the rotor-averaged BEM, µs a step)
     pub target: String,
     #[arg(long, default_value = "D")]
     pub preset: String,
@@ -58,6 +59,11 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         "gearbox" => gearbox(args.stop_time),
         "states" => states(args.stop_time),
         "isolate" => isolate(args.stop_time),
+        "rotor" => {
+            let setup = bench::rotor::setup()?;
+            print!("{}", bench::rotor::run(&setup)?);
+            Ok(())
+        }
         "master" => {
             let scene = args
                 .scene
@@ -67,7 +73,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         }
         other => {
             bail!(
-                "unknown benchmark {other:?}: available: torsional, gearbox, rainflow, coupling, master, solvers, states, isolate"
+                "unknown benchmark {other:?}: available: torsional, gearbox, rainflow, coupling, master, solvers, states, isolate, rotor"
             )
         }
     }

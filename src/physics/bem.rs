@@ -16,7 +16,8 @@
 //!
 //! Loads per unit span N' = c_n·½ρW²c (out of plane), T' = c_t·½ρW²c (in plane, driving); the rotor
 //! integrates them with the trapezoidal rule between the hub radius and the tip, where they vanish.
-//! No dynamic inflow, no skew, no shear across the disc: the wind is uniform and steady per call.
+//! No dynamic inflow, no skew: the wind is steady per call, uniform over the disc in [`BemRotor::loads`],
+//! per element in [`BemRotor::element_in`] (what the rotationally sampled rotor, [`super::blades`], calls).
 
 use super::blade::{Blade, Polar, Station};
 use serde::{Deserialize, Serialize};
@@ -348,6 +349,13 @@ impl BemRotor {
     }
 
     fn element(&self, i: usize, wind: f64, omega: f64, pitch: f64) -> ElementLoads {
+        self.element_in(i, wind, omega * self.stations[i].radius, pitch)
+    }
+
+    /// Station `i`'s loads in a local inflow of its own: `vx` (m/s) along the rotor axis, `vy` (m/s)
+    /// in the rotor plane against the blade's motion (ω·r plus the in-plane wind the blade runs into).
+    /// A rotor sampling a non-uniform field calls this per element and blade.
+    pub fn element_in(&self, i: usize, vx: f64, vy: f64, pitch: f64) -> ElementLoads {
         let st = &self.stations[i];
         Element {
             station: st,
@@ -357,11 +365,23 @@ impl BemRotor {
             hub: self.blade.hub_radius,
             tip: self.radius(),
             theta: st.twist + pitch,
-            vx: wind,
-            vy: omega * st.radius,
+            vx,
+            vy,
             options: self.options,
         }
         .loads(self.air_density)
+    }
+
+    /// The weights of [`Self::integrate`]'s trapezoidal rule per station (½ the distance between the
+    /// neighbours, the hub and tip radii standing for the ends): ∫ f dr ≈ Σ wᵢ·f(rᵢ).
+    pub fn span_weights(&self) -> Vec<f64> {
+        let n = self.stations.len();
+        let r = |i: isize| match i {
+            -1 => self.blade.hub_radius,
+            i if i as usize == n => self.radius(),
+            i => self.stations[i as usize].radius,
+        };
+        (0..n as isize).map(|i| 0.5 * (r(i + 1) - r(i - 1))).collect()
     }
 
     /// Trapezoidal integral over [hub, stations…, tip] of per-station values that vanish at both ends.

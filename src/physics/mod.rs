@@ -3,6 +3,7 @@
 pub mod aero;
 pub mod bem;
 pub mod blade;
+pub mod blades;
 pub mod brake;
 pub mod drivetrain;
 pub mod gearbox;

@@ -4,6 +4,7 @@
 
 use super::aero::{AIR_DENSITY, PitchController, PitchState, Rotor, power_coefficient};
 use super::bem::BemRotor;
+use super::blades::BladeSampling;
 use super::drivetrain::Drivetrain;
 use super::turbulence::TurbulenceSeries;
 use serde::{Deserialize, Serialize};
@@ -224,6 +225,8 @@ pub enum Source {
         tilt: TiltModel,
         /// generator-side speed over rotor speed, for the pitch controller's error
         gear_ratio: f64,
+        /// The blades sampling a full field (BEM only); None: the rotor-averaged series above
+        blades: Option<BladeSampling>,
     },
     Playback(TorqueSeries),
 }
@@ -236,6 +239,10 @@ pub struct RotorOutputs {
     pub wind_speed: f64,
     pub thrust: f64,
     pub pitch: f64,
+    /// Aerodynamic tilt moment at the hub (thrust above the hub positive), N·m.
+    pub tilt_moment: f64,
+    /// Aerodynamic yaw moment at the hub (right-handed about the vertical), N·m.
+    pub yaw_moment: f64,
 }
 
 /// The model: what never changes once built (`source`: blade, polars, the synthesised turbulence or
@@ -249,6 +256,8 @@ pub struct RotorModel {
     pub state: PitchState,
     pub sequence: SequenceState,
     pub time: f64,
+    /// Blade 1's azimuth, rad (0 = up), advanced with the rotor speed: where the blades read the field.
+    pub azimuth: f64,
 }
 
 impl Clone for RotorModel {
@@ -260,6 +269,7 @@ impl Clone for RotorModel {
             state: self.state,
             sequence: self.sequence,
             time: self.time,
+            azimuth: self.azimuth,
         }
     }
 
@@ -274,6 +284,7 @@ impl Clone for RotorModel {
         self.state = other.state;
         self.sequence = other.sequence;
         self.time = other.time;
+        self.azimuth = other.azimuth;
     }
 }
 
@@ -281,8 +292,10 @@ impl Clone for RotorModel {
 pub const CONTROL_STEP: f64 = 0.01;
 
 impl RotorModel {
+    /// The hub-height wind at `t`: the rotor-averaged series, or the full field at the hub point.
     pub fn wind(&self, t: f64) -> f64 {
         match &*self.source {
+            Source::Aero { blades: Some(b), .. } => b.field.velocity_at(t, 0.0, b.hub_height)[0],
             Source::Aero {
                 mean_wind, turbulence, ..
             } => (mean_wind + turbulence.as_ref().map_or(0.0, |s| s.at(t))).max(0.0),
@@ -290,18 +303,50 @@ impl RotorModel {
         }
     }
 
+    /// The last time a non-periodic full field holds (None: no field, or one that wraps round).
+    pub fn field_end(&self) -> Option<f64> {
+        self.sampled().and_then(|(b, _)| b.field.end_time())
+    }
+
+    /// The blades and their BEM when the rotor samples a full field.
+    fn sampled(&self) -> Option<(&BladeSampling, &BemRotor)> {
+        match &*self.source {
+            Source::Aero {
+                blades: Some(b),
+                rotor: Aerodynamics::Bem(bem),
+                ..
+            } => Some((b, bem)),
+            _ => None,
+        }
+    }
+
     pub fn outputs(&self, rotor_speed: f64) -> RotorOutputs {
         let t = self.time;
+        let pitch = self.state.pitch;
+        if let (Some((blades, bem)), Source::Aero { tilt, .. }) = (self.sampled(), &*self.source) {
+            let l = blades.loads(bem, t, self.azimuth, rotor_speed, pitch);
+            return RotorOutputs {
+                torque: l.torque,
+                pitching_moment: l.tilt + tilt.weight_moment,
+                wind_speed: l.hub_wind,
+                thrust: l.thrust,
+                pitch,
+                tilt_moment: l.tilt,
+                yaw_moment: l.yaw,
+            };
+        }
         match &*self.source {
             Source::Aero { rotor, tilt, .. } => {
                 let v = self.wind(t);
-                let (torque, thrust) = rotor.torque_thrust(rotor_speed, v, self.state.pitch);
+                let (torque, thrust) = rotor.torque_thrust(rotor_speed, v, pitch);
                 RotorOutputs {
                     torque,
                     pitching_moment: tilt.moment(thrust),
                     wind_speed: v,
                     thrust,
-                    pitch: self.state.pitch,
+                    pitch,
+                    tilt_moment: thrust * tilt.thrust_offset,
+                    yaw_moment: 0.0,
                 }
             }
             Source::Playback(series) => {
@@ -342,7 +387,13 @@ impl RotorModel {
                 let e = match *target {
                     PitchTarget::Speed(setpoint) => rotor_speed * gear_ratio - setpoint,
                     PitchTarget::Power(rated) => {
-                        let torque = rotor.torque(rotor_speed, self.wind(t), self.state.pitch);
+                        let torque = match self.sampled() {
+                            Some((blades, bem)) => {
+                                let azimuth = self.azimuth + rotor_speed * (t - self.time);
+                                blades.loads(bem, t, azimuth, rotor_speed, self.state.pitch).torque
+                            }
+                            None => rotor.torque(rotor_speed, self.wind(t), self.state.pitch),
+                        };
                         torque * rotor_speed / rated - 1.0
                     }
                 };
@@ -358,6 +409,7 @@ impl RotorModel {
             }
         }
         self.time += h;
+        self.azimuth = (self.azimuth + rotor_speed * h).rem_euclid(std::f64::consts::TAU);
     }
 
     /// The start-up's switch online and the normal stop's speed-triggered brake.
@@ -538,6 +590,7 @@ mod tests {
                 target: PitchTarget::Speed(180.0),
                 tilt: TiltModel::new(40.0, 80.0, 0.0, 0.0, 0.0),
                 gear_ratio: 92.0,
+                blades: None,
             }),
             shutdown,
             startup,
@@ -547,6 +600,7 @@ mod tests {
                 brake_from: None,
             },
             time: 0.0,
+            azimuth: 0.0,
         }
     }
 

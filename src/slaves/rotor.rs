@@ -8,6 +8,7 @@ use crate::models::rotor::vr;
 use crate::physics::aero::{AIR_DENSITY, PitchController, PitchState, Rotor};
 use crate::physics::bem::BemRotor;
 use crate::physics::blade::Blade;
+use crate::physics::blades::BladeSampling;
 use crate::physics::drivetrain::Drivetrain;
 use crate::physics::rotor::{
     Aerodynamics, CONTROL_STEP, PitchTarget, RotorModel, RotorOutputs, SequenceState, Shutdown, Source, Startup,
@@ -118,6 +119,8 @@ fn read_series(path: &Path, scale: f64, cubic: bool) -> Result<TorqueSeries, Ser
         cubic,
     })
 }
+
+mod blade_field;
 
 /// The blade folder named by the parameter `blade`: an absolute path, or a name under resources/blades/.
 fn blade_dir(name: &str, resources: Option<&Path>) -> SlaveResult<PathBuf> {
@@ -233,6 +236,17 @@ impl Params {
                 "etm" => Some(TurbulenceModel::Etm),
                 other => return Err(ParameterError::invalid("turbulence", &other, "use none, ntm or etm")),
             },
+            blades: match self.wind_sampling.trim() {
+                "rotor_average" => false,
+                "blades" => true,
+                other => {
+                    return Err(ParameterError::invalid(
+                        "wind_sampling",
+                        &other,
+                        "use rotor_average or blades",
+                    ));
+                }
+            },
             rotor_average: match self.wind_averaging.trim() {
                 "rotor" => true,
                 "hub" => false,
@@ -303,7 +317,21 @@ impl Params {
             ))
             .into());
         }
-        let mean_wind = pick(self.wind_speed, rated_wind);
+        let wind_file = self.wind_file.trim();
+        if !wind_file.is_empty() && !choices.blades {
+            let why = "a full field is read only with wind_sampling = blades (rotor_average takes the series)";
+            return Err(ParameterError::invalid("wind_file", &wind_file, why).into());
+        }
+        let sampled = choices.blades && self.mode.trim() == "aero";
+        let file_field = match wind_file {
+            "" => None,
+            _ if !sampled => None,
+            name => Some(blade_field::read(name, resources)?),
+        };
+        let mean_wind = match &file_field {
+            Some((field, _)) => field.mean_hub,
+            None => pick(self.wind_speed, rated_wind),
+        };
         let pitch = if self.initial_pitch >= 0.0 {
             self.initial_pitch
         } else {
@@ -344,7 +372,10 @@ impl Params {
                     let why = "must be 0 (3276.8 s) or 1 to 86 400 s";
                     return Err(ParameterError::invalid("turbulence_period", &self.turbulence_period, why).into());
                 }
-                let turbulence = (sigma > 0.0).then(|| {
+                if let Some((field, _)) = &file_field {
+                    sigma = blade_field::hub_sigma(field, hub_height);
+                }
+                let turbulence = (sigma > 0.0 && !sampled).then(|| {
                     // a window of its own: its period, spacing ≤ 0.05 s (content to 10 Hz), σ the 10-minute
                     // one or the period's (turbulence_scaling); else one long record of 2^16 samples at
                     // 0.05 s (3276.8 s), the spectrum as it is
@@ -375,6 +406,37 @@ impl Params {
                     let gk = 1.0 / (1.0 + state.pitch / self.pitch_gain_halving);
                     state.integral = state.pitch / (gk * ki);
                 }
+                let blades = if sampled {
+                    let Aerodynamics::Bem(bem) = &rotor else {
+                        return Err(ParameterError::Conflict(
+                            "wind_sampling = blades needs aerodynamics = bem: the analytic C_p has no blade elements to \
+                             sample the field with"
+                                .into(),
+                        )
+                        .into());
+                    };
+                    let (field, origin) = match file_field {
+                        Some(f) => f,
+                        None => {
+                            let generated = blade_field::FieldRequest {
+                                mean_wind,
+                                sigma,
+                                hub_height,
+                                radius,
+                                shear_exponent: self.shear_exponent,
+                                period: self.turbulence_period,
+                                variance: choices.period_variance,
+                                seed: self.seed as u32 as u64,
+                            };
+                            (generated.generate()?, "the generated field".to_string())
+                        }
+                    };
+                    let sampling = BladeSampling::new(bem, field, hub_height, 0.0, self.pitch_max)
+                        .map_err(|e| SlaveError::new(format!("wind_sampling = blades, {origin}: {e}")))?;
+                    Some(sampling)
+                } else {
+                    None
+                };
                 Source::Aero {
                     rotor,
                     mean_wind,
@@ -390,6 +452,7 @@ impl Params {
                     target,
                     tilt: TiltModel::new(radius, hub_height, self.shear_exponent, self.rotor_mass, self.overhang),
                     gear_ratio,
+                    blades,
                 }
             }
             "playback" => {
@@ -449,6 +512,7 @@ impl Params {
                     brake_from: None,
                 },
                 time: 0.0,
+                azimuth: 0.0,
             },
             rated_wind_speed: rated_wind,
             rated_tip_speed_ratio: rated_speed * radius / rated_wind,
@@ -464,6 +528,8 @@ struct Choices {
     /// IEC 61400-1 reference turbulence intensity of the turbulence class.
     i_ref: f64,
     turbulence: Option<TurbulenceModel>,
+    /// The blades sample a full field (wind_sampling = blades).
+    blades: bool,
     /// Turbulence averaged over the swept disc (the rotor-effective wind), not at the hub point.
     rotor_average: bool,
     /// What σ holds over when the series has a period of its own (turbulence_scaling).
@@ -489,8 +555,8 @@ pub struct RotorSlave {
     #[serde(skip)]
     built: Option<Built>,
     start_time: f64,
-    /// The model's pitch state and clock after the last step (None: at the start time).
-    motion: Option<(PitchState, SequenceState, f64)>,
+    /// The model's pitch state, clock and blade azimuth after the last step (None: at the start time).
+    motion: Option<(PitchState, SequenceState, f64, f64)>,
     /// Outputs at (time, rotor speed) last computed: a master reads several per step.
     #[serde(skip)]
     cache: Option<(f64, f64, RotorOutputs)>,
@@ -510,8 +576,8 @@ impl RotorSlave {
         if self.built.is_none() {
             let mut b = self.params.build(self.resources.as_deref())?;
             match self.motion {
-                Some((state, sequence, time)) => {
-                    (b.model.state, b.model.sequence, b.model.time) = (state, sequence, time)
+                Some((state, sequence, time, azimuth)) => {
+                    (b.model.state, b.model.sequence, b.model.time, b.model.azimuth) = (state, sequence, time, azimuth)
                 }
                 None => b.model.time = self.start_time,
             }
@@ -579,6 +645,8 @@ impl Slave for RotorSlave {
             vr::WIND_SPEED_HUB => out.wind_speed,
             vr::THRUST => out.thrust,
             vr::AERODYNAMIC_POWER => out.torque * omega,
+            vr::TILT_MOMENT => out.tilt_moment,
+            vr::YAW_MOMENT => out.yaw_moment,
             _ => return Err(xml::no_getter(VarType::Real, r)),
         };
         self.cache = Some((time, omega, out));
@@ -644,6 +712,16 @@ impl Slave for RotorSlave {
         }
         let w = self.inputs.rotor_speed;
         let b = self.ensure()?;
+        if let Some(end) = b.model.field_end()
+            && t + h > end + 1e-9 * end.max(1.0)
+        {
+            return Err(crate::fmi2::fmu::error::err(format!(
+                "wind_file = {:?} holds wind until t = {end} s (not periodic): the step to t = {} s goes beyond it; \
+                 use a longer or periodic file",
+                self.params.wind_file.trim(),
+                t + h
+            )));
+        }
         let sd = b.model.shutdown;
         let (before, after) = (t, t + h);
         if sd.time >= 0.0 {
@@ -675,7 +753,7 @@ impl Slave for RotorSlave {
                 "rotor slowed to the brake speed: HSS brake deploying at t ≈ {after} s"
             ));
         }
-        self.motion = Some((b.model.state, b.model.sequence, b.model.time));
+        self.motion = Some((b.model.state, b.model.sequence, b.model.time, b.model.azimuth));
         self.inputs.advance(h);
         Ok(())
     }

@@ -24,6 +24,7 @@ mod physics_modes;
 mod readme;
 mod reproduction;
 mod rotor_aero_damping;
+mod rotor_blades;
 mod scene_reference;
 mod scenes_as_simulated;
 mod scenes_thesis;

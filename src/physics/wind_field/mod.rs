@@ -17,13 +17,16 @@
 //!   `ScaleIEC = 1` (one factor for all points, the coherence untouched), measured over the grid rather
 //!   than at the hub point alone.
 //! - Files ([`bts`]): TurbSim's binary full-field format, which OpenFAST's InflowWind reads.
+//! - Reading it where a blade element is ([`sample`]): bilinear in space, linear in time, frozen
+//!   turbulence carried at the hub's mean speed.
 
 pub mod bts;
 pub mod coherence;
+pub mod sample;
 pub mod spectra;
 pub mod synthesis;
 
-pub use synthesis::generate;
+pub use synthesis::{generate, steady};
 
 use super::turbulence::Variance;
 
@@ -62,7 +65,7 @@ pub const COMPONENTS: [&str; 3] = ["u", "v", "w"];
 
 /// Velocities on a grid of `ny` × `nz` points at `nt` times, the grid's lateral coordinates centred on
 /// zero (y_j = (j − (ny − 1)/2)·dy), its heights z_k = z_bottom + k·dz.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WindField {
     pub ny: usize,
     pub nz: usize,

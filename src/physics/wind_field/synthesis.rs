@@ -184,3 +184,33 @@ pub fn generate(spec: &FieldSpec) -> Result<WindField, WindFieldError> {
         velocity,
     })
 }
+
+/// The mean profile of `spec` alone, no turbulence whatever its σ: one plane, periodic, so every time
+/// reads the same power-law shear (what a rotor in steady sheared wind samples).
+pub fn steady(spec: &FieldSpec) -> Result<WindField, WindFieldError> {
+    spec.check()?;
+    let g = spec.grid;
+    let (dy, dz) = (g.width / (g.ny - 1) as f64, g.height / (g.nz - 1) as f64);
+    let z_bottom = spec.hub_height - 0.5 * g.height;
+    let u = (0..g.nz)
+        .flat_map(|k| {
+            let height = z_bottom + k as f64 * dz;
+            let u = spec.mean_wind * (height / spec.hub_height).powf(spec.shear_exponent);
+            std::iter::repeat_n(u, g.ny)
+        })
+        .collect();
+    let points = g.ny * g.nz;
+    Ok(WindField {
+        ny: g.ny,
+        nz: g.nz,
+        nt: 1,
+        dy,
+        dz,
+        dt: spec.period,
+        z_bottom,
+        hub_height: spec.hub_height,
+        mean_hub: spec.mean_wind,
+        periodic: true,
+        velocity: [u, vec![0.0; points], vec![0.0; points]],
+    })
+}
