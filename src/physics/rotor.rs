@@ -225,8 +225,9 @@ pub enum Source {
         tilt: TiltModel,
         /// generator-side speed over rotor speed, for the pitch controller's error
         gear_ratio: f64,
-        /// The blades sampling a full field (BEM only); None: the rotor-averaged series above
-        blades: Option<BladeSampling>,
+        /// The blades sampling a full field (BEM only); None: the rotor-averaged series above. Boxed: its
+        /// load table would make every `Source` (a playback too) that large.
+        blades: Option<Box<BladeSampling>>,
     },
     Playback(TorqueSeries),
 }

@@ -433,7 +433,7 @@ impl Params {
                     };
                     let sampling = BladeSampling::new(bem, field, hub_height, 0.0, self.pitch_max)
                         .map_err(|e| SlaveError::new(format!("wind_sampling = blades, {origin}: {e}")))?;
-                    Some(sampling)
+                    Some(Box::new(sampling))
                 } else {
                     None
                 };
