@@ -715,11 +715,13 @@ impl Slave for RotorSlave {
         if let Some(end) = b.model.field_end()
             && t + h > end + 1e-9 * end.max(1.0)
         {
+            // shown to the file's own precision: a .bts stores its time step as a 32-bit float
             return Err(crate::fmi2::fmu::error::err(format!(
-                "wind_file = {:?} holds wind until t = {end} s (not periodic): the step to t = {} s goes beyond it; \
+                "wind_file = {:?} holds wind until t = {} s (not periodic): the step to t = {} s goes beyond it; \
                  use a longer or periodic file",
                 self.params.wind_file.trim(),
-                t + h
+                end as f32,
+                (t + h) as f32
             )));
         }
         let sd = b.model.shutdown;
