@@ -28,10 +28,10 @@ pub struct Setup {
     omega: f64,
 }
 
-/// The rotor and its field; building them is not timed.
-pub fn setup() -> anyhow::Result<Setup> {
-    let root = crate::pack::workspace_root()?;
-    let blade = Blade::load(&root.join("fmus/rotor/resources/blades/windpact-1.5mw"))?;
+/// The rotor with the blade in `blade_dir` (the rotor FMU's windpact-1.5mw) and its field; building them
+/// is not timed.
+pub fn setup(blade_dir: &std::path::Path) -> anyhow::Result<Setup> {
+    let blade = Blade::load(blade_dir)?;
     let bem = BemRotor::new(blade.scaled(40.0), AIR_DENSITY);
     let spec = FieldSpec {
         mean_wind: 11.4,

@@ -60,7 +60,8 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         "states" => states(args.stop_time),
         "isolate" => isolate(args.stop_time),
         "rotor" => {
-            let setup = bench::rotor::setup()?;
+            let blades = crate::pack::workspace_root()?.join("fmus/rotor/resources/blades");
+            let setup = bench::rotor::setup(&blades.join("windpact-1.5mw"))?;
             print!("{}", bench::rotor::run(&setup)?);
             Ok(())
         }
