@@ -13,6 +13,7 @@
 use crate::physics::bem::BemRotor;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
+use std::sync::OnceLock;
 
 /// θ spacing, rad (0.5°): the loads follow the angle of attack, which moves one for one with θ.
 pub const THETA_STEP: f64 = PI / 360.0;
@@ -21,14 +22,44 @@ pub const THETA_STEP: f64 = PI / 360.0;
 pub const PITCH_STEP: f64 = PI / 180.0;
 
 /// The per-station tables of one rotor.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LoadTable {
     n_theta: usize,
     pitch_lo: f64,
     n_pitch: usize,
     stations: usize,
-    /// (N', T') / (V_x² + V_y²), kg/m² (N/m per (m/s)²), at index ((station·n_pitch) + pitch)·n_theta + θ.
-    values: Vec<[f64; 2]>,
+    /// (N', T') / (V_x² + V_y²), kg/m² (N/m per (m/s)²): column station·n_pitch + pitch, entry θ; each
+    /// column solved when first read.
+    #[serde(skip)]
+    columns: Columns,
+}
+
+/// What an FMU state keeps of a table: its grid (the columns are solved again when read).
+#[derive(Deserialize)]
+struct TableGrid {
+    n_theta: usize,
+    pitch_lo: f64,
+    n_pitch: usize,
+    stations: usize,
+}
+
+impl<'de> Deserialize<'de> for LoadTable {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let g = TableGrid::deserialize(d)?;
+        Ok(Self::on(g))
+    }
+}
+
+/// The columns, solved on first read (shared by the clones of a model through its `Arc`).
+#[derive(Debug, Clone)]
+struct Columns(Vec<OnceLock<Box<[[f64; 2]]>>>);
+
+impl PartialEq for Columns {
+    /// Every column is a function of the table's grid and rotor: two tables over the same grid are equal
+    /// whichever columns each has solved so far.
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 /// The pitch columns read this step and the weight of the upper one (None: outside the table).
@@ -39,30 +70,46 @@ pub struct PitchColumns {
 }
 
 impl LoadTable {
-    /// Tables of `bem`'s stations for pitch from `pitch_lo` to `pitch_hi`, rad.
+    /// Tables of `bem`'s stations for pitch from `pitch_lo` to `pitch_hi`, rad (no column solved yet).
     pub fn new(bem: &BemRotor, pitch_lo: f64, pitch_hi: f64) -> Self {
         let n_theta = (PI / THETA_STEP).round() as usize + 1;
         let n_pitch = ((pitch_hi - pitch_lo) / PITCH_STEP).ceil().max(1.0) as usize + 1;
         let stations = bem.stations.len();
-        let mut values = Vec::with_capacity(stations * n_pitch * n_theta);
-        for i in 0..stations {
-            for p in 0..n_pitch {
-                let pitch = pitch_lo + p as f64 * PITCH_STEP;
-                for k in 0..n_theta {
-                    // unit magnitude: the loads are g(θ, pitch) themselves
-                    let (vx, vy) = (k as f64 * THETA_STEP).sin_cos();
-                    let e = bem.element_in(i, vx.max(0.0), vy, pitch);
-                    values.push([e.normal_n_per_m, e.tangential_n_per_m]);
-                }
-            }
-        }
-        Self {
+        Self::on(TableGrid {
             n_theta,
             pitch_lo,
             n_pitch,
             stations,
-            values,
+        })
+    }
+
+    fn on(g: TableGrid) -> Self {
+        Self {
+            columns: Columns((0..g.stations * g.n_pitch).map(|_| OnceLock::new()).collect()),
+            n_theta: g.n_theta,
+            pitch_lo: g.pitch_lo,
+            n_pitch: g.n_pitch,
+            stations: g.stations,
         }
+    }
+
+    /// Station `i`'s column at pitch index `p`, solved if no step has read it yet.
+    #[inline]
+    fn column(&self, bem: &BemRotor, i: usize, p: usize) -> &[[f64; 2]] {
+        self.columns.0[i * self.n_pitch + p].get_or_init(|| self.solve_column(bem, i, p))
+    }
+
+    #[cold]
+    fn solve_column(&self, bem: &BemRotor, i: usize, p: usize) -> Box<[[f64; 2]]> {
+        let pitch = self.pitch_lo + p as f64 * PITCH_STEP;
+        (0..self.n_theta)
+            .map(|k| {
+                // unit magnitude: the loads are g(θ, pitch) themselves
+                let (vx, vy) = (k as f64 * THETA_STEP).sin_cos();
+                let e = bem.element_in(i, vx.max(0.0), vy, pitch);
+                [e.normal_n_per_m, e.tangential_n_per_m]
+            })
+            .collect()
     }
 
     /// The columns that hold `pitch`, rad: found once a step, read for every element.
@@ -91,12 +138,10 @@ impl LoadTable {
         let x = vx.atan2(vy) / THETA_STEP;
         let k = (x as usize).min(self.n_theta - 2);
         let wk = x - k as f64;
-        let base = (i * self.n_pitch + p) * self.n_theta + k;
+        let (lower, upper) = (self.column(bem, i, p), self.column(bem, i, p + 1));
         let g = |c: usize| {
-            let v = &self.values;
-            let low = v[base][c] + wk * (v[base + 1][c] - v[base][c]);
-            let up = base + self.n_theta;
-            let high = v[up][c] + wk * (v[up + 1][c] - v[up][c]);
+            let low = lower[k][c] + wk * (lower[k + 1][c] - lower[k][c]);
+            let high = upper[k][c] + wk * (upper[k + 1][c] - upper[k][c]);
             low + wp * (high - low)
         };
         (speed2 * g(0), speed2 * g(1))
