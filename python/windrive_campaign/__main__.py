@@ -118,6 +118,9 @@ def main(argv=None) -> int:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     finished_campaign_arguments(rep, "the report files")
+    rep.add_argument("--doc", type=Path, help="also regenerate this page's block of the campaign's life tables "
+                     "(between the markers python/windrive_campaign/life_doc.py names, e.g. in docs/GEARBOX.md), "
+                     "from the files written; give --out so the page can link them")  # fmt: skip
     pap = sub.add_parser(
         "paper",
         help="the paper's Tables 6 and 7 (docs/SOURCES.md §Paper) beside ours, η heat maps and shape checks",
@@ -131,6 +134,9 @@ def main(argv=None) -> int:
     finished_campaign_arguments(pap, "the files")
     pap.add_argument("--doc", type=Path, help="also write the comparison as a Markdown page (docs/PAPER.md), "
                      "generated from the paper_cases.csv written beside the other files")  # fmt: skip
+    pap.add_argument("--against", type=Path, help="a paper_cases.csv of the same grid run with the other wind "
+                     "sampling (e.g. docs/paper/rotor-average/paper_cases.csv): the page then compares the "
+                     "blades' full field with the rotor-averaged series cell by cell")  # fmt: skip
     sen = sub.add_parser(
         "sensitivity",
         help="vary a group of estimates over their ranges (Morris) and judge the reproduction across them",
@@ -161,11 +167,11 @@ def main(argv=None) -> int:
         if args.command == "report":
             from . import report  # pandas and matplotlib: only the report pays their import time
 
-            return report.report(args.campaign, args.out, binary.windrive(args.windrive))
+            return report.report(args.campaign, args.out, binary.windrive(args.windrive), args.doc)
         if args.command == "paper":
             from . import paper_report  # pandas and matplotlib, as for report
 
-            return paper_report.report(args.campaign, args.out, args.doc)
+            return paper_report.report(args.campaign, args.out, args.doc, args.against)
         if args.command == "sensitivity":
             from . import sensitivity  # SALib, numpy and matplotlib: only this command pays their import
 

@@ -18,6 +18,7 @@ import pandas as pd
 
 from . import paper
 from . import paper_data as data
+from . import paper_sampling as sampling
 
 POWER = "rotor.aerodynamic_power"
 DEL = "torsional.lss_torque.del_m6"
@@ -26,9 +27,11 @@ CONVERGENCE_CELLS = ((11.5, 14.0), (14.0, 14.0), (18.0, 24.0))  # at rated, abov
 CONVERGENCE_SEEDS = (3, 6, 10, 15, 20)
 
 
-def page_from_csv(path: Path, campaign: str | None = None) -> str:
+def page_from_csv(path: Path, campaign: str | None = None, against: Path | None = None) -> str:
+    """The page of the cases in `path`; with `against`, a paper_cases.csv of the same grid run with the
+    other wind sampling, the section on what the sampling changes."""
     t = pd.read_csv(path)
-    return page(t, campaign)
+    return page(t, campaign, None if against is None else (pd.read_csv(against), against))
 
 
 def _pct(x: float) -> str:
@@ -75,7 +78,7 @@ def global_response(t: pd.DataFrame) -> pd.DataFrame | None:
     return pd.DataFrame(rows).set_index(["wind_speed", "ti_pct"]).sort_index()
 
 
-def page(t: pd.DataFrame, campaign: str | None = None) -> str:
+def page(t: pd.DataFrame, campaign: str | None = None, against: tuple[pd.DataFrame, Path] | None = None) -> str:
     cmp = paper.compare(t)
     c, v = cmp.cells, cmp.verdicts
     turb_counts = c.count[c.count.index.get_level_values("ti_pct") > 0]
@@ -102,7 +105,8 @@ def page(t: pd.DataFrame, campaign: str | None = None) -> str:
     w("")
     w("```sh")
     w(f"scripts/campaign run campaigns/{campaign or 'paper-grid'}.toml")
-    w(f"scripts/campaign paper campaigns/{campaign or 'paper-grid'}.toml --out docs/paper --doc docs/PAPER.md")
+    w(f"scripts/campaign paper campaigns/{campaign or 'paper-grid'}.toml --out docs/paper --doc docs/PAPER.md"
+      + ("" if against is None else f" --against {_shown(against[1])}"))
     w("```")
     w("")
 
@@ -123,19 +127,29 @@ def page(t: pd.DataFrame, campaign: str | None = None) -> str:
     if transient and window:
         w(f"- **Window**: {', '.join(f'{x:g}' for x in window)} s analysed after a transient of "
           f"{', '.join(f'{x:g}' for x in transient)} s, as the paper.")  # fmt: skip
-    w("- **Wind**: the rotor-effective IEC Kaimal series (NTM spectrum at the cell's TI), one per case. Each "
-      "case draws its own phases: its seed number hashed with its wind speed, model and TI "
-      "(python/windrive_campaign/cases.py `case_seed`), so no two cells share a phase. The series is "
-      "periodic over the window and scaled to the cell's σ over it (`turbulence_scaling = \"period\"`), "
-      "so every seed's window has exactly the cell's mean wind and TI at the hub "
-      "([WIND.md](WIND.md), \"Seeds and windows\").")  # fmt: skip
+    blades = sampling.sampling_of(t) == sampling.BLADES
+    if blades:
+        w("- **Wind**: a full field per case (IEC Kaimal u, v, w at the cell's TI with exponential coherence, "
+          "11 × 11 points over 2.2 rotor radii, the IEC 0.2 power-law shear), sampled by every blade element "
+          "as the blades turn (`wind_sampling = blades`), as the paper's TurbSim fields into FAST; the steady "
+          "cells blow the same sheared mean profile. Each case draws its own phases: its seed number hashed "
+          "with its wind speed, model and TI (python/windrive_campaign/cases.py `case_seed`), so no two cells "
+          "share a phase. The field is periodic over the window with the cell's mean wind, and its σ over the "
+          "window as the grid points' mean (`turbulence_scaling = \"period\"`; [WIND.md](WIND.md)).")  # fmt: skip
+    else:
+        w("- **Wind**: the rotor-effective IEC Kaimal series (NTM spectrum at the cell's TI), one per case. Each "
+          "case draws its own phases: its seed number hashed with its wind speed, model and TI "
+          "(python/windrive_campaign/cases.py `case_seed`), so no two cells share a phase. The series is "
+          "periodic over the window and scaled to the cell's σ over it (`turbulence_scaling = \"period\"`), "
+          "so every seed's window has exactly the cell's mean wind and TI at the hub "
+          "([WIND.md](WIND.md), \"Seeds and windows\").")  # fmt: skip
     w(f"- **Intervals**: {conf} percentile bootstrap over each cell's seeds ({paper.BOOTSTRAP_DRAWS} draws, "
       f"generator seed {paper.BOOTSTRAP_SEED} with the cell's coordinates: the same on every machine). The "
       "steady reference is one deterministic case and carries no interval.")  # fmt: skip
     if len(run_s):
         w(f"- **Cost**: `windrive run` took {np.median(run_s):.2f} s of wall time a case (median; "
           f"{np.percentile(run_s, 10):.2f}–{np.percentile(run_s, 90):.2f} s for 80 % of cases), "
-          f"{run_s.sum() / 3600:.2f} worker-hours for the {len(run_s)} cases: two workers on a 2-core machine "
+          f"{run_s.sum() / 3600:.2f} worker-hours for the {len(run_s)} cases, on a 2-core machine "
           "that other builds shared, so these are upper bounds on the cost of a case.")  # fmt: skip
     w("")
 
@@ -289,6 +303,9 @@ def page(t: pd.DataFrame, campaign: str | None = None) -> str:
               + " | ".join("-" if x != x else f"±{100 * x:.0f} %" for x in widths) + " |")  # fmt: skip
         w("")
 
+    if against is not None:
+        _sampling_section(w, t, against, conf)
+
     # -- Table 6 levels
     t6 = cmp.table6
     w("## Table 6's levels")
@@ -302,14 +319,85 @@ def page(t: pd.DataFrame, campaign: str | None = None) -> str:
     w("")
     w("## What this page does not settle")
     w("")
-    w("- The wind is one rotor-averaged longitudinal series per case: no 3P, no shear in the torque, no "
-      "lateral or vertical components (issue 32 §1: full fields, rotationally sampled blades). The paper fed "
-      "TurbSim full fields into FAST.")  # fmt: skip
+    if not blades:
+        w("- The wind is one rotor-averaged longitudinal series per case: no 3P, no shear in the torque, no "
+          "lateral or vertical components (`wind_sampling = blades` samples full fields). The paper fed "
+          "TurbSim full fields into FAST.")  # fmt: skip
+    else:
+        w("- The blades' aerodynamics are quasi-steady BEM per element (no dynamic inflow, dynamic stall or "
+          "blade and tower flexibility): FAST's AeroDyn and ElastoDyn add those, ours do not "
+          "([WIND.md](WIND.md)).")  # fmt: skip
     w("- The paper's loads came from FAST's drivetrain and controller (its region 2½ torque law); ours from "
       "our torsional model and controller ([paper/MODEL.md](paper/MODEL.md)). The analysis of the earlier, "
       "shared-seed run and of the 6-DOF gearbox on five cells is kept, with its date, in "
       "[paper/EARLIER-RUN.md](paper/EARLIER-RUN.md); its numbers are that run's.")  # fmt: skip
     return "\n".join(out) + "\n"
+
+
+def _shown(path: Path) -> str:
+    """A path as the page names it: from its `docs` folder on (the same wherever the checkout lies)."""
+    parts = path.parts
+    return "/".join(parts[parts.index("docs"):]) if "docs" in parts else path.as_posix()
+
+
+def _sampling_section(w, t: pd.DataFrame, against: tuple[pd.DataFrame, Path], conf: str):
+    """What sampling the full field with the blades changes against one rotor-averaged series per case."""
+    other, path = against
+    mine, theirs = sampling.sampling_of(t), sampling.sampling_of(other)
+    if mine == theirs:
+        return
+    blades, averaged = (t, other) if mine == sampling.BLADES else (other, t)
+    cmp = sampling.compare(blades, averaged)
+    if cmp.empty:
+        return
+    w("## What the full field changes: blades against the rotor-averaged series")
+    w("")
+    shown = _shown(path)
+    link = shown.removeprefix("docs/")
+    w(f"The same grid run with one rotor-averaged longitudinal series per case ([{shown}]({link}), "
+      "an earlier run of this campaign without `wind_sampling = blades`) against the blades sampling the full "
+      "field. The runs draw different fields, so each entry is the ratio of the cell's seed means (blades / "
+      f"rotor-averaged) with a {conf} bootstrap interval resampling each run's seeds on its own.")  # fmt: skip
+    w("")
+    summ = sampling.summary(cmp)
+    w("| quantity | turbulent cells | median ratio | range | interval above 1 | interval below 1 |")
+    w("|---|---|---|---|---|---|")
+    for name, r in summ.iterrows():
+        w(f"| {name} | {int(r.cells)} | {r['median']:.2f} | {r['min']:.2f}–{r['max']:.2f} | {int(r.above)} | "
+          f"{int(r.below)} |")  # fmt: skip
+    w("")
+    tis = sorted({ti for _, ti, _ in cmp.index if ti > 0})
+    middle = min(tis, key=lambda ti: abs(ti - data.TABLE6_TI_PCT)) if tis else None
+    if middle is not None:
+        w(f"Per wind speed at TI {middle:g} %: ratio [interval] (seeds blades, rotor-averaged).")
+        w("")
+        names = [n for n, _ in sampling.QUANTITIES if n in cmp.index.get_level_values("quantity")]
+        w("| V [m/s] | " + " | ".join(names) + " |")
+        w("|---|" + "---|" * len(names))
+        for speed in sorted({v for v, ti, _ in cmp.index if ti == middle}):
+            cells = []
+            for n in names:
+                key = (speed, middle, n)
+                if key not in cmp.index:
+                    cells.append("-")
+                    continue
+                r = cmp.loc[key]
+                cells.append(f"{_ratio(r.ratio)} [{_ratio(r.lo)}, {_ratio(r.hi)}] ({r.seeds[0]}, {r.seeds[1]})")
+            w(f"| {speed:g} | " + " | ".join(cells) + " |")
+        w("")
+    steady = cmp[cmp.index.get_level_values("ti_pct") == 0]
+    if len(steady):
+        name = sampling.QUANTITIES[0][0]
+        rows = steady.xs(name, level="quantity") if name in steady.index.get_level_values("quantity") else None
+        if rows is not None and len(rows):
+            w(f"Steady wind: the {name} in kN·m, blades | rotor-averaged (the blades turning through the shear "
+              "give the 3P the rotor-averaged wind cannot):")  # fmt: skip
+            w("")
+            w("| V [m/s] | blades | rotor-averaged |")
+            w("|---|---|---|")
+            for (speed, _), r in rows.iterrows():
+                w(f"| {speed:g} | {r.blades / 1e3:.3g} | {r.averaged / 1e3:.3g} |")
+            w("")
 
 
 def _seed_number(name: str) -> int | None:

@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from . import paper, paper_doc
+from . import paper, paper_doc, paper_sampling
 from . import paper_data as data
 from .errors import CampaignError
 from .report import locate_table, read_table
@@ -282,7 +282,8 @@ def _interval(s: dict) -> str:
 # the command
 
 
-CASE_COLUMNS = ("name", "group", "status", paper.WIND, paper.TI, paper.TURBULENCE, "param.rotor.seed", "run_s")
+CASE_COLUMNS = ("name", "group", "status", paper.WIND, paper.TI, paper.TURBULENCE, "param.rotor.seed",
+                paper_sampling.SAMPLING, "run_s")  # fmt: skip
 
 
 def write_cases(t: pd.DataFrame, path: Path):
@@ -293,7 +294,7 @@ def write_cases(t: pd.DataFrame, path: Path):
     t[cols].sort_values("name", kind="stable").to_csv(path, index=False, float_format="%.17g")
 
 
-def report(given: Path, out_dir: Path | None, doc: Path | None = None) -> int:
+def report(given: Path, out_dir: Path | None, doc: Path | None = None, against: Path | None = None) -> int:
     """Writes the comparison (and with `doc` the page, generated from paper_cases.csv as a test regenerates
     it); 0 when every grid case counted, 1 when some are pending, failed or timed out."""
     table = locate_table(given)
@@ -310,7 +311,7 @@ def report(given: Path, out_dir: Path | None, doc: Path | None = None) -> int:
     (out_dir / "paper_summary.json").write_text(json.dumps(summary(cmp, table, meta), indent=1))
     write_cases(t, out_dir / "paper_cases.csv")
     if doc is not None:
-        doc.write_text(paper_doc.page_from_csv(out_dir / "paper_cases.csv", meta.get("campaign")))
+        doc.write_text(paper_doc.page_from_csv(out_dir / "paper_cases.csv", meta.get("campaign"), against))
     print_report(cmp, meta)
     print(f"\nwritten: {out_dir}/{', '.join(FILES)}{f' and {doc}' if doc is not None else ''}")
     return _warn(cmp)

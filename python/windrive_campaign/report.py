@@ -16,6 +16,7 @@ from pathlib import Path
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from . import life_doc
 from . import lifetime as lt
 from . import schema
 from .errors import CampaignError
@@ -307,8 +308,9 @@ def print_shares(title: str, groups: list[str], heads: list[str], rows: list[dic
         print(f"{g:24} " + " ".join(f"{100 * r['share'][g]:>{width}.2f}" for r in rows), file=out)
 
 
-def report(given: Path, out_dir: Path | None, windrive: str | None = None) -> int:
-    """Writes the report; 0 when every case counted, 1 when some are pending, failed or timed out."""
+def report(given: Path, out_dir: Path | None, windrive: str | None = None, doc: Path | None = None) -> int:
+    """Writes the report (and with `doc` that page's block of the campaign's life tables, life_doc.py); 0
+    when every case counted, 1 when some are pending, failed or timed out."""
     table = locate_table(given)
     t, meta = read_table(table)
     life = lt.compute(t, meta, windrive)
@@ -330,6 +332,9 @@ def report(given: Path, out_dir: Path | None, windrive: str | None = None) -> in
                         out_dir / "lifetime_bearings.csv", BEARING_EXTRA)  # fmt: skip
         bearing_chart(life, out_dir / "lifetime_bearings.png")
         written += ["lifetime_bearings.csv", "lifetime_bearings.png"]
+    if doc is not None:
+        doc.write_text(life_doc.replace(doc, life.campaign, out_dir))
+        written.append(f"and {doc}'s block")
     print_tables(life)
     print(f"\nwritten: {out_dir}/{', '.join(written)}")
     return _warn_left_out(life)

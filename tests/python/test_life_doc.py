@@ -1,0 +1,84 @@
+"""The life tables a page quotes are the report's (python/windrive_campaign/life_doc.py): rendered from a
+report folder as the tests compute them by hand, refused without their markers, and in docs/GEARBOX.md
+equal to what the committed report folders give."""
+
+import pathlib
+import sys
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "python"))
+
+from windrive_campaign import life_doc  # noqa: E402
+from windrive_campaign.errors import CampaignError  # noqa: E402
+
+
+def write_report(folder: pathlib.Path):
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "lifetime.csv").write_text(
+        "channel,m,lifetime_del,lifetime_del_lo,lifetime_del_hi,damage_sum,share:DLC 1.2 10 m/s,share:stop-a,share:stop-b\n"
+        "gearbox.lss_torque,6,123456.7,nan,nan,1e30,0.2,0.5,0.3\n"
+    )
+    (folder / "lifetime_bearings.csv").write_text(
+        "bearing,dynamic_load_rating,damage,damage_lo,damage_hi,life_years,events_share,thesis_damage,"
+        "thesis_events_share,share:DLC 1.2 10 m/s,share:stop-a,share:stop-b\n"
+        "planet_1_uw,979000.0,1.354,nan,nan,14.77,0.0005,0.2,0.065,0.9995,0.0003,0.0002\n"
+        "carrier_b,2408000.0,1.6e-07,nan,nan,inf,0.0001,1e-09,0.0001,0.9999,0.0001,0.0\n"
+    )
+    rows = ["tooth,kind,damage,damage_lo,damage_hi,life_years,share:DLC 1.2 10 m/s,share:stop-a,share:stop-b"]
+    for k, (tooth, flank, root) in enumerate(
+        [("p3", 0.074, 9.4e-4), ("g3", 0.018, 1.9e-4), ("r1", 1e-7, 1.8e-4), ("s1", 1e-4, 1.6e-8),
+         ("s2", 3e-5, 4e-7), ("p2", 1e-6, 5e-7)]  # fmt: skip
+    ):
+        for kind, d in (("flank", flank), ("root", root)):
+            rows.append(f"{tooth},{kind},{d!r},nan,nan,{20 / d!r},0.99,0.005,{0.005 + k * 0.001!r}")
+    (folder / "lifetime_gears.csv").write_text("\n".join(rows) + "\n")
+
+
+def test_tables_by_hand(tmp_path):
+    write_report(tmp_path / "r")
+    text = life_doc.tables(tmp_path / "r")
+    # the events' share is every group's but the DLC 1.2 bins'
+    assert "| gearbox.lss_torque | 6 | 1.235e+05 | 80.0 % |" in text
+    assert "| planet_1_uw | 979 | 1.4 | 14.8 | 0.05 % | 6.5 % |" in text
+    assert "| carrier_b | 2408 | 1.6e-07 | ∞ | 0.01 % | 0.01 % |" in text
+    # the teeth by their larger damage, the four worst alone, the rest as bounds; a tooth's life the shorter
+    lines = [x for x in text.splitlines() if x.startswith("| ") and "tooth" not in x]
+    teeth = [x.split(" | ")[0][2:] for x in lines if x.split(" | ")[0][2:] in {"p3", "g3", "r1", "s1"}]
+    assert teeth == ["p3", "g3", "r1", "s1"]
+    assert "| p3 | 0.074 | 0.00094 | 270 | 1 % / 1 % |" in text
+    assert "| every other (2) | ≤ 3e-05 | ≤ 5e-07 | | |" in text
+    assert "Bearings failing within the design life (D ≥ 1, ISO 281): planet_1_uw; under the thesis's count: none." in text
+    assert "Teeth failing within the design life (D ≥ 1, flank or root): none." in text
+
+
+def test_a_page_without_its_markers_is_refused(tmp_path):
+    write_report(tmp_path / "r")
+    page = tmp_path / "PAGE.md"
+    page.write_text("# nothing here\n")
+    with pytest.raises(CampaignError, match="PAGE.md: needs one line"):
+        life_doc.replace(page, "demo", tmp_path / "r")
+
+
+def test_the_block_is_replaced_and_nothing_else(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    write_report(pathlib.Path("docs/campaigns/demo"))
+    page = pathlib.Path("docs/PAGE.md")
+    page.write_text(f"before\n{life_doc.begin_marker('demo')}\nstale 1.23\n{life_doc.end_marker('demo')}\nafter\n")
+    text = life_doc.replace(page, "demo", pathlib.Path("docs/campaigns/demo"))
+    assert text.startswith("before\n") and text.endswith("\nafter\n")
+    assert "stale" not in text
+    assert "From [campaigns/demo](campaigns/demo), written by `scripts/campaign report campaigns/demo.toml" in text
+    page.write_text(text)  # regenerating a fresh block changes nothing
+    assert life_doc.replace(page, "demo", pathlib.Path("docs/campaigns/demo")) == text
+
+
+@pytest.mark.parametrize("name", ["d-6dof-life", "c-6dof-life"])
+def test_gearbox_page_quotes_the_committed_reports(name, monkeypatch):
+    """docs/GEARBOX.md's life tables are what the committed report folders give. To refresh after a rerun:
+    scripts/campaign run campaigns/NAME.toml && scripts/campaign report campaigns/NAME.toml
+    --out docs/campaigns/NAME --doc docs/GEARBOX.md"""
+    monkeypatch.chdir(ROOT)
+    page = pathlib.Path("docs/GEARBOX.md")
+    assert life_doc.replace(page, name, pathlib.Path("docs/campaigns") / name) == page.read_text()
