@@ -90,3 +90,38 @@ fn the_6dof_gearbox_carries_the_torsional_models_shaft_loads_and_reverses_after_
         fewest(&rollers[at(5.0)..])
     );
 }
+
+/// Every scene that drives gearbox6dof from a rotor hands it both out-of-plane moments: the pitching
+/// moment to the tilt input and the yaw moment to the yaw input (with `wind_sampling = blades` the rotor
+/// computes both from the sampled thrust; with the rotor-averaged wind the yaw moment is 0, so the runs
+/// are the same as without the connection, bit for bit).
+#[test]
+fn every_rotor_driven_6dof_scene_feeds_both_rotor_moments() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut checked = 0;
+    for entry in std::fs::read_dir(&root).unwrap() {
+        let dir = entry.unwrap().path();
+        if !dir.join("SystemStructure.ssd").is_file() {
+            continue;
+        }
+        let scene = windrive::cosim::ssp::Scene::open(&dir).unwrap();
+        let feeds = |from: &str, to: &str| {
+            scene.connections.iter().any(|c| {
+                c.start_element == "rotor"
+                    && c.start_connector == from
+                    && c.end_element == "gearbox"
+                    && c.end_connector == to
+            })
+        };
+        if !feeds("rotor_torque", "rotor_torque") {
+            continue;
+        }
+        assert!(
+            feeds("pitching_moment", "main_shaft_tilt_moment") && feeds("yaw_moment", "main_shaft_yaw_moment"),
+            "{}: the rotor's pitching and yaw moments are not both connected to the gearbox",
+            dir.display()
+        );
+        checked += 1;
+    }
+    assert!(checked >= 5, "only {checked} rotor-driven 6-DOF scenes found");
+}
