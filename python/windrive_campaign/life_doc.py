@@ -6,6 +6,7 @@ lifetime_gears.csv in DIR), so a test regenerates them from the committed files 
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import re
@@ -47,6 +48,12 @@ def _events(row: pd.Series, groups: list[str]) -> float:
     return float(sum(row[f"share:{g}"] for g in groups if not g.startswith(DLC_GROUP)))
 
 
+def _thesis_ratios(path: Path) -> list[dict]:
+    if not path.is_file():
+        return []
+    return json.loads(path.read_text()).get("thesis_ratios", [])
+
+
 def _names(names) -> str:
     names = list(names)
     return ", ".join(names) if names else "none"
@@ -72,10 +79,26 @@ def tables(folder: Path) -> str:
         for _, r in channels.iterrows():
             w(f"| {r.channel} | {r.m:g} | {_g(r.lifetime_del, 4)} | {_pct(_events(r, groups))} |")
         w("")
+        heads = [f"{c.removeprefix('torsional.').removeprefix('gearbox.')} m = {m:g}" for c, m in zip(channels.channel, channels.m, strict=True)]
+        w("Each load case's share of the channel's lifetime damage sum:")
+        w("")
+        w("| group | " + " | ".join(heads) + " |")
+        w("|---|" + "---|" * len(heads))
+        for g in groups:
+            w(f"| {g} | " + " | ".join(_pct(x) for x in channels[f"share:{g}"]) + " |")
+        w("")
+        ratios = _thesis_ratios(folder / "lifetime.json")
+        if ratios:
+            w("DEL ratios at m = 6 beside the thesis's (its measured HSS and LSS torque, §3.4.3):")
+            w("")
+            w("| channel | event | against | ours | thesis |")
+            w("|---|---|---|---|---|")
+            for r in ratios:
+                w(f"| {r['channel']} | {r['shutdown']} | {r['versus_cases']} | {r['ours']:.2f} | {r['thesis']:g} |")
+            w("")
     bearings_csv = folder / "lifetime_bearings.csv"
     if bearings_csv.is_file():
         b = pd.read_csv(bearings_csv)
-        groups = _groups(b)
         w("| bearing | C_r, kN | D over the design life | life, years | events' share: ISO 281 | under the thesis's count |")
         w("|---|---|---|---|---|---|")
         for _, r in b.iterrows():
