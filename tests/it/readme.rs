@@ -1,5 +1,6 @@
 //! The README's main-job output is what the main job prints today: both of its blocks (the calibrated
-//! BEM scenes, then `--spring`), line by line, from `windrive shutdown --preset C` run as a user runs it.
+//! BEM scenes, then `--spring`), line by line, from `windrive shutdown --preset C` run as a user runs it;
+//! and its sentence on what `windrive life` makes of those CSVs is what that command prints.
 
 use std::process::Command;
 
@@ -24,8 +25,9 @@ fn readme_blocks() -> Vec<Vec<String>> {
     blocks
 }
 
-/// The main job's table and findings: its output from the table's heading to the mesh-force line.
-fn main_job(extra: &[&str]) -> Vec<String> {
+/// The main job's table and findings (its output from the table's heading to the mesh-force line), and
+/// what `windrive life` prints for sun–planet mesh 1 from its CSVs as the README's sentence says.
+fn main_job(extra: &[&str]) -> (Vec<String>, String) {
     let dir = std::env::temp_dir().join(format!("windrive-readme-{}-{}", std::process::id(), extra.len()));
     let out = Command::new(env!("CARGO_BIN_EXE_windrive"))
         .args(["shutdown", "--preset", "C", "--out-dir"])
@@ -33,10 +35,22 @@ fn main_job(extra: &[&str]) -> Vec<String> {
         .args(extra)
         .output()
         .unwrap();
+    let life = Command::new(env!("CARGO_BIN_EXE_windrive"))
+        .arg("life")
+        .arg("--normal")
+        .arg(dir.join("normal.csv"))
+        .arg("--shutdown")
+        .arg(dir.join("shutdown.csv"))
+        .args(["--channel", "torsional.mesh_force_sun_planet_1", "--mean-wind", "10"])
+        .args(["--shutdowns-per-year", "1100", "--m", "3,6,9"])
+        .output()
+        .unwrap();
     let _ = std::fs::remove_dir_all(&dir);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(life.status.success(), "{}", String::from_utf8_lossy(&life.stderr));
     let text = String::from_utf8(out.stdout).unwrap();
-    text.lines()
+    let lines = text
+        .lines()
         .skip_while(|l| !l.starts_with("shaft "))
         .scan(false, |done, l| {
             if *done {
@@ -44,6 +58,18 @@ fn main_job(extra: &[&str]) -> Vec<String> {
             }
             *done = l.starts_with("mesh-force reversal");
             Some(l.to_string())
+        })
+        .collect();
+    (lines, String::from_utf8(life.stdout).unwrap())
+}
+
+/// The shutdowns' share of the lifetime DEL damage at m = 3, 6, 9 as `windrive life` prints them ("10.4%").
+fn shutdown_shares(life: &str) -> Vec<String> {
+    life.lines()
+        .filter_map(|l| {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            (f.len() == 3 && ["3", "6", "9"].contains(&f[0]) && f[2].ends_with('%'))
+                .then(|| f[2].trim_end_matches('%').to_string())
         })
         .collect()
 }
@@ -53,7 +79,20 @@ fn the_readme_shows_what_the_main_job_prints() {
     let blocks = readme_blocks();
     assert_eq!(blocks.len(), 2, "README: the main job's block and the --spring one");
     for (block, extra) in blocks.iter().zip([&[][..], &["--spring"][..]]) {
-        let printed = main_job(extra);
+        let (printed, life) = main_job(extra);
+        if extra.is_empty() {
+            let s = shutdown_shares(&life);
+            assert_eq!(s.len(), 3, "windrive life printed no m = 3, 6, 9 rows:\n{life}");
+            let sentence = format!(
+                "shutdowns cause {} % of the lifetime DEL damage at m = 3, {} % at m = 6 and\n{} % at m = 9",
+                s[0], s[1], s[2]
+            );
+            let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+            assert!(
+                readme.contains(&sentence),
+                "README.md should say: {sentence}\n(windrive life printed:\n{life})"
+            );
+        }
         assert_eq!(
             &printed,
             block,
