@@ -5,7 +5,6 @@
 //! slice loads, and the depths of the largest subsurface shear (thesis §7.2, §8.1.3).
 
 use crate::cosim::Scene;
-use crate::cosim::master::run_columns;
 use anyhow::{anyhow, bail};
 use serde::Deserialize;
 
@@ -84,6 +83,10 @@ pub enum Quantity {
     PlanetBearingDepthOverOthers,
 }
 
+/// Runs a scene recording the given channels: the time, then each channel, in that order (the master's
+/// `run_columns`, or a cache of runs the rows share).
+pub type RunColumns<'a> = dyn FnMut(&Scene, &[&str]) -> anyhow::Result<Vec<Vec<f64>>> + 'a;
+
 /// One run of a 6-DOF shutdown scene, its channels by name, and the two windows' sample ranges.
 pub struct Run {
     names: Vec<String>,
@@ -92,27 +95,33 @@ pub struct Run {
     shutdown: std::ops::Range<usize>,
 }
 
+/// The gearbox outputs the quantities read.
+pub fn channels() -> Vec<String> {
+    let mut names = vec![];
+    for b in BEARINGS {
+        for n in [
+            "inner_race_pressure",
+            "radial_load",
+            "rollers_in_contact",
+            "max_shear_depth",
+        ] {
+            names.push(format!("gearbox.{b}_{n}"));
+        }
+    }
+    for m in MESHES {
+        for n in ["max_contact_pressure", "max_slice_load", "max_shear_depth"] {
+            names.push(format!("gearbox.{n}_{m}"));
+        }
+    }
+    names
+}
+
 impl Run {
-    /// Runs `scene` recording the channels the quantities read.
-    pub fn of(scene: &Scene) -> anyhow::Result<Self> {
-        let mut names = vec![];
-        for b in BEARINGS {
-            for n in [
-                "inner_race_pressure",
-                "radial_load",
-                "rollers_in_contact",
-                "max_shear_depth",
-            ] {
-                names.push(format!("gearbox.{b}_{n}"));
-            }
-        }
-        for m in MESHES {
-            for n in ["max_contact_pressure", "max_slice_load", "max_shear_depth"] {
-                names.push(format!("gearbox.{n}_{m}"));
-            }
-        }
-        let channels: Vec<&str> = names.iter().map(String::as_str).collect();
-        let mut columns = run_columns(scene, &[], &channels, None).map_err(|e| anyhow!("{}: {e}", scene.name))?;
+    /// `scene`'s run through `run` (its time, then the [`channels`] asked for, in that order).
+    pub fn of(scene: &Scene, run: &mut RunColumns) -> anyhow::Result<Self> {
+        let names = channels();
+        let requested: Vec<&str> = names.iter().map(String::as_str).collect();
+        let mut columns = run(scene, &requested)?;
         let time = columns.remove(0);
         let at = |t: f64| time.partition_point(|&x| x < t);
         let (normal, shutdown) = (at(SETTLE_S)..at(TRIP_S), at(TRIP_S)..time.len());

@@ -357,9 +357,10 @@ pub fn report(open: OpenScene) -> anyhow::Result<Report> {
 
 fn report_where(open: OpenScene, keep: &dyn Fn(&Ours) -> bool) -> anyhow::Result<Report> {
     let mut ours = Computed::new(open);
-    let rows = entries()?
+    let kept: Vec<Entry> = entries()?.into_iter().filter(|e| keep(&e.ours)).collect();
+    ours.plan(&kept.iter().map(|e| &e.ours).collect::<Vec<_>>())?;
+    let rows = kept
         .into_iter()
-        .filter(|e| keep(&e.ours))
         .map(|e| {
             Ok(Row {
                 ours: ours.of(&e.ours)?,
@@ -411,6 +412,8 @@ struct Computed<'a> {
     readings: HashMap<String, Reading>,
     /// Per 6-DOF scene: its run.
     gearbox_runs: HashMap<String, chapter7::Run>,
+    /// The 6-DOF scenes' series, each scene run once for every row that reads it.
+    series: SharedRuns,
     /// Per pair of 6-DOF scenes (normal operation, shutdown): their 20-year damage, in the order computed.
     lives: Vec<((String, String), thesis_life::Life)>,
 }
@@ -423,8 +426,26 @@ impl<'a> Computed<'a> {
             calibration: None,
             readings: HashMap::new(),
             gearbox_runs: HashMap::new(),
+            series: SharedRuns::default(),
             lives: Vec::new(),
         }
+    }
+
+    /// Registers what the rows will read of each 6-DOF scene, so that each runs once: c-shutdown-6dof
+    /// serves both chapter 7's rows and the 20-year conclusions (a run of 6-DOF seconds each).
+    fn plan(&mut self, rows: &[&Ours]) -> anyhow::Result<()> {
+        for ours in rows {
+            match ours {
+                Ours::Gearbox { scene, .. } => self.series.want(scene, chapter7::channels()),
+                Ours::Life { normal, shutdown, .. } => {
+                    let channels = thesis_life::Life::channels(&(self.open)(normal)?, &(self.open)(shutdown)?)?;
+                    self.series.want(normal, channels.clone());
+                    self.series.want(shutdown, channels);
+                }
+                _ => {}
+            }
+        }
+        Ok(())
     }
 
     fn of(&mut self, ours: &Ours) -> anyhow::Result<f64> {
@@ -523,8 +544,11 @@ impl<'a> Computed<'a> {
                 let index = match self.lives.iter().position(|(k, _)| *k == key) {
                     Some(i) => i,
                     None => {
-                        let life =
-                            thesis_life::Life::of(&(self.open)(normal)?, &(self.open)(shutdown)?, chapter7::TRIP_S)?;
+                        let (n, s) = ((self.open)(normal)?, (self.open)(shutdown)?);
+                        let series = &mut self.series;
+                        let life = thesis_life::Life::of(&n, &s, chapter7::TRIP_S, &mut |scene, channels| {
+                            series.columns(scene, channels)
+                        })?;
                         self.lives.push((key, life));
                         self.lives.len() - 1
                     }
@@ -546,7 +570,9 @@ impl<'a> Computed<'a> {
     /// A 6-DOF gearbox scene's run, once per scene.
     fn gearbox_run(&mut self, scene: &str) -> anyhow::Result<&chapter7::Run> {
         if !self.gearbox_runs.contains_key(scene) {
-            let run = chapter7::Run::of(&(self.open)(scene)?)?;
+            let opened = (self.open)(scene)?;
+            let series = &mut self.series;
+            let run = chapter7::Run::of(&opened, &mut |scene, channels| series.columns(scene, channels))?;
             self.gearbox_runs.insert(scene.to_string(), run);
         }
         Ok(&self.gearbox_runs[scene])
@@ -781,5 +807,47 @@ mod tests {
                 assert!(names.contains(&statistic.as_str()), "{statistic}");
             }
         }
+    }
+}
+
+/// Scene runs shared by the rows: each scene runs once, recording every channel any row registered for
+/// it, and hands each row its own channels (a row asking for one not registered runs the scene again).
+#[derive(Default)]
+struct SharedRuns {
+    wanted: HashMap<String, Vec<String>>,
+    /// Per scene: the channels recorded, and the run's time then those channels.
+    done: HashMap<String, (Vec<String>, Vec<Vec<f64>>)>,
+}
+
+impl SharedRuns {
+    fn want(&mut self, scene: &str, channels: Vec<String>) {
+        let list = self.wanted.entry(scene.to_string()).or_default();
+        for c in channels {
+            if !list.contains(&c) {
+                list.push(c);
+            }
+        }
+    }
+
+    /// The run's time, then `channels` in that order.
+    fn columns(&mut self, scene: &Scene, channels: &[&str]) -> anyhow::Result<Vec<Vec<f64>>> {
+        let held = self
+            .done
+            .get(&scene.name)
+            .is_some_and(|(names, _)| channels.iter().all(|c| names.iter().any(|n| n == c)));
+        if !held {
+            self.want(&scene.name, channels.iter().map(|c| c.to_string()).collect());
+            let names = self.wanted[&scene.name].clone();
+            let requested: Vec<&str> = names.iter().map(String::as_str).collect();
+            let columns = run_columns(scene, &[], &requested, None).map_err(|e| anyhow!("{}: {e}", scene.name))?;
+            self.done.insert(scene.name.clone(), (names, columns));
+        }
+        let (names, columns) = &self.done[&scene.name];
+        let mut out = vec![columns[0].clone()];
+        for c in channels {
+            let k = names.iter().position(|n| n == c).expect("recorded above");
+            out.push(columns[k + 1].clone());
+        }
+        Ok(out)
     }
 }

@@ -8,12 +8,12 @@
 //! [`bearing_set`]: crate::analysis::rating::bearing_set
 //! [`gear_set`]: crate::analysis::rating::gear_set
 
-use crate::analysis::rating::bearing_set::{BearingDamage, bearing_table};
+use crate::analysis::rating::bearing_set::{BearingDamage, BearingTable, bearing_table};
 use crate::analysis::rating::gear::MeshForce;
-use crate::analysis::rating::gear_set::{self, ToothDamage, description_table};
+use crate::analysis::rating::gear_set::{self, RatedTooth, ToothDamage, description_table};
 use crate::cosim::Scene;
-use crate::cosim::master::run_columns;
 use crate::physics::gearbox::description::Description;
+use crate::studies::chapter7::RunColumns;
 use anyhow::{Context, anyhow, bail};
 use serde::Deserialize;
 use std::fmt::Write as _;
@@ -103,10 +103,18 @@ pub struct Life {
 }
 
 impl Life {
-    /// Runs the normal-operation and shutdown scenes (both `gearbox6dof` as component `gearbox`, its
-    /// description the same) and rates their series: normal operation from [`NORMAL_FROM_S`], the
-    /// shutdown from `trip_s`.
-    pub fn of(normal: &Scene, shutdown: &Scene, trip_s: f64) -> anyhow::Result<Self> {
+    /// The gearbox outputs [`Life::of`] reads of both scenes.
+    pub fn channels(normal: &Scene, shutdown: &Scene) -> anyhow::Result<Vec<String>> {
+        let (bearings, teeth) = Self::tables(normal, shutdown)?;
+        Ok(Self::channels_of(&bearings, &teeth)
+            .into_iter()
+            .map(String::from)
+            .collect())
+    }
+
+    /// The bearing and tooth tables of the gearbox both scenes load (`gearbox6dof` as component
+    /// `gearbox`, its description the same).
+    fn tables(normal: &Scene, shutdown: &Scene) -> anyhow::Result<(BearingTable, Vec<RatedTooth>)> {
         let load = |s: &Scene| {
             let name = s
                 .string_parameter(COMPONENT, "gearbox")
@@ -125,14 +133,26 @@ impl Life {
         }
         let bearings = bearing_table(&description, COMPONENT).map_err(|e| anyhow!("{e}"))?;
         let teeth = description_table(&description, COMPONENT, MeshForce::Normal);
+        Ok((bearings, teeth))
+    }
+
+    fn channels_of<'a>(bearings: &'a BearingTable, teeth: &'a [RatedTooth]) -> Vec<&'a str> {
         let mut channels: Vec<&str> = bearings.channels();
-        for c in gear_set::channels(&teeth) {
+        for c in gear_set::channels(teeth) {
             if !channels.contains(&c) {
                 channels.push(c);
             }
         }
-        let rate = |scene: &Scene, from: f64| -> anyhow::Result<(f64, Vec<BearingDamage>, Vec<ToothDamage>)> {
-            let mut columns = run_columns(scene, &[], &channels, None).map_err(|e| anyhow!("{}: {e}", scene.name))?;
+        channels
+    }
+
+    /// Runs the normal-operation and shutdown scenes through `run` and rates their series: normal
+    /// operation from [`NORMAL_FROM_S`], the shutdown from `trip_s`.
+    pub fn of(normal: &Scene, shutdown: &Scene, trip_s: f64, run: &mut RunColumns) -> anyhow::Result<Self> {
+        let (bearings, teeth) = Self::tables(normal, shutdown)?;
+        let channels = Self::channels_of(&bearings, &teeth);
+        let mut rate = |scene: &Scene, from: f64| -> anyhow::Result<(f64, Vec<BearingDamage>, Vec<ToothDamage>)> {
+            let mut columns = run(scene, &channels)?;
             let time = columns.remove(0);
             let start = time.partition_point(|&t| t < from);
             if time.len() < start + 2 {
