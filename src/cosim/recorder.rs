@@ -121,6 +121,23 @@ pub struct Recorder {
     seen: u64,
     pub rows: u64,
     last_time: f64,
+    /// The recorded columns as runs of consecutive values of one unit: (unit, first index, count).
+    runs: Vec<(usize, usize, usize)>,
+    /// One row of recorded values, gathered run by run.
+    row: Vec<f64>,
+}
+
+/// The recorded columns `(unit, index)` grouped into runs of consecutive indices of one unit: a row
+/// is gathered as a few slice copies instead of a lookup per column.
+fn runs(recorded: &[(String, usize, usize)]) -> Vec<(usize, usize, usize)> {
+    let mut runs: Vec<(usize, usize, usize)> = Vec::new();
+    for &(_, u, i) in recorded {
+        match runs.last_mut() {
+            Some((ru, start, n)) if *ru == u && *start + *n == i => *n += 1,
+            _ => runs.push((u, i, 1)),
+        }
+    }
+    runs
 }
 
 impl Recorder {
@@ -150,6 +167,8 @@ impl Recorder {
             seen: 0,
             rows: 0,
             last_time: f64::NAN,
+            runs: runs(&system.recorded),
+            row: Vec::with_capacity(system.recorded.len()),
         })
     }
 
@@ -181,7 +200,11 @@ impl Recorder {
     }
 
     fn write(&mut self, time: f64, system: &System) -> std::io::Result<()> {
-        let values = system.recorded.iter().map(|(_, u, i)| system.units[*u].values[*i]);
+        self.row.clear();
+        for &(u, start, n) in &self.runs {
+            self.row.extend_from_slice(&system.units[u].values[start..start + n]);
+        }
+        let values = self.row.iter().copied();
         if let Some(m) = &mut self.memory {
             m.time.push(time);
             m.columns.iter_mut().zip(values.clone()).for_each(|(c, v)| c.push(v));
@@ -210,5 +233,27 @@ impl Recorder {
             Some((out, _)) => out.finish(),
             None => Ok(()),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::runs;
+
+    #[test]
+    fn recorded_columns_become_runs_of_consecutive_values() {
+        let col = |u: usize, i: usize| (format!("u{u}.v{i}"), u, i);
+        let recorded = [
+            col(0, 2),
+            col(0, 3),
+            col(0, 4),
+            col(1, 0),
+            col(1, 2),
+            col(1, 3),
+            col(0, 5),
+            col(0, 5),
+        ];
+        assert_eq!(runs(&recorded), [(0, 2, 3), (1, 0, 1), (1, 2, 2), (0, 5, 1), (0, 5, 1)]);
+        assert!(runs(&[]).is_empty());
     }
 }

@@ -9,7 +9,7 @@ use crate::fmi2::fmu::variables::VarType;
 use crate::models::generator as xml;
 use crate::models::generator::vr;
 use crate::physics::generator::presets::{self, Kind, Overrides};
-use crate::physics::generator::{GenState, Generator, Machine};
+use crate::physics::generator::{GenState, Generator, Machine, Outputs};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -100,6 +100,29 @@ impl GeneratorSlave {
         Ok(self.model.as_mut().expect("just built"))
     }
 
+    /// A value the model computes: a calculated parameter or an output.
+    fn computed(b: &Built, out: &Outputs, r: u32) -> SlaveResult<f64> {
+        Ok(match r {
+            vr::STIFFNESS_USED => match b.generator.machine {
+                Machine::Spring(s) => s.stiffness,
+                _ => 0.0,
+            },
+            vr::SYNCHRONOUS_SPEED_USED => b.generator.base_speed,
+            vr::EQUIVALENT_STIFFNESS => b.equivalent.0,
+            vr::EQUIVALENT_DAMPING => b.equivalent.1,
+            vr::RATED_TORQUE => b.rated_torque,
+            vr::REGION2_GAIN_USED => b.region2_gain,
+            vr::GENERATOR_TORQUE => out.torque,
+            vr::LOAD_ANGLE => out.load_angle,
+            vr::ELECTRICAL_POWER => out.electrical_power,
+            vr::TORQUE_DEMAND => out.torque_demand,
+            vr::SLIP => out.slip,
+            vr::STATOR_CURRENT => out.stator_current,
+            vr::ROTOR_CURRENT => out.rotor_current,
+            _ => return Err(xml::no_getter(VarType::Real, r)),
+        })
+    }
+
     /// A parameter change rebuilds the model; so does a speed change until the first step.
     fn changed(&mut self, what: Changed) {
         if what == Changed::Parameter || !self.stepped {
@@ -135,31 +158,31 @@ impl Slave for GeneratorSlave {
     }
 
     fn get_real(&mut self, r: u32) -> SlaveResult<f64> {
-        if let Some(v) = xml::get_real(&self.params, &self.inputs, r) {
-            return Ok(v);
-        }
+        let mut out = [0.0];
+        self.get_reals(&[r], &mut out)?;
+        Ok(out[0])
+    }
+
+    /// The model's outputs computed once for all the values asked.
+    fn get_reals(&mut self, vrs: &[u32], values: &mut [f64]) -> SlaveResult<()> {
         let omega = self.inputs.generator_speed.value();
-        let b = *self.ensure()?;
-        let out = b.generator.outputs(&b.state, omega);
-        Ok(match r {
-            vr::STIFFNESS_USED => match b.generator.machine {
-                Machine::Spring(s) => s.stiffness,
-                _ => 0.0,
-            },
-            vr::SYNCHRONOUS_SPEED_USED => b.generator.base_speed,
-            vr::EQUIVALENT_STIFFNESS => b.equivalent.0,
-            vr::EQUIVALENT_DAMPING => b.equivalent.1,
-            vr::RATED_TORQUE => b.rated_torque,
-            vr::REGION2_GAIN_USED => b.region2_gain,
-            vr::GENERATOR_TORQUE => out.torque,
-            vr::LOAD_ANGLE => out.load_angle,
-            vr::ELECTRICAL_POWER => out.electrical_power,
-            vr::TORQUE_DEMAND => out.torque_demand,
-            vr::SLIP => out.slip,
-            vr::STATOR_CURRENT => out.stator_current,
-            vr::ROTOR_CURRENT => out.rotor_current,
-            _ => return Err(xml::no_getter(VarType::Real, r)),
-        })
+        let mut computed = None;
+        for (&r, value) in vrs.iter().zip(values) {
+            *value = match xml::get_real(&self.params, &self.inputs, r) {
+                Some(v) => v,
+                None => {
+                    let (b, out) = match computed {
+                        Some(c) => c,
+                        None => {
+                            let b = *self.ensure()?;
+                            *computed.insert((b, b.generator.outputs(&b.state, omega)))
+                        }
+                    };
+                    Self::computed(&b, &out, r)?
+                }
+            };
+        }
+        Ok(())
     }
 
     fn set_real(&mut self, r: u32, value: f64, log: &mut dyn Log) -> SlaveResult<()> {

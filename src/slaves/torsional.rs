@@ -227,6 +227,33 @@ impl TorsionalSlave {
         built.model.element_output(out, &st.q, &st.v, cut)
     }
 
+    /// A value the model computes from its state: a calculated parameter or an output.
+    fn computed(b: &Built, st: &DynState, cut: (f64, f64), r: u32) -> SlaveResult<f64> {
+        let body = |slot: u32, speed: bool| {
+            b.model.bodies[slot as usize].map_or(0.0, |(d, f)| f * if speed { st.v[d] } else { st.q[d] })
+        };
+        Ok(match r {
+            vr::GEAR_RATIO => b.model.gear_ratio,
+            vr::RATED_ROTOR_TORQUE => b.drivetrain.rated_rotor_torque(),
+            vr::RATED_GENERATOR_TORQUE => b.drivetrain.rated_generator_torque(),
+            vr::RK4_STEP_LIMIT => b.rk4_step_limit,
+            vr::ROTOR_SPEED => body(0, true),
+            vr::GENERATOR_SPEED => body(BODY_COUNT - 1, true),
+            vr::LSS_TORQUE => Self::element_output(b, st, cut, b.model.shafts[0]),
+            vr::IS1_TORQUE => Self::element_output(b, st, cut, b.model.shafts[1]),
+            vr::IS2_TORQUE => Self::element_output(b, st, cut, b.model.shafts[2]),
+            vr::HSS_TORQUE => Self::element_output(b, st, cut, b.model.shafts[3]),
+            vr::BRAKE_TORQUE => -st.friction_force,
+            vr::STORED_ENERGY => b.model.stored_energy(&st.q, &st.v, cut),
+            r if (MESH_FIRST..MESH_FIRST + MESH_COUNT).contains(&r) => {
+                Self::element_output(b, st, cut, b.model.meshes[(r - MESH_FIRST) as usize])
+            }
+            r if (ANGLE_FIRST..ANGLE_FIRST + BODY_COUNT).contains(&r) => body(r - ANGLE_FIRST, false),
+            r if (SPEED_FIRST..SPEED_FIRST + BODY_COUNT).contains(&r) => body(r - SPEED_FIRST, true),
+            _ => return Err(xml::no_getter(VarType::Real, r)),
+        })
+    }
+
     /// The cut's angle and speed now (section = drivetrain; unused by the other sections).
     fn cut(&self) -> (f64, f64) {
         (self.cut_angle, self.inputs.cut_speed.value())
@@ -291,34 +318,24 @@ impl Slave for TorsionalSlave {
     }
 
     fn get_real(&mut self, r: u32) -> SlaveResult<f64> {
-        if let Some(v) = xml::get_real(&self.params, &self.inputs, r) {
-            return Ok(v);
-        }
+        let mut out = [0.0];
+        self.get_reals(&[r], &mut out)?;
+        Ok(out[0])
+    }
+
+    /// The model built (or checked) once for all the values asked.
+    fn get_reals(&mut self, vrs: &[u32], values: &mut [f64]) -> SlaveResult<()> {
         let cut = self.cut();
-        let (b, st) = self.ensure()?;
-        let body = |slot: u32, speed: bool| {
-            b.model.bodies[slot as usize].map_or(0.0, |(d, f)| f * if speed { st.v[d] } else { st.q[d] })
-        };
-        Ok(match r {
-            vr::GEAR_RATIO => b.model.gear_ratio,
-            vr::RATED_ROTOR_TORQUE => b.drivetrain.rated_rotor_torque(),
-            vr::RATED_GENERATOR_TORQUE => b.drivetrain.rated_generator_torque(),
-            vr::RK4_STEP_LIMIT => b.rk4_step_limit,
-            vr::ROTOR_SPEED => body(0, true),
-            vr::GENERATOR_SPEED => body(BODY_COUNT - 1, true),
-            vr::LSS_TORQUE => Self::element_output(b, st, cut, b.model.shafts[0]),
-            vr::IS1_TORQUE => Self::element_output(b, st, cut, b.model.shafts[1]),
-            vr::IS2_TORQUE => Self::element_output(b, st, cut, b.model.shafts[2]),
-            vr::HSS_TORQUE => Self::element_output(b, st, cut, b.model.shafts[3]),
-            vr::BRAKE_TORQUE => -st.friction_force,
-            vr::STORED_ENERGY => b.model.stored_energy(&st.q, &st.v, cut),
-            r if (MESH_FIRST..MESH_FIRST + MESH_COUNT).contains(&r) => {
-                Self::element_output(b, st, cut, b.model.meshes[(r - MESH_FIRST) as usize])
-            }
-            r if (ANGLE_FIRST..ANGLE_FIRST + BODY_COUNT).contains(&r) => body(r - ANGLE_FIRST, false),
-            r if (SPEED_FIRST..SPEED_FIRST + BODY_COUNT).contains(&r) => body(r - SPEED_FIRST, true),
-            _ => return Err(xml::no_getter(VarType::Real, r)),
-        })
+        for (&r, value) in vrs.iter().zip(values) {
+            *value = match xml::get_real(&self.params, &self.inputs, r) {
+                Some(v) => v,
+                None => {
+                    let (b, st) = self.ensure()?;
+                    Self::computed(b, st, cut, r)?
+                }
+            };
+        }
+        Ok(())
     }
 
     fn set_real(&mut self, r: u32, value: f64, log: &mut dyn Log) -> SlaveResult<()> {

@@ -98,6 +98,10 @@ pub struct Instance<S: Slave> {
     last_successful_time: f64,
     slave: S,
     returned_strings: Vec<CString>,
+    /// The last few value-reference arrays of fmi2GetReal whose every reference was a known Real:
+    /// a master asks for the same arrays every step (its coupled outputs, its recorded variables),
+    /// and an equal array needs no lookups.
+    known_reals: Vec<Vec<u32>>,
     /// Every FMU state this instance handed out and the host has not freed: fmi2FreeInstance frees
     /// them (FMI 2.0: the instance owns what it allocated), and a pointer not in here is refused
     /// rather than dereferenced.
@@ -311,6 +315,7 @@ pub unsafe fn instantiate<S: Slave>(
             last_successful_time: 0.0,
             slave,
             returned_strings: Vec::new(),
+            known_reals: Vec::new(),
             states: Vec::new(),
         }))
     }));
@@ -621,7 +626,53 @@ macro_rules! getter {
     };
 }
 
-getter!(get_real, "fmi2GetReal", f64, VarType::Real, get_real, |v| v);
+/// How many value-reference arrays an instance remembers as checked ([`Instance::known_reals`]),
+/// and the shortest it remembers: a short array is checked as fast as it is compared, and a host that
+/// reads one variable at a time would otherwise have an allocation per call.
+const KNOWN_ARRAYS: usize = 4;
+const KNOWN_MIN_LEN: usize = 8;
+
+/// # Safety
+/// `c` as [`free_instance`]; `vr` and `value` hold `n` elements or are null when `n` is 0.
+///
+/// One lookup pass (none when the array equals one of the last checked), one call into the model
+/// ([`Slave::get_reals`]) and one finiteness scan for the whole array: a master reading a row of
+/// recorded variables pays per value only what the model computes. Anything amiss (an unknown
+/// reference, a model error, a value that is not finite) is answered by the value-by-value path,
+/// whose error names the first variable at fault, as it always did.
+pub unsafe fn get_real<S: Slave>(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    n: usize,
+    value: *mut f64,
+) -> Fmi2Status {
+    unsafe {
+        call::<S>(c, "fmi2GetReal", READABLE, |inst| {
+            let (vrs, out) = arrays_mut(vr, n, value)?;
+            let all_known = inst.known_reals.iter().any(|k| k.as_slice() == vrs)
+                || vrs.iter().all(|&r| S::variable(VarType::Real, r).is_some()) && {
+                    if vrs.len() >= KNOWN_MIN_LEN {
+                        if inst.known_reals.len() == KNOWN_ARRAYS {
+                            inst.known_reals.remove(0);
+                        }
+                        inst.known_reals.push(vrs.to_vec());
+                    }
+                    true
+                };
+            if all_known && inst.slave.get_reals(vrs, out).is_ok() && out.iter().all(|v| v.is_finite()) {
+                return Ok(Fmi2Status::Ok);
+            }
+            for (r, o) in vrs.iter().zip(out.iter_mut()) {
+                let var = known::<S>(VarType::Real, *r)?;
+                let v = inst.slave.get_real(*r).map_err(|e| e.0)?;
+                check_computed(var, &v)?;
+                *o = v;
+            }
+            Ok(Fmi2Status::Ok)
+        })
+    }
+}
+
 getter!(
     get_integer,
     "fmi2GetInteger",

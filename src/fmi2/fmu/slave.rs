@@ -123,6 +123,17 @@ pub trait Slave: Sized + Clone + Send + Serialize + DeserializeOwned + 'static {
     fn instantiate(resources: Option<&Path>) -> Self;
 
     fn get_real(&mut self, vr: u32) -> SlaveResult<f64>;
+    /// Several Real values at once, `out[k]` for `vrs[k]` (one fmi2GetReal with an array: a master
+    /// reads a row of recorded variables in one call). By default [`Slave::get_real`] for each; a
+    /// model overrides it to check its state and compute what the values share once per call. It
+    /// must answer exactly what `get_real` answers value by value; on an error the adapter asks again
+    /// value by value for the message, so the error need not name anything.
+    fn get_reals(&mut self, vrs: &[u32], out: &mut [f64]) -> SlaveResult<()> {
+        for (r, o) in vrs.iter().zip(out) {
+            *o = self.get_real(*r)?;
+        }
+        Ok(())
+    }
     fn set_real(&mut self, vr: u32, value: f64, log: &mut dyn Log) -> SlaveResult<()>;
     fn get_integer(&mut self, vr: u32) -> SlaveResult<i32> {
         Err(no_getter(Self::variable(VarType::Integer, vr), VarType::Integer, vr))
