@@ -692,8 +692,14 @@ impl Slave for RotorSlave {
 
     fn initialize(&mut self, start_time: f64, _log: &mut dyn Log) -> SlaveResult<()> {
         self.start_time = start_time;
-        self.built = None;
         self.cache = None;
+        // a model built in initialisation mode (a master reading the outputs before it exits) came from
+        // the same parameters (setting one drops it) and has not moved: only its clock goes to the start
+        // time. Building it again would synthesise its wind twice.
+        match (self.built.as_mut(), self.motion) {
+            (Some(b), None) => b.model.time = start_time,
+            _ => self.built = None,
+        }
         self.ensure().map(|_| ())
     }
 
