@@ -51,14 +51,16 @@ pub fn run(args: &ReproduceArgs) -> anyhow::Result<()> {
     if !args.set.is_empty() {
         return run_set(args);
     }
-    let report = report(&open_scene)?;
-    let text = report.markdown(&bands()?);
-    let rows = &report.rows;
-    print!("{text}");
     let out = args
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("results/reproduction.md"));
+    // a folder that cannot be made fails now, not after the scenes' minute of runs
+    make_parent(&out)?;
+    let report = report(&open_scene)?;
+    let text = report.markdown(&bands()?);
+    let rows = &report.rows;
+    print!("{text}");
     write(&out, &text)?;
     let claimed = rows.iter().filter(|r| r.claimed.is_some()).count();
     let held = rows.iter().filter(|r| r.reproduced()).count();
@@ -80,10 +82,15 @@ pub fn bands() -> anyhow::Result<HashMap<String, Band>> {
     }
 }
 
-fn write(out: &std::path::Path, text: &str) -> anyhow::Result<()> {
+fn make_parent(out: &std::path::Path) -> anyhow::Result<()> {
     if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(parent).with_context(|| parent.display().to_string())?;
     }
+    Ok(())
+}
+
+fn write(out: &std::path::Path, text: &str) -> anyhow::Result<()> {
+    make_parent(out)?;
     std::fs::write(out, text).with_context(|| out.display().to_string())
 }
 
@@ -91,6 +98,9 @@ fn write(out: &std::path::Path, text: &str) -> anyhow::Result<()> {
 fn run_set(args: &ReproduceArgs) -> anyhow::Result<()> {
     let folder = std::env::temp_dir().join(format!("windrive-estimates-{}", std::process::id()));
     let result = (|| {
+        if let Some(out) = &args.out {
+            make_parent(out)?;
+        }
         let setting = Setting::parse(&args.set, &folder)?;
         let open = |name: &str| -> anyhow::Result<Scene> {
             let mut scene = open_scene(name)?;
