@@ -52,6 +52,17 @@ def _key(x: float) -> float:
     return round(float(x), 6)
 
 
+def placed(t: pd.DataFrame) -> pd.DataFrame:
+    """The finished grid cases with their cell: `v` (wind speed) and `ti` (TI in %, 0 for steady wind),
+    keyed as `_key` rounds them. For tables that hold the wind columns (`cells` also names the cases
+    it cannot place)."""
+    ok = t[(t.status == "ok") & (t.group == "grid")].copy()
+    steady = ok[TURBULENCE].eq(STEADY).fillna(False).astype(bool)
+    ok["v"] = ok[WIND].astype(float).map(_key)
+    ok["ti"] = (ok[TI].astype(float) * 100.0).where(~steady, 0.0).map(_key)
+    return ok
+
+
 @dataclass
 class Cells:
     mean: pd.DataFrame  # index (wind_speed, ti_pct), columns every gear damage column: the mean over cases

@@ -62,12 +62,8 @@ def global_response(t: pd.DataFrame) -> pd.DataFrame | None:
     mean_col, std_col = f"{POWER}.mean", f"{POWER}.std"
     if mean_col not in t or std_col not in t:
         return None
-    ok = t[(t.status == "ok") & (t.group == "grid")].copy()
-    steady = ok[paper.TURBULENCE].eq(paper.STEADY).fillna(False).astype(bool)
-    ok["v"] = ok[paper.WIND].astype(float).map(paper._key)
-    ok["ti"] = (ok[paper.TI].astype(float) * 100.0).where(~steady, 0.0).map(paper._key)
     rows = []
-    for (v, ti), g in ok.groupby(["v", "ti"]):
+    for (v, ti), g in paper.placed(t).groupby(["v", "ti"]):
         p = g[mean_col].to_numpy(dtype=float)[:, None] / 1e3
         lo = hi = math.nan
         if len(p) >= 2:

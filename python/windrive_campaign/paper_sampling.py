@@ -39,11 +39,7 @@ def sampling_of(t: pd.DataFrame) -> str:
 
 
 def _by_cell(t: pd.DataFrame) -> dict[tuple[float, float], pd.DataFrame]:
-    ok = t[(t.status == "ok") & (t.group == "grid")].copy()
-    steady = ok[paper.TURBULENCE].eq(paper.STEADY).fillna(False).astype(bool)
-    ok["v"] = ok[paper.WIND].astype(float).map(paper._key)
-    ok["ti"] = (ok[paper.TI].astype(float) * 100.0).where(~steady, 0.0).map(paper._key)
-    return {(float(v), float(ti)): g for (v, ti), g in ok.groupby(["v", "ti"])}
+    return {(float(v), float(ti)): g for (v, ti), g in paper.placed(t).groupby(["v", "ti"])}
 
 
 @dataclass

@@ -434,10 +434,14 @@ impl<'a> Computed<'a> {
     /// Registers what the rows will read of each 6-DOF scene, so that each runs once: c-shutdown-6dof
     /// serves both chapter 7's rows and the 20-year conclusions (a run of 6-DOF seconds each).
     fn plan(&mut self, rows: &[&Ours]) -> anyhow::Result<()> {
+        // each scene or pair once: many rows read the same run, and opening a scene provides its FMUs
+        let mut planned = std::collections::HashSet::new();
         for ours in rows {
             match ours {
-                Ours::Gearbox { scene, .. } => self.series.want(scene, chapter7::channels()),
-                Ours::Life { normal, shutdown, .. } => {
+                Ours::Gearbox { scene, .. } if planned.insert((scene, scene)) => {
+                    self.series.want(scene, chapter7::channels())
+                }
+                Ours::Life { normal, shutdown, .. } if planned.insert((normal, shutdown)) => {
                     let channels = thesis_life::Life::channels(&(self.open)(normal)?, &(self.open)(shutdown)?)?;
                     self.series.want(normal, channels.clone());
                     self.series.want(shutdown, channels);

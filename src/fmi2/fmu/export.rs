@@ -11,6 +11,7 @@
 //! Every function here is `unsafe` because it dereferences pointers handed over by the host. Each one
 //! checks for null before reading and never builds a slice from a null pointer, even of length 0.
 
+use super::error::SlaveResult;
 use super::slave::{Log, Slave};
 use super::variables::{Causality, VarType, Variability, Variable};
 use crate::fmi2::types::*;
@@ -600,6 +601,26 @@ fn not_finite_output<T: std::fmt::Debug>(var: &Variable, v: &T) -> String {
     )
 }
 
+/// Value by value: each reference looked up, read, and checked finite when the model computes it; the
+/// first variable at fault is named. Every getter's path, and fmi2GetReal's whenever its array path
+/// finds something amiss.
+fn read_each<S: Slave, V: Finite + std::fmt::Debug, T>(
+    slave: &mut S,
+    ty: VarType,
+    vrs: &[u32],
+    out: &mut [T],
+    read: impl Fn(&mut S, u32) -> SlaveResult<V>,
+    conv: impl Fn(V) -> T,
+) -> CallResult {
+    for (r, o) in vrs.iter().zip(out.iter_mut()) {
+        let var = known::<S>(ty, *r)?;
+        let v = read(slave, *r).map_err(|e| e.0)?;
+        check_computed(var, &v)?;
+        *o = conv(v);
+    }
+    Ok(Fmi2Status::Ok)
+}
+
 macro_rules! getter {
     ($name:ident, $fmi:literal, $t:ty, $ty:expr, $method:ident, $conv:expr) => {
         /// # Safety
@@ -613,13 +634,7 @@ macro_rules! getter {
             unsafe {
                 call::<S>(c, $fmi, READABLE, |inst| {
                     let (vrs, out) = arrays_mut(vr, n, value)?;
-                    for (r, o) in vrs.iter().zip(out.iter_mut()) {
-                        let var = known::<S>($ty, *r)?;
-                        let v = inst.slave.$method(*r).map_err(|e| e.0)?;
-                        check_computed(var, &v)?;
-                        *o = $conv(v);
-                    }
-                    Ok(Fmi2Status::Ok)
+                    read_each(&mut inst.slave, $ty, vrs, out, |s, r| s.$method(r), $conv)
                 })
             }
         }
@@ -662,13 +677,7 @@ pub unsafe fn get_real<S: Slave>(
             if all_known && inst.slave.get_reals(vrs, out).is_ok() && out.iter().all(|v| v.is_finite()) {
                 return Ok(Fmi2Status::Ok);
             }
-            for (r, o) in vrs.iter().zip(out.iter_mut()) {
-                let var = known::<S>(VarType::Real, *r)?;
-                let v = inst.slave.get_real(*r).map_err(|e| e.0)?;
-                check_computed(var, &v)?;
-                *o = v;
-            }
-            Ok(Fmi2Status::Ok)
+            read_each(&mut inst.slave, VarType::Real, vrs, out, |s, r| s.get_real(r), |v| v)
         })
     }
 }

@@ -22,20 +22,16 @@ pub const THETA_STEP: f64 = PI / 360.0;
 pub const PITCH_STEP: f64 = PI / 180.0;
 
 /// The per-station tables of one rotor.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone)]
 pub struct LoadTable {
-    n_theta: usize,
-    pitch_lo: f64,
-    n_pitch: usize,
-    stations: usize,
+    grid: TableGrid,
     /// (N', T') / (V_x² + V_y²), kg/m² (N/m per (m/s)²): column station·n_pitch + pitch, entry θ; each
-    /// column solved when first read.
-    #[serde(skip)]
-    columns: Columns,
+    /// column solved when first read (shared by the clones of a model through its `Arc`).
+    columns: Vec<OnceLock<Box<[[f64; 2]]>>>,
 }
 
-/// What an FMU state keeps of a table: its grid (the columns are solved again when read).
-#[derive(Deserialize)]
+/// A table's grid: all an FMU state keeps of it (the columns are solved again when read).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 struct TableGrid {
     n_theta: usize,
     pitch_lo: f64,
@@ -43,22 +39,23 @@ struct TableGrid {
     stations: usize,
 }
 
-impl<'de> Deserialize<'de> for LoadTable {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let g = TableGrid::deserialize(d)?;
-        Ok(Self::on(g))
+impl PartialEq for LoadTable {
+    /// Every column is a function of the grid and the rotor: two tables over the same grid are equal
+    /// whichever columns each has solved so far.
+    fn eq(&self, other: &Self) -> bool {
+        self.grid == other.grid
     }
 }
 
-/// The columns, solved on first read (shared by the clones of a model through its `Arc`).
-#[derive(Debug, Clone)]
-struct Columns(Vec<OnceLock<Box<[[f64; 2]]>>>);
+impl Serialize for LoadTable {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.grid.serialize(s)
+    }
+}
 
-impl PartialEq for Columns {
-    /// Every column is a function of the table's grid and rotor: two tables over the same grid are equal
-    /// whichever columns each has solved so far.
-    fn eq(&self, _: &Self) -> bool {
-        true
+impl<'de> Deserialize<'de> for LoadTable {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        TableGrid::deserialize(d).map(Self::on)
     }
 }
 
@@ -83,26 +80,23 @@ impl LoadTable {
         })
     }
 
-    fn on(g: TableGrid) -> Self {
+    fn on(grid: TableGrid) -> Self {
         Self {
-            columns: Columns((0..g.stations * g.n_pitch).map(|_| OnceLock::new()).collect()),
-            n_theta: g.n_theta,
-            pitch_lo: g.pitch_lo,
-            n_pitch: g.n_pitch,
-            stations: g.stations,
+            columns: (0..grid.stations * grid.n_pitch).map(|_| OnceLock::new()).collect(),
+            grid,
         }
     }
 
     /// Station `i`'s column at pitch index `p`, solved if no step has read it yet.
     #[inline]
     fn column(&self, bem: &BemRotor, i: usize, p: usize) -> &[[f64; 2]] {
-        self.columns.0[i * self.n_pitch + p].get_or_init(|| self.solve_column(bem, i, p))
+        self.columns[i * self.grid.n_pitch + p].get_or_init(|| self.solve_column(bem, i, p))
     }
 
     #[cold]
     fn solve_column(&self, bem: &BemRotor, i: usize, p: usize) -> Box<[[f64; 2]]> {
-        let pitch = self.pitch_lo + p as f64 * PITCH_STEP;
-        (0..self.n_theta)
+        let pitch = self.grid.pitch_lo + p as f64 * PITCH_STEP;
+        (0..self.grid.n_theta)
             .map(|k| {
                 // unit magnitude: the loads are g(θ, pitch) themselves
                 let (vx, vy) = (k as f64 * THETA_STEP).sin_cos();
@@ -114,11 +108,11 @@ impl LoadTable {
 
     /// The columns that hold `pitch`, rad: found once a step, read for every element.
     pub fn columns(&self, pitch: f64) -> PitchColumns {
-        let x = (pitch - self.pitch_lo) / PITCH_STEP;
-        let top = (self.n_pitch - 1) as f64;
+        let x = (pitch - self.grid.pitch_lo) / PITCH_STEP;
+        let top = (self.grid.n_pitch - 1) as f64;
         // a hair beyond the last column (rounding of pitch_max) still reads the table
         let column = if x >= 0.0 && x <= top + 1e-9 {
-            let p = (x.floor() as usize).min(self.n_pitch - 2);
+            let p = (x.floor() as usize).min(self.grid.n_pitch - 2);
             Some((p, (x - p as f64).min(1.0)))
         } else {
             None
@@ -130,13 +124,13 @@ impl LoadTable {
     /// (see [`BemRotor::element_in`]).
     #[inline]
     pub fn loads(&self, bem: &BemRotor, i: usize, vx: f64, vy: f64, columns: PitchColumns) -> (f64, f64) {
-        let Some((p, wp)) = columns.column.filter(|_| vx >= 0.0 && i < self.stations) else {
+        let Some((p, wp)) = columns.column.filter(|_| vx >= 0.0 && i < self.grid.stations) else {
             let e = bem.element_in(i, vx, vy, columns.pitch);
             return (e.normal_n_per_m, e.tangential_n_per_m);
         };
         let speed2 = vx * vx + vy * vy;
         let x = vx.atan2(vy) / THETA_STEP;
-        let k = (x as usize).min(self.n_theta - 2);
+        let k = (x as usize).min(self.grid.n_theta - 2);
         let wk = x - k as f64;
         let (lower, upper) = (self.column(bem, i, p), self.column(bem, i, p + 1));
         let g = |c: usize| {
