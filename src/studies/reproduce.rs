@@ -18,7 +18,7 @@ use crate::studies::chapter7;
 use crate::studies::preset_modes::preset_modes;
 use crate::studies::shutdown::{Reading, read_runs, run_scene};
 use crate::studies::thesis_life;
-use anyhow::{Context, anyhow};
+use anyhow::{Context, anyhow, bail};
 use serde::Deserialize;
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -550,7 +550,7 @@ impl<'a> Computed<'a> {
                     None => {
                         let (n, s) = ((self.open)(normal)?, (self.open)(shutdown)?);
                         let series = &mut self.series;
-                        let life = thesis_life::Life::of(&n, &s, chapter7::TRIP_S, &mut |scene, channels| {
+                        let life = thesis_life::Life::of(&n, &s, chapter7::trip_time(&s)?, &mut |scene, channels| {
                             series.columns(scene, channels)
                         })?;
                         self.lives.push((key, life));
@@ -659,10 +659,41 @@ pub struct Band {
     pub drivers: String,
 }
 
-/// The bands by quantity, from bands.json's text.
+/// The bands by quantity, from bands.json's text; a row two groups vary (C's stop sequence and the 2 MW
+/// gearbox's estimates both act on c-shutdown-6dof) gets the union of their bands.
 pub fn read_bands(json: &str) -> anyhow::Result<HashMap<String, Band>> {
     let bands: Vec<Band> = serde_json::from_str(json).map_err(|e| anyhow!("bands.json: {e}"))?;
-    Ok(bands.into_iter().map(|b| (b.quantity.clone(), b)).collect())
+    let mut by_quantity: HashMap<String, Band> = HashMap::new();
+    for b in bands {
+        match by_quantity.remove(&b.quantity) {
+            Some(a) => {
+                let merged = a.union(b)?;
+                by_quantity.insert(merged.quantity.clone(), merged)
+            }
+            None => by_quantity.insert(b.quantity.clone(), b),
+        };
+    }
+    Ok(by_quantity)
+}
+
+/// Two verdict counts ("contradicts 20; holds 9") added, in the order the verdicts first appear.
+fn add_counts(a: &str, b: &str) -> String {
+    let mut counts: Vec<(String, usize)> = Vec::new();
+    for part in a.split("; ").chain(b.split("; ")).filter(|p| !p.is_empty()) {
+        let (verdict, n) = match part.rsplit_once(' ') {
+            Some((v, n)) => (v, n.parse().unwrap_or(0)),
+            None => (part, 0),
+        };
+        match counts.iter_mut().find(|(v, _)| v == verdict) {
+            Some((_, total)) => *total += n,
+            None => counts.push((verdict.to_string(), n)),
+        }
+    }
+    counts
+        .iter()
+        .map(|(v, n)| format!("{v} {n}"))
+        .collect::<Vec<_>>()
+        .join("; ")
 }
 
 impl Band {
@@ -670,6 +701,31 @@ impl Band {
     /// thesis's bound or tolerance inside it.
     pub fn verdict_holds(&self, row: &Row) -> bool {
         self.holds && row.verdict_constant_over(self.low, self.high)
+    }
+
+    /// One row's bands from two groups, varied one group at a time: the union of their ranges (a lower
+    /// bound on the band of varying both together), the verdicts counted over both samples.
+    fn union(self, other: Band) -> anyhow::Result<Band> {
+        if (self.nominal - other.nominal).abs() > 1e-9 * self.nominal.abs() {
+            bail!(
+                "bands.json: {:?} has nominal {} in group {} but {} in group {}: rerun the older group's campaign",
+                self.quantity,
+                self.nominal,
+                self.group,
+                other.nominal,
+                other.group
+            );
+        }
+        Ok(Band {
+            group: format!("{} + {}", self.group, other.group),
+            evaluations: self.evaluations + other.evaluations,
+            low: self.low.min(other.low),
+            high: self.high.max(other.high),
+            verdicts: add_counts(&self.verdicts, &other.verdicts),
+            holds: self.holds && other.holds && self.nominal_verdict == other.nominal_verdict,
+            drivers: format!("{}: {}; {}: {}", self.group, self.drivers, other.group, other.drivers),
+            ..self
+        })
     }
 }
 
@@ -792,6 +848,38 @@ mod tests {
         assert!(claimed.verdict_constant_over(9.6, 10.4));
         assert!(!claimed.verdict_constant_over(9.6, 10.6));
         assert!(row(Thesis::Value(10.0), None).verdict_constant_over(1.0, 100.0));
+    }
+
+    /// Two groups' bands of one row: their union, the verdicts added, and a verdict that holds in each
+    /// group but differs between them does not hold; bands of different nominal values are refused.
+    #[test]
+    fn two_groups_bands_of_a_row_unite() {
+        let band = |group: &str, low: f64, high: f64, verdicts: &str, holds: bool| {
+            format!(
+                r#"{{"quantity": "q", "group": "{group}", "evaluations": 29, "nominal": 1.5, "low": {low},
+                "high": {high}, "nominal_verdict": "holds", "verdicts": "{verdicts}", "holds": {holds},
+                "drivers": "x"}}"#
+            )
+        };
+        let json = format!(
+            "[{}, {}]",
+            band("2MW", 1.4, 1.6, "holds 20; contradicts 9", false),
+            band("C", 1.3, 1.55, "contradicts 1; holds 28", false)
+        );
+        let b = &read_bands(&json).unwrap()["q"];
+        assert_eq!((b.low, b.high, b.evaluations), (1.3, 1.6, 58));
+        assert_eq!(b.verdicts, "holds 48; contradicts 10");
+        assert_eq!(b.group, "2MW + C");
+        assert!(!b.holds);
+        let json = format!(
+            "[{}, {}]",
+            band("2MW", 1.4, 1.6, "holds 29", true),
+            band("C", 1.45, 1.5, "holds 29", true)
+        );
+        assert!(read_bands(&json).unwrap()["q"].holds);
+        let stale = json.replacen("\"nominal\": 1.5", "\"nominal\": 1.7", 1);
+        let err = read_bands(&stale).unwrap_err().to_string();
+        assert!(err.contains("rerun the older group's campaign"), "{err}");
     }
 
     /// The data file parses, and every row that runs no scene computes.

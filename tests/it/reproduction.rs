@@ -1,5 +1,6 @@
 //! The reproduction report (`windrive reproduce`, docs/REPRODUCTION.md): every row we claim to
-//! reproduce holds within its stated tolerance, the claims cover the modes, mesh orders, operating
+//! reproduce holds within its stated tolerance or, where it does not, its verdict flips across the
+//! estimates' band (it rests on an estimate), the claims cover the modes, mesh orders, operating
 //! hours, rated speeds, braking frequencies and the 2 MW gearbox's planet-bearing pressures (within 10 %),
 //! the verdicts cover chapters 3–7 and the conclusions,
 //! and the committed page is exactly what the code gives today: every number, bound and verdict.
@@ -11,6 +12,7 @@ use windrive::studies::reproduce::{Verdict, report};
 fn every_claimed_row_holds_and_the_documentation_is_what_the_code_gives() {
     let report = report(&open_scene).unwrap();
     let rows = &report.rows;
+    let bands = bands().unwrap();
     let claimed: Vec<_> = rows.iter().filter(|r| r.claimed.is_some()).collect();
     for r in &claimed {
         println!(
@@ -20,7 +22,16 @@ fn every_claimed_row_holds_and_the_documentation_is_what_the_code_gives() {
             r.ours,
             r.difference() * 100.0
         );
-        assert!(r.reproduced(), "{}: {} vs thesis {}", r.quantity, r.ours, r.thesis);
+        // a claim may miss only where the estimates' band shows it rests on an estimate (its verdict
+        // flips across the band), and the page then says "not reproduced" beside the band
+        let rests_on_an_estimate = bands.get(&r.quantity).is_some_and(|b| !b.verdict_holds(r));
+        assert!(
+            r.reproduced() || rests_on_an_estimate,
+            "{}: {} vs thesis {}",
+            r.quantity,
+            r.ours,
+            r.thesis
+        );
     }
     for family in [
         "mesh order",
@@ -70,7 +81,6 @@ fn every_claimed_row_holds_and_the_documentation_is_what_the_code_gives() {
     let docs = std::fs::read_to_string(path).unwrap();
     // the sensitivity campaign's bands were computed on today's scenes: each band's nominal is the value
     // this row shows (else rerun `scripts/campaign sensitivity GROUP`, docs/SENSITIVITY.md)
-    let bands = bands().unwrap();
     for (quantity, band) in &bands {
         let row = rows
             .iter()
