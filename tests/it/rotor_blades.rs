@@ -42,6 +42,7 @@ fn uniform(ny: usize, nz: usize, spacing: f64, nt: usize, periodic: bool) -> Win
         mean_hub: 11.0,
         periodic,
         velocity: [vec![11.0; points], vec![0.0; points], vec![0.0; points]],
+        tower: Default::default(),
     }
 }
 

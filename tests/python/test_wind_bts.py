@@ -5,17 +5,22 @@ description), then per time step the grid as int16 (z slowest, then y, then the 
 points. A value is (stored - offset) / slope, so a writer that spreads a component's range over int16 keeps
 it to within half a count, range / 131070.
 
-No TurbSim file is shipped with the project: a file of your own (say openfast_toolbox's example files or
-r-test's 5MW_Baseline/Wind/*.bts) goes round our reader and writer when named in WINDRIVE_TURBSIM_BTS
-(paths separated by the OS's path separator)."""
+Three files TurbSim wrote (openfast_toolbox's example files, tests/data/turbsim/, two with tower points) go
+round our reader and writer, and are read by NREL's own reader (openfast_io's TurbSimFile) as the
+independent check; a file of your own (say r-test's 5MW_Baseline/Wind/*.bts) joins them when named in
+WINDRIVE_TURBSIM_BTS (paths separated by the OS's path separator)."""
 
 import json
 import os
 import struct
 import subprocess
+from pathlib import Path
 
 import numpy as np
 import pytest
+from openfast_io.turbsim_file import TurbSimFile
+
+SHIPPED = sorted(str(p) for p in (Path(__file__).resolve().parents[1] / "data" / "turbsim").glob("*.bts"))
 
 HEADER = "<h4i6f6fi"
 
@@ -100,8 +105,8 @@ def test_generated_field_read_with_the_published_layout(windrive, tmp_path):
 
 def test_our_reader_and_writer_on_a_numpy_written_file(windrive, tmp_path):
     """A field with tower points and ID 7 written by numpy: our reader gives its header and every grid point's
-    mean and σ as numpy does (to rounding), and our writer's copy holds the same values to within half a count
-    of its own quantisation, without the tower points (the rotor samples the grid alone), still ID 7."""
+    mean and σ as numpy does (to rounding), and our writer's copy holds the same values, tower points
+    included, to within half a count of its own quantisation, still ID 7."""
     rng = np.random.default_rng(7)
     nt, nz, ny, ntwr = 40, 4, 6, 3
     grid = rng.normal([9.0, 0.0, 0.0], [1.5, 1.2, 0.7], size=(nt, nz, ny, 3))
@@ -119,10 +124,11 @@ def test_our_reader_and_writer_on_a_numpy_written_file(windrive, tmp_path):
         np.testing.assert_allclose(ours["mean"][c], values.mean(axis=0).ravel(), rtol=0, atol=1e-9)
         np.testing.assert_allclose(ours["std"][c], values.std(axis=0).ravel(), rtol=0, atol=1e-9)
     back = read_bts(copy)
-    assert (back["id"], back["ntwr"], back["grid"].shape) == (7, 0, original["grid"].shape)
+    assert (back["id"], back["ntwr"], back["grid"].shape) == (7, ntwr, original["grid"].shape)
     for c in range(3):
-        values = original["grid"][..., c]
-        assert np.abs(back["grid"][..., c] - values).max() <= 1.01 * half_count(values)
+        both = np.concatenate([original["grid"][..., c].ravel(), original["tower"][..., c].ravel()])
+        assert np.abs(back["grid"][..., c] - original["grid"][..., c]).max() <= 1.01 * half_count(both)
+        assert np.abs(back["tower"][..., c] - original["tower"][..., c]).max() <= 1.01 * half_count(both)
 
 
 def test_a_broken_file_is_named(windrive, tmp_path):
@@ -137,10 +143,10 @@ def test_a_broken_file_is_named(windrive, tmp_path):
 
 
 def turbsim_files():
-    return [p for p in os.environ.get("WINDRIVE_TURBSIM_BTS", "").split(os.pathsep) if p]
+    """The TurbSim files to test with: the shipped ones and those named in WINDRIVE_TURBSIM_BTS."""
+    return SHIPPED + [p for p in os.environ.get("WINDRIVE_TURBSIM_BTS", "").split(os.pathsep) if p]
 
 
-@pytest.mark.skipif(not turbsim_files(), reason="no TurbSim .bts named in WINDRIVE_TURBSIM_BTS")
 @pytest.mark.parametrize("path", turbsim_files())
 def test_a_turbsim_file_round_trips(windrive, tmp_path, path):
     """A file TurbSim wrote, through our reader and writer: its header and grid, read here, to within half a
@@ -155,3 +161,45 @@ def test_a_turbsim_file_round_trips(windrive, tmp_path, path):
     for c in range(3):
         values = original["grid"][..., c]
         assert np.abs(back["grid"][..., c] - values).max() <= 1.01 * half_count(values)
+
+
+@pytest.mark.parametrize("path", turbsim_files())
+def test_nrel_reader_agrees_with_ours(windrive, tmp_path, path):
+    """NREL's TurbSim reader (openfast_io, from PyPI) on a file TurbSim wrote and on our copy of it: the
+    grid's coordinates, times, hub height and wind, and every grid and tower value agree to within half a
+    count (our writer keeps TurbSim's scaling, so they come back equal); and every grid point's mean and σ
+    our reader reports (`windrive wind --json`) is NREL's reader's to rounding."""
+    copy = tmp_path / "copy.bts"
+    ours = wind_json(windrive, "--from", path, "--out", str(copy))
+    theirs, back = TurbSimFile(path), TurbSimFile(str(copy))
+    assert back["ID"] == theirs["ID"]
+    for key in ["y", "z", "t", "zTwr", "dt", "zRef", "uRef"]:
+        np.testing.assert_allclose(np.asarray(back[key], float), np.asarray(theirs[key], float), rtol=1e-6, err_msg=key)
+    u, tower = theirs["u"], theirs["uTwr"]  # [component, time, y, z] and [component, time, point]
+    assert u.shape[1:] == (ours["nt"], ours["ny"], ours["nz"])
+    for c in range(3):
+        both = np.concatenate([u[c].ravel(), tower[c].ravel()])
+        assert np.abs(back["u"][c] - u[c]).max() <= 1.01 * half_count(both)
+        if tower.size:
+            assert np.abs(back["uTwr"][c] - tower[c]).max() <= 1.01 * half_count(both)
+        # ours lists the points z slowest, then y
+        mean, std = u[c].mean(axis=0).T.ravel(), u[c].std(axis=0).T.ravel()
+        np.testing.assert_allclose(ours["mean"][c], mean, rtol=0, atol=1e-9 * max(1.0, np.abs(mean).max()))
+        np.testing.assert_allclose(ours["std"][c], std, rtol=0, atol=1e-9 * max(1.0, std.max()))
+
+
+def test_nrel_reader_reads_our_generated_field(windrive, tmp_path):
+    """A field we generate, read by NREL's reader: the grid's coordinates centred on the hub's column, the
+    heights from z_bottom, the hub height and wind, and every point's mean the generator's to within half a
+    count."""
+    path = tmp_path / "field.bts"
+    ours = wind_json(windrive, "--out", str(path), "--wind", "10", "--grid", "5x4", "--width", "60", "--height", "45",
+                     "--period", "30", "--dt", "0.1", "--seed", "2")
+    f = TurbSimFile(str(path))
+    np.testing.assert_allclose(f["y"], 15.0 * (np.arange(5) - 2), atol=1e-5)
+    np.testing.assert_allclose(f["z"], ours["z_bottom"] + 15.0 * np.arange(4), rtol=1e-6)
+    assert (f["zRef"], f["uRef"], f["u"].shape) == (pytest.approx(90.0), pytest.approx(10.0), (3, 300, 5, 4))
+    for c in range(3):
+        # ours are the generator's values, NREL's reader's the file's: half a count apart at most
+        np.testing.assert_allclose(ours["mean"][c], f["u"][c].mean(axis=0).T.ravel(), rtol=0,
+                                   atol=1.01 * half_count(f["u"][c]))

@@ -98,6 +98,7 @@ fn interpolation_is_exact_on_linear_fields_and_wraps() {
         mean_hub: 8.0,
         periodic: false,
         velocity: std::array::from_fn(|_| Vec::new()),
+        tower: Default::default(),
     };
     for c in 0..3 {
         field.velocity[c] = (0..nt)

@@ -12,7 +12,8 @@
 //!
 //! A velocity is (stored − offset)/slope. The writer spreads each component's range over the whole of
 //! i16 (slope 65535/(max − min), as TurbSim does), so a value comes back to within half a count,
-//! (max − min)/131070. Tower points are skipped on reading: the rotor samples the grid alone.
+//! (max − min)/131070, grid and tower points together. Tower points are kept (a file read and written
+//! again loses none) but not sampled: the rotor samples the grid alone.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -106,12 +107,18 @@ pub fn parse(bytes: &[u8]) -> Result<WindField, String> {
     let data = &bytes[HEADER_BYTES + chars as usize..];
     let points = ny * nz;
     let mut velocity: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(nt * points));
+    let mut tower: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(nt * n_tower));
     for step in data.chunks_exact(2 * per_step) {
-        // the grid's values, component fastest; the tower points after them are skipped
-        for (i, count) in step[..6 * points].chunks_exact(2).enumerate() {
+        // the grid's values, component fastest, then the tower points'
+        for (i, count) in step.chunks_exact(2).enumerate() {
             let c = i % 3;
             let stored = i16::from_le_bytes([count[0], count[1]]) as f64;
-            velocity[c].push((stored - scaling[2 * c + 1]) / scaling[2 * c]);
+            let value = (stored - scaling[2 * c + 1]) / scaling[2 * c];
+            if i < 3 * points {
+                velocity[c].push(value)
+            } else {
+                tower[c].push(value)
+            }
         }
     }
     Ok(WindField {
@@ -126,14 +133,16 @@ pub fn parse(bytes: &[u8]) -> Result<WindField, String> {
         mean_hub: u_hub,
         periodic: id == 8,
         velocity,
+        tower,
     })
 }
 
-/// The .bts bytes of `field` (no tower points).
+/// The .bts bytes of `field`, its tower points included.
 pub fn encode(field: &WindField, description: &str, out: &mut impl Write) -> std::io::Result<()> {
     let count = |n: usize| i32::try_from(n).map_err(|_| std::io::Error::other(format!("{n} does not fit an i32")));
     out.write_all(&(if field.periodic { 8i16 } else { 7i16 }).to_le_bytes())?;
-    for n in [field.nz, field.ny, 0, field.nt] {
+    let n_tower = field.n_tower();
+    for n in [field.nz, field.ny, n_tower, field.nt] {
         out.write_all(&count(n)?.to_le_bytes())?;
     }
     let header = [
@@ -149,8 +158,8 @@ pub fn encode(field: &WindField, description: &str, out: &mut impl Write) -> std
     }
     // slope and offset in f32 as stored, so the counts are computed with what the reader will use
     let scaling: [(f32, f32); 3] = std::array::from_fn(|c| {
-        let values = &field.velocity[c];
-        let (lo, hi) = values.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+        let values = field.velocity[c].iter().chain(&field.tower[c]);
+        let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
             (lo.min(x), hi.max(x))
         });
         if hi > lo {
@@ -171,12 +180,14 @@ pub fn encode(field: &WindField, description: &str, out: &mut impl Write) -> std
     out.write_all(&count(text.len())?.to_le_bytes())?;
     out.write_all(&text)?;
     let points = field.ny * field.nz;
-    let mut step = Vec::with_capacity(6 * points);
+    let mut step = Vec::with_capacity(6 * (points + n_tower));
     for t in 0..field.nt {
         step.clear();
-        for p in 0..points {
+        let grid = (0..points).map(|p| (&field.velocity, t * points + p));
+        let tower = (0..n_tower).map(|i| (&field.tower, t * n_tower + i));
+        for (values, at) in grid.chain(tower) {
             for (c, (slope, offset)) in scaling.iter().enumerate() {
-                let x = field.velocity[c][t * points + p];
+                let x = values[c][at];
                 let stored = (x * *slope as f64 + *offset as f64).round().clamp(-32_768.0, 32_767.0) as i16;
                 step.extend_from_slice(&stored.to_le_bytes());
             }

@@ -81,6 +81,10 @@ pub struct WindField {
     pub periodic: bool,
     /// u, v and w in m/s, mean included, each time-major as TurbSim stores them: index (t·nz + k)·ny + j.
     pub velocity: [Vec<f64>; 3],
+    /// A .bts file's tower points below the grid (spaced dz down from z_bottom − dz), u, v and w, index
+    /// t·n_tower + i: kept so that a file read and written again loses none; the rotor samples the grid
+    /// alone, and a generated field has none.
+    pub tower: [Vec<f64>; 3],
 }
 
 impl WindField {
@@ -90,6 +94,11 @@ impl WindField {
 
     pub fn z(&self, k: usize) -> f64 {
         self.z_bottom + k as f64 * self.dz
+    }
+
+    /// How many tower points each time step carries.
+    pub fn n_tower(&self) -> usize {
+        self.tower[0].len() / self.nt.max(1)
     }
 
     /// The index of time step `t`, height `k`, lateral point `j` in [`Self::velocity`]'s vectors.

@@ -182,6 +182,7 @@ pub fn generate(spec: &FieldSpec) -> Result<WindField, WindFieldError> {
         mean_hub: v_hub,
         periodic: true,
         velocity,
+        tower: Default::default(),
     })
 }
 
@@ -212,5 +213,6 @@ pub fn steady(spec: &FieldSpec) -> Result<WindField, WindFieldError> {
         mean_hub: spec.mean_wind,
         periodic: true,
         velocity: [u, vec![0.0; points], vec![0.0; points]],
+        tower: Default::default(),
     })
 }
