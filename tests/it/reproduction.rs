@@ -98,6 +98,30 @@ fn every_claimed_row_holds_and_the_documentation_is_what_the_code_gives() {
             "{quantity}: outside its own band"
         );
     }
+    // the README's first screen: the 20-year conclusions on the bearings and the HSS gears keep their verdict
+    // across every estimate varied, the flanks' shutdown share flips across C's brake
+    let across = |prefix: &str| {
+        let row = rows.iter().find(|r| r.quantity.starts_with(prefix)).unwrap();
+        bands.get(&row.quantity).map(|b| b.verdict_holds(row))
+    };
+    for prefix in [
+        "2 MW, 20 years: shutdowns' share of each rolling bearing's damage, ISO 281",
+        "2 MW, 20 years: shutdowns' share of each rolling bearing's damage, thesis's count",
+        "2 MW, 20 years: planet bearings failing of six (damage ≥ 1), ISO 281",
+        "2 MW, 20 years: HSS bearings failing of three (damage ≥ 1), ISO 281",
+        "2 MW, 20 years: HSS flanks' damage in a shutdown",
+    ] {
+        assert_eq!(
+            across(prefix),
+            Some(true),
+            "{prefix}: the README says it holds across the estimates"
+        );
+    }
+    assert_eq!(
+        across("2 MW, 20 years: shutdowns' share of each gear flank's contact damage"),
+        Some(false),
+        "the README says the flanks' verdict rests on the brake"
+    );
     let generated = report.markdown(&bands);
     for (line, (ours, committed)) in generated.lines().zip(docs.lines()).enumerate() {
         assert_eq!(
