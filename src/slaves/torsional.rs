@@ -264,6 +264,14 @@ impl TorsionalSlave {
         self.driver.stats
     }
 
+    /// Takes every step the solver's general way until the model is next built (a parameter
+    /// change): the check that its plain linear steps change no bit ([`Driver::plain_linear_steps`]).
+    pub fn general_steps_only(&mut self) -> SlaveResult<()> {
+        self.ensure()?;
+        self.driver.plain_linear_steps = false;
+        Ok(())
+    }
+
     pub fn built(&mut self) -> SlaveResult<&Built> {
         Ok(self.ensure()?.0)
     }
