@@ -28,6 +28,8 @@ impl Inputs {
     /// brake command, the model clamping the command to [0, 1]; the cut's angle from `cut_angle` at
     /// the communication point, its speed and torque).
     fn write(&self, cut_angle: f64, dt: f64, u: &mut [f64]) {
+        // one length check instead of one per input (the driver samples the inputs twice a step)
+        let u: &mut [f64; INPUT_COUNT] = (&mut u[..INPUT_COUNT]).try_into().expect("INPUT_COUNT inputs");
         u[INPUT_ROTOR_TORQUE] = self.rotor_torque.at(dt);
         u[INPUT_GENERATOR_TORQUE] = self.generator_torque.at(dt);
         u[INPUT_BRAKE_COMMAND] = self.brake_command.at(dt);

@@ -234,11 +234,11 @@ struct Work {
     delta: Vec<f64>,
     step: Vec<f64>,
     padded: Vec<f64>,
-    x: Vec<f64>,
     key: Vec<u64>,
     key_new: Vec<u64>,
-    /// The inputs of a linear step, interpolated to the α-point.
-    u: Vec<f64>,
+    /// What a linear step's map multiplies: [x; v; a; u], the positions less the rigid rotation,
+    /// the speeds, the accelerations and the inputs interpolated to the α-point (sized by the step).
+    z: Vec<f64>,
 }
 
 impl Work {
@@ -266,10 +266,9 @@ impl Work {
                 delta: z.clone(),
                 step: z.clone(),
                 padded: vec![0.0; padded(n)],
-                x: z,
                 key: Vec::new(),
                 key_new: Vec::new(),
-                u: Vec::new(),
+                z,
             };
         }
     }
@@ -361,15 +360,6 @@ impl AlphaIntegrator {
         sys.add_tangent(t, q, v, c.c_c, c.c_k, &mut j);
         let reused = sys.linearity() != Linearity::Nonlinear;
         let solver = Solver::new(j, reused).ok_or(SolverError::SingularJacobian { time: t, step: c.h })?;
-        let inputs = super::system::input_count(sys);
-        let np = padded(n);
-        let mut input_response = vec![0.0; np * inputs];
-        for l in sys.input_loads() {
-            let column = solver.unit_response(n, l.dof);
-            for (x, y) in input_response[l.input * np..l.input * np + n].iter_mut().zip(column) {
-                *x += l.gain * y;
-            }
-        }
         let friction_response = friction_dof.map(|d| (d, solver.unit_response(n, d)));
         let step_map = linear.then(|| linear::step_map(sys, c, &solver));
         stats.factorizations += 1;
@@ -378,7 +368,6 @@ impl AlphaIntegrator {
             key,
             h: c.h,
             solver,
-            input_response,
             friction_response,
             step_map,
         }))
@@ -408,9 +397,6 @@ impl AlphaIntegrator {
         let Span { h, u1, .. } = *span;
         let n = sys.dofs();
         self.work.fit(n);
-        if self.work.u.len() < span.u1.len() {
-            self.work.u.resize(span.u1.len(), 0.0);
-        }
         let c = self.coefficients_for(h);
         let friction = sys.friction(u1).filter(|f| f.kinetic > 0.0 || f.holding > 0.0);
         let linear = sys.linearity() == Linearity::Linear;

@@ -115,10 +115,11 @@ impl Driver {
         input_count: usize,
         inputs: impl Fn(f64, &mut [f64]),
     ) -> Result<(), SolverError> {
-        if !(h > 0.0 && h.is_finite()) {
+        // positive and finite (NaN fails both comparisons), as two comparisons
+        if !(0.0 < h && h < f64::INFINITY) {
             return Err(SolverError::BadStep { step: h });
         }
-        if !(max_step > 0.0 && max_step.is_finite()) {
+        if !(0.0 < max_step && max_step < f64::INFINITY) {
             return Err(SolverError::BadStep { step: max_step });
         }
         self.events.clear();

@@ -55,31 +55,20 @@ impl DynState {
         }
     }
 
-    /// Whether every entry of q, v and a is finite (see [`non_finite_flag`]). OR-ed over the slices
-    /// in integers the loops vectorise with SSE2 (and, or, add), where a float fold must keep its
-    /// order and ran as a serial chain of 33 dependent adds (≈ 230 instructions, a tenth of the
-    /// torsional FMU's step, by callgrind).
+    /// An entry is infinite or NaN exactly when its exponent field is all ones; adding one at the
+    /// exponent's lowest bit then carries into bit 63, which no finite entry reaches. OR-ed over the
+    /// slices in integers the loops vectorise with SSE2 (and, or, add), where a float fold must
+    /// keep its order and ran as a serial chain of 33 dependent adds (≈ 230 instructions, a tenth
+    /// of the torsional FMU's step, by callgrind).
     pub fn is_finite(&self) -> bool {
-        let carry = |x: &[f64]| x.iter().fold(0u64, |acc, v| acc | non_finite_flag(*v));
-        !flags_non_finite(carry(&self.q) | carry(&self.v) | carry(&self.a))
+        const EXPONENT: u64 = 0x7ff0_0000_0000_0000;
+        const EXPONENT_ONE: u64 = 1 << 52;
+        let carry = |x: &[f64]| {
+            x.iter()
+                .fold(0u64, |acc, v| acc | (v.to_bits() & EXPONENT).wrapping_add(EXPONENT_ONE))
+        };
+        (carry(&self.q) | carry(&self.v) | carry(&self.a)) >> 63 == 0
     }
-}
-
-/// Bit 63 set exactly when `x` is infinite or NaN: its exponent field is then all ones, and adding
-/// one at the exponent's lowest bit carries into bit 63, which no finite value reaches. OR-ed over
-/// many values, [`flags_non_finite`] tells whether any was not finite; a loop that computes the
-/// values can fold the check in instead of reading them again.
-#[inline(always)]
-pub fn non_finite_flag(x: f64) -> u64 {
-    const EXPONENT: u64 = 0x7ff0_0000_0000_0000;
-    const EXPONENT_ONE: u64 = 1 << 52;
-    (x.to_bits() & EXPONENT).wrapping_add(EXPONENT_ONE)
-}
-
-/// Whether an OR of [`non_finite_flag`]s flags a value that is not finite.
-#[inline(always)]
-pub fn flags_non_finite(flags: u64) -> bool {
-    flags >> 63 != 0
 }
 
 /// Work counters, deterministic for the same calls (tests pin them instead of timings).

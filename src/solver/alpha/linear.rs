@@ -1,13 +1,13 @@
-//! The step of a linear system: Δ = W·[x; v; a] + J⁻¹·f with the cached step map W, then the
+//! The step of a linear system: Δ = W·[x; v; a; u] with the cached step map W, then the
 //! friction, then the update. Same equations as the Newton path, none of its generality; and the
 //! plain step the driver takes for a whole communication step while the friction contact is open,
 //! which is the same arithmetic without the friction's bookkeeping and with the finiteness check
 //! folded into the update.
 
 use super::{AlphaIntegrator, Coefficients, Span, Work, finish_friction};
-use crate::solver::factor::{Factor, Solver, axpy_columns, padded};
-use crate::solver::state::{DynState, SolverError, Statistics, flags_non_finite, non_finite_flag};
-use crate::solver::system::{Friction, SecondOrderSystem};
+use crate::solver::factor::{Factor, Solver, axpy_columns, padded, set_columns};
+use crate::solver::state::{DynState, SolverError, Statistics};
+use crate::solver::system::{Friction, SecondOrderSystem, input_count};
 
 /// One step from `t` by `c.h` with the inputs `u0` at its start and `u1` at its end.
 #[derive(Clone, Copy)]
@@ -51,7 +51,7 @@ impl AlphaIntegrator {
                 stuck = Some(f);
             }
         }
-        // the driver checks finiteness once after all the sub-steps: the flags are dropped
+        // the driver checks finiteness once after all the sub-steps: the answer is dropped
         update(&c, &delta[..n], q, v, a);
         finish_friction(st, stuck, force, u1);
         Ok(())
@@ -71,23 +71,17 @@ impl AlphaIntegrator {
         (u0, u1): (&[f64], &[f64]),
         stats: &mut Statistics,
     ) -> Result<bool, SolverError> {
-        let n = sys.dofs();
-        self.work.fit(n);
-        if self.work.u.len() < u1.len() {
-            self.work.u.resize(u1.len(), 0.0);
-        }
+        self.work.fit(sys.dofs());
         let c = self.coefficients_for(h);
         let idx = self.linear_factor(sys, &c, t, st, None, stats)?;
         let AlphaIntegrator { cache, work: w, .. } = self;
-        increment(sys, &c, cache.get(idx), w, st, Ends { t, u0, u1 })?;
-        let (q, v, a) = (&mut st.q[..n], &mut st.v[..n], &mut st.a[..n]);
-        let flags = update(&c, &w.padded[..n], q, v, a);
+        let finite = increment_and_update(sys, &c, cache.get(idx), w, st, Ends { t, u0, u1 })?;
         st.locked = false;
         st.friction_force = 0.0;
         st.applied.clear();
         st.applied.extend_from_slice(u1);
         stats.steps += 1;
-        Ok(!flags_non_finite(flags))
+        Ok(finite)
     }
 
     /// The cached factorisation of a linear system for this step size (and friction DOF), built
@@ -111,7 +105,58 @@ impl AlphaIntegrator {
     }
 }
 
-/// Δ = W·[x; v; a] + J⁻¹·f (and the start's friction force for methods that weight the start) into
+/// [`increment`], then [`update`] with its finiteness check, on the CPU's widest vectors: AVX where it
+/// has it, four values a register in the rigid-mode shift and the update instead of SSE2's two.
+/// Each value goes through the same operations either way (no fused multiply–adds): the same bits.
+fn increment_and_update<S: SecondOrderSystem>(
+    sys: &S,
+    c: &Coefficients,
+    factor: &Factor,
+    w: &mut Work,
+    st: &mut DynState,
+    ends: Ends,
+) -> Result<bool, SolverError> {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx") {
+        // SAFETY: the CPU has AVX.
+        return unsafe { increment_and_update_avx(sys, c, factor, w, st, ends) };
+    }
+    increment_then_update(sys, c, factor, w, st, ends)
+}
+
+/// [`increment_then_update`] compiled for AVX.
+///
+/// # Safety
+/// The CPU has AVX.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+unsafe fn increment_and_update_avx<S: SecondOrderSystem>(
+    sys: &S,
+    c: &Coefficients,
+    factor: &Factor,
+    w: &mut Work,
+    st: &mut DynState,
+    ends: Ends,
+) -> Result<bool, SolverError> {
+    increment_then_update(sys, c, factor, w, st, ends)
+}
+
+#[inline(always)]
+fn increment_then_update<S: SecondOrderSystem>(
+    sys: &S,
+    c: &Coefficients,
+    factor: &Factor,
+    w: &mut Work,
+    st: &mut DynState,
+    ends: Ends,
+) -> Result<bool, SolverError> {
+    increment(sys, c, factor, w, st, ends)?;
+    let n = sys.dofs();
+    let (q, v, a) = (&mut st.q[..n], &mut st.v[..n], &mut st.a[..n]);
+    Ok(update(c, &w.padded[..n], q, v, a))
+}
+
+/// Δ = W·[x; v; a; u] (and the start's friction force for methods that weight the start) into
 /// `w.padded`, x the positions less the rigid rotation.
 #[inline(always)]
 fn increment<S: SecondOrderSystem>(
@@ -127,13 +172,16 @@ fn increment<S: SecondOrderSystem>(
     let Some(map) = factor.step_map.as_deref() else {
         return Err(SolverError::SingularJacobian { time: t, step: c.h });
     };
-    let (q, v, a) = (&st.q[..n], &st.v[..n], &st.a[..n]);
-    let (x, delta) = (&mut w.x[..n], &mut w.padded[..np]);
     // inputs that load no DOF (a brake command) have no column
-    let u = &mut w.u[..factor.input_response.len() / np];
-    for k in 0..u.len() {
-        u[k] = (1.0 - c.af) * u1[k] + c.af * u0[k];
+    let columns = map.len() / np;
+    if w.z.len() < columns {
+        w.z.resize(columns, 0.0);
     }
+    let (z, delta) = (&mut w.z[..columns], &mut w.padded[..np]);
+    let (x, rest) = z.split_at_mut(n);
+    let (zv, rest) = rest.split_at_mut(n);
+    let (za, u) = rest.split_at_mut(n);
+    let q = &st.q[..n];
     match sys.rigid_mode() {
         Some((ratio, reference)) => {
             let (ratio, q_ref) = (&ratio[..n], q[reference]);
@@ -143,40 +191,53 @@ fn increment<S: SecondOrderSystem>(
         }
         None => x.copy_from_slice(q),
     }
-    delta.iter_mut().for_each(|d| *d = 0.0);
+    zv.copy_from_slice(&st.v[..n]);
+    za.copy_from_slice(&st.a[..n]);
+    assert!(
+        u0.len() >= u.len() && u1.len() >= u.len(),
+        "an input the system reads is missing"
+    );
+    for ((u, u1), u0) in u.iter_mut().zip(u1).zip(u0) {
+        *u = (1.0 - c.af) * u1 + c.af * u0;
+    }
+    // one block: the columns of W_q, W_v, W_a and J⁻¹B in the order the products were always added
+    let blocks = [(map, &*z)];
     if c.af != 0.0
         && st.friction_force != 0.0
         && let Some((_, resp)) = &factor.friction_response
     {
+        delta.fill(0.0);
         for (d, r) in delta.iter_mut().zip(resp) {
             *d += c.af * st.friction_force * r;
         }
+        axpy_columns(blocks, delta);
+    } else {
+        // what the product adds to a zeroed Δ, without zeroing it
+        set_columns(blocks, delta);
     }
-    let (mq, rest) = map.split_at(np * n);
-    let (mv, ma) = rest.split_at(np * n);
-    let inputs = &factor.input_response[..];
-    axpy_columns([(mq, &*x), (mv, v), (ma, a), (inputs, &*u)], delta);
     Ok(())
 }
 
-/// q, v and a at the step's end from the increment Δ. Returns the OR of their
-/// [`non_finite_flag`]s; a caller that drops it drops its work with it (the function is inlined).
+/// q, v and a at the step's end from the increment Δ. Returns whether they are all finite, a
+/// comparison and an AND a value that vectorise with the update; a caller that drops the answer
+/// drops its work with it (the function is inlined).
 #[inline(always)]
-fn update(c: &Coefficients, delta: &[f64], q: &mut [f64], v: &mut [f64], a: &mut [f64]) -> u64 {
-    let mut flags = 0;
+fn update(c: &Coefficients, delta: &[f64], q: &mut [f64], v: &mut [f64], a: &mut [f64]) -> bool {
+    let mut finite = true;
     for i in 0..q.len() {
         let d = delta[i];
         let v_new = c.velocity(d, v[i], a[i]);
         a[i] = c.acceleration(d, v[i], a[i]);
         q[i] += d;
         v[i] = v_new;
-        flags |= non_finite_flag(q[i]) | non_finite_flag(v_new) | non_finite_flag(a[i]);
+        finite &= q[i].is_finite() & v_new.is_finite() & a[i].is_finite();
     }
-    flags
+    finite
 }
 
 /// W = [−J⁻¹K | −J⁻¹((1 − α_m)k_av·M + ((1 − α_f)k_vv + α_f)·C) | −J⁻¹(((1 − α_m)k_aa + α_m)·M +
-/// (1 − α_f)k_va·C)], rows padded for the SSE2 kernel: Δ = W·[x; v; a] + J⁻¹f for a linear system.
+/// (1 − α_f)k_va·C) | J⁻¹B], rows padded for the vector kernels: Δ = W·[x; v; a; u] for a linear
+/// system.
 pub(super) fn step_map<S: SecondOrderSystem>(sys: &S, c: &Coefficients, solver: &Solver) -> Vec<f64> {
     let n = sys.dofs();
     let zeros = vec![0.0; n];
@@ -188,12 +249,21 @@ pub(super) fn step_map<S: SecondOrderSystem>(sys: &S, c: &Coefficients, solver: 
         -(mass * ((1.0 - c.am) * c.ka[2] + c.am) + &lin.damping * ((1.0 - c.af) * c.kv[2])),
     ];
     let np = padded(n);
-    let mut map = vec![0.0; np * 3 * n];
+    let inputs = input_count(sys);
+    let mut map = vec![0.0; np * (3 * n + inputs)];
     for (b, block) in blocks.iter().enumerate() {
         for col in 0..n {
             let out = &mut map[(b * n + col) * np..(b * n + col) * np + n];
             let rhs: Vec<f64> = block.column(col).iter().copied().collect();
             solver.add_solution(&rhs, out);
+        }
+    }
+    // J⁻¹B: the response to each unit input
+    let input_response = &mut map[3 * n * np..];
+    for l in sys.input_loads() {
+        let column = solver.unit_response(n, l.dof);
+        for (x, y) in input_response[l.input * np..l.input * np + n].iter_mut().zip(column) {
+            *x += l.gain * y;
         }
     }
     map
