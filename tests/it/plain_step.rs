@@ -200,10 +200,10 @@ fn a_brake_application_hands_over_and_back_to_the_bit() {
         h: 1e-3,
         steps: 2000,
         inputs: Box::new(move |t: f64| {
-            let command: f64 = if t < 0.2 || t >= 1.2 {
-                0.0
-            } else {
+            let command: f64 = if (0.2..1.2).contains(&t) {
                 ((t - 0.2) / 0.1).min(1.0)
+            } else {
+                0.0
             };
             let ramping = (0.2..0.3).contains(&t);
             Set {
@@ -222,11 +222,9 @@ fn a_brake_application_hands_over_and_back_to_the_bit() {
     };
     let (stats, locked) = same_both_ways(&sc);
     assert!(locked > 100, "the brake holds the drivetrain: {locked} steps locked");
-    assert!(
-        stats.plain_steps > 1000 && stats.plain_steps < 1999,
-        "plain steps before and after the brake, not during it: {}",
-        stats.plain_steps
-    );
+    // 199 before the brake (the first step's accelerations are not yet consistent), none of the 1 000
+    // with a command, 799 after it (the first clears the friction force the brake left)
+    assert_eq!(stats.plain_steps, 199 + 799);
 }
 
 /// Where the plain step does not apply, every step goes the general way with the same bits: a
