@@ -282,7 +282,12 @@ fn generate(m: &Model, xml: &str, guid: &str) -> String {
     }
     writeln!(s, "];").unwrap();
     // Dense value-reference → table-index maps per type: an FMI call resolves a reference in O(1).
-    writeln!(s, "/// The variable with this type and value reference.").unwrap();
+    writeln!(
+        s,
+        "/// The variable with this type and value reference (inlined: every value a host sets or gets passes here)."
+    )
+    .unwrap();
+    writeln!(s, "#[inline]").unwrap();
     writeln!(
         s,
         "pub fn variable(ty: VarType, vr: u32) -> Option<&'static Variable> {{"

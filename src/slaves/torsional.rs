@@ -28,6 +28,8 @@ impl Inputs {
     /// brake command, the model clamping the command to [0, 1]; the cut's angle from `cut_angle` at
     /// the communication point, its speed and torque).
     fn write(&self, cut_angle: f64, dt: f64, u: &mut [f64]) {
+        // one length check instead of one per input (the driver samples the inputs twice a step)
+        let u: &mut [f64; INPUT_COUNT] = (&mut u[..INPUT_COUNT]).try_into().expect("INPUT_COUNT inputs");
         u[INPUT_ROTOR_TORQUE] = self.rotor_torque.at(dt);
         u[INPUT_GENERATOR_TORQUE] = self.generator_torque.at(dt);
         u[INPUT_BRAKE_COMMAND] = self.brake_command.at(dt);
@@ -262,6 +264,14 @@ impl TorsionalSlave {
     /// The integrator's work counters since the model was built.
     pub fn solver_statistics(&self) -> Statistics {
         self.driver.stats
+    }
+
+    /// Takes every step the solver's general way until the model is next built (a parameter
+    /// change): the check that its plain linear steps change no bit ([`Driver::plain_linear_steps`]).
+    pub fn general_steps_only(&mut self) -> SlaveResult<()> {
+        self.ensure()?;
+        self.driver.plain_linear_steps = false;
+        Ok(())
     }
 
     pub fn built(&mut self) -> SlaveResult<&Built> {

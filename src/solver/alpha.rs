@@ -21,10 +21,12 @@
 //! stops the DOF exactly at the end of the step if the contact can hold it (stick), else ± the
 //! kinetic capacity (slip). A stuck contact therefore never creeps and never chatters.
 
-use super::factor::{Cache, Factor, Solver, axpy_columns, padded, same_key, same_step};
+use super::factor::{Cache, Factor, Solver, padded, same_key, same_step};
 use super::state::{DynState, SolverError, Statistics};
 use super::system::{Friction, Linearity, SecondOrderSystem, external_forces};
 use nalgebra::DMatrix;
+
+mod linear;
 
 /// Newton iterations before a step is given up (and halved by the driver).
 pub const MAX_ITERATIONS: usize = 50;
@@ -232,11 +234,11 @@ struct Work {
     delta: Vec<f64>,
     step: Vec<f64>,
     padded: Vec<f64>,
-    x: Vec<f64>,
     key: Vec<u64>,
     key_new: Vec<u64>,
-    /// The inputs of a linear step, interpolated to the α-point.
-    u: Vec<f64>,
+    /// What a linear step's map multiplies: [x; v; a; u], the positions less the rigid rotation,
+    /// the speeds, the accelerations and the inputs interpolated to the α-point (sized by the step).
+    z: Vec<f64>,
 }
 
 impl Work {
@@ -264,10 +266,9 @@ impl Work {
                 delta: z.clone(),
                 step: z.clone(),
                 padded: vec![0.0; padded(n)],
-                x: z,
                 key: Vec::new(),
                 key_new: Vec::new(),
-                u: Vec::new(),
+                z,
             };
         }
     }
@@ -359,27 +360,30 @@ impl AlphaIntegrator {
         sys.add_tangent(t, q, v, c.c_c, c.c_k, &mut j);
         let reused = sys.linearity() != Linearity::Nonlinear;
         let solver = Solver::new(j, reused).ok_or(SolverError::SingularJacobian { time: t, step: c.h })?;
-        let inputs = super::system::input_count(sys);
-        let np = padded(n);
-        let mut input_response = vec![0.0; np * inputs];
-        for l in sys.input_loads() {
-            let column = solver.unit_response(n, l.dof);
-            for (x, y) in input_response[l.input * np..l.input * np + n].iter_mut().zip(column) {
-                *x += l.gain * y;
-            }
-        }
         let friction_response = friction_dof.map(|d| (d, solver.unit_response(n, d)));
-        let step_map = linear.then(|| step_map(sys, c, &solver));
+        let step_map = linear.then(|| linear::step_map(sys, c, &solver));
         stats.factorizations += 1;
         let key = key.to_vec();
         Ok(self.cache.insert(Factor {
             key,
             h: c.h,
             solver,
-            input_response,
             friction_response,
             step_map,
         }))
+    }
+
+    /// The coefficients of step size `h`, kept from the last step when it had the same size.
+    #[inline(always)]
+    fn coefficients_for(&mut self, h: f64) -> Coefficients {
+        match self.coefficients {
+            Some(c) if same_step(c.h, h) => c,
+            _ => {
+                let c = Coefficients::new(&self.params, h);
+                self.coefficients = Some(c);
+                c
+            }
+        }
     }
 
     /// Advances `st` over `span`. On error `st` is unchanged.
@@ -393,17 +397,7 @@ impl AlphaIntegrator {
         let Span { h, u1, .. } = *span;
         let n = sys.dofs();
         self.work.fit(n);
-        if self.work.u.len() < span.u1.len() {
-            self.work.u.resize(span.u1.len(), 0.0);
-        }
-        let c = match self.coefficients {
-            Some(c) if same_step(c.h, h) => c,
-            _ => {
-                let c = Coefficients::new(&self.params, h);
-                self.coefficients = Some(c);
-                c
-            }
-        };
+        let c = self.coefficients_for(h);
         let friction = sys.friction(u1).filter(|f| f.kinetic > 0.0 || f.holding > 0.0);
         let linear = sys.linearity() == Linearity::Linear;
         if linear {
@@ -412,85 +406,6 @@ impl AlphaIntegrator {
             self.newton_step(sys, st, &c, span, friction, stats)
         }?;
         stats.steps += 1;
-        Ok(())
-    }
-
-    /// The step of a linear system: Δ = W·[x; v; a] + J⁻¹·f with the cached step map, then the
-    /// friction, then the update. Same equations as the Newton path, none of its generality.
-    fn linear_step<S: SecondOrderSystem>(
-        &mut self,
-        sys: &S,
-        st: &mut DynState,
-        c: &Coefficients,
-        span: &Span,
-        friction: Option<Friction>,
-        stats: &mut Statistics,
-    ) -> Result<(), SolverError> {
-        let Span { t, u0, u1, .. } = *span;
-        // a local copy: through the reference the coefficients would be reloaded after every store
-        let c = *c;
-        let n = sys.dofs();
-        let np = padded(n);
-        let friction_dof = friction.map(|f| f.dof);
-        let idx = match self.cached(&[], c.h, friction_dof) {
-            Some(i) => i,
-            None => self.factor(sys, &c, (t, &st.q, &st.v), false, friction_dof, stats)?,
-        };
-        stats.newton_iterations += 1;
-        let AlphaIntegrator { cache, work: w, .. } = self;
-        let factor = cache.get(idx);
-        let Some(map) = factor.step_map.as_deref() else {
-            return Err(SolverError::SingularJacobian { time: t, step: c.h });
-        };
-        let (q, v, a) = (&mut st.q[..n], &mut st.v[..n], &mut st.a[..n]);
-        let (x, delta) = (&mut w.x[..n], &mut w.padded[..np]);
-        // inputs that load no DOF (a brake command) have no column
-        let u = &mut w.u[..factor.input_response.len() / np];
-        for k in 0..u.len() {
-            u[k] = (1.0 - c.af) * u1[k] + c.af * u0[k];
-        }
-        match sys.rigid_mode() {
-            Some((ratio, reference)) => {
-                let (ratio, q_ref) = (&ratio[..n], q[reference]);
-                for i in 0..n {
-                    x[i] = q[i] - ratio[i] * q_ref;
-                }
-            }
-            None => x.copy_from_slice(q),
-        }
-        delta.iter_mut().for_each(|d| *d = 0.0);
-        if c.af != 0.0
-            && st.friction_force != 0.0
-            && let Some((_, resp)) = &factor.friction_response
-        {
-            for (d, r) in delta.iter_mut().zip(resp) {
-                *d += c.af * st.friction_force * r;
-            }
-        }
-        let (mq, rest) = map.split_at(np * n);
-        let (mv, ma) = rest.split_at(np * n);
-        let inputs = &factor.input_response[..];
-        axpy_columns([(mq, &*x), (mv, &*v), (ma, &*a), (inputs, &*u)], delta);
-        let mut stuck = None;
-        let mut force = 0.0;
-        if let (Some(fr), Some((f, resp))) = (friction, &factor.friction_response) {
-            let f = *f;
-            let held;
-            (force, held) = c.resolve_friction(&fr, st.locked, (f, resp), delta, (v[f], a[f]), 0.0);
-            if held {
-                // exactly at rest: no creep from the position update
-                delta[f] = c.increment_to_rest(v[f], a[f]);
-                stuck = Some(f);
-            }
-        }
-        for i in 0..n {
-            let d = delta[i];
-            let v_new = c.velocity(d, v[i], a[i]);
-            a[i] = c.acceleration(d, v[i], a[i]);
-            q[i] += d;
-            v[i] = v_new;
-        }
-        finish_friction(st, stuck, force, u1);
         Ok(())
     }
 
@@ -667,30 +582,6 @@ fn finish_friction(st: &mut DynState, stuck: Option<usize>, force: f64, u1: &[f6
     st.friction_force = force;
     st.applied.clear();
     st.applied.extend_from_slice(u1);
-}
-
-/// W = [−J⁻¹K | −J⁻¹((1 − α_m)k_av·M + ((1 − α_f)k_vv + α_f)·C) | −J⁻¹(((1 − α_m)k_aa + α_m)·M +
-/// (1 − α_f)k_va·C)], rows padded for the SSE2 kernel: Δ = W·[x; v; a] + J⁻¹f for a linear system.
-fn step_map<S: SecondOrderSystem>(sys: &S, c: &Coefficients, solver: &Solver) -> Vec<f64> {
-    let n = sys.dofs();
-    let zeros = vec![0.0; n];
-    let lin = sys.linearise(&zeros, &zeros);
-    let mass = &lin.mass;
-    let blocks = [
-        -&lin.stiffness,
-        -(mass * ((1.0 - c.am) * c.ka[1]) + &lin.damping * ((1.0 - c.af) * c.kv[1] + c.af)),
-        -(mass * ((1.0 - c.am) * c.ka[2] + c.am) + &lin.damping * ((1.0 - c.af) * c.kv[2])),
-    ];
-    let np = padded(n);
-    let mut map = vec![0.0; np * 3 * n];
-    for (b, block) in blocks.iter().enumerate() {
-        for col in 0..n {
-            let out = &mut map[(b * n + col) * np..(b * n + col) * np + n];
-            let rhs: Vec<f64> = block.column(col).iter().copied().collect();
-            solver.add_solution(&rhs, out);
-        }
-    }
-    map
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@
 use super::alpha::{Alpha, AlphaIntegrator, Span};
 use super::rk4::{MassSolver, Rk4};
 use super::state::{DynState, SolverError, Statistics};
-use super::system::{Linearity, Mass, SecondOrderSystem, external_forces};
+use super::system::{Friction, Linearity, Mass, SecondOrderSystem, external_forces};
 
 /// Deepest halving of a sub-step whose contact pattern or Newton iteration does not settle:
 /// 2⁻¹² of a sub-step (0.24 µs at 1 ms) resolves any mesh contact event of these drivetrains.
@@ -54,6 +54,9 @@ pub struct Driver {
     /// Whether the first sub-step reuses `fi` (true, the default); false evaluates them afresh, the
     /// check that reusing them changes no bit.
     pub reuse_start_forces: bool,
+    /// Whether a step that qualifies takes [`Driver::plain_linear_step`] (true, the default); false
+    /// takes every step the general way, the check that the plain way changes no bit.
+    pub plain_linear_steps: bool,
     /// The friction force's accelerations (dense mass).
     friction_a: Vec<f64>,
     /// The dense mass matrix's factor for consistent accelerations.
@@ -85,6 +88,7 @@ impl Driver {
             fi: Vec::new(),
             fi_at_start: false,
             reuse_start_forces: true,
+            plain_linear_steps: true,
             friction_a: Vec::new(),
             mass: MassSolver::default(),
             max_steps_per_call: 1e6,
@@ -96,6 +100,10 @@ impl Driver {
     /// Advances `st` from `t` by `h` in sub-steps of at most `max_step`; `inputs(τ, u)` writes the
     /// inputs τ seconds after `t` into `u` (length `input_count`). On error the state may be
     /// part-way through the step; the caller treats the instance as failed.
+    ///
+    /// A linear system whose communication step is one internal step and whose friction contact
+    /// is open takes [`Self::plain_linear_step`]: the same arithmetic as the general way below,
+    /// so the same bits, without its bookkeeping.
     #[allow(clippy::too_many_arguments)]
     pub fn advance<S: SecondOrderSystem>(
         &mut self,
@@ -107,13 +115,92 @@ impl Driver {
         input_count: usize,
         inputs: impl Fn(f64, &mut [f64]),
     ) -> Result<(), SolverError> {
-        if !(h > 0.0 && h.is_finite()) {
+        // positive and finite (NaN fails both comparisons), as two comparisons
+        if !(0.0 < h && h < f64::INFINITY) {
             return Err(SolverError::BadStep { step: h });
         }
-        if !(max_step > 0.0 && max_step.is_finite()) {
+        if !(0.0 < max_step && max_step < f64::INFINITY) {
             return Err(SolverError::BadStep { step: max_step });
         }
         self.events.clear();
+        self.u0.resize(input_count, 0.0);
+        self.u1.resize(input_count, 0.0);
+        // `inputs` only writes `u`: sampling the start before the general way's checks changes nothing
+        inputs(0.0, &mut self.u0);
+        if self.plain_step_applies(sys, st, h, max_step) {
+            inputs(h, &mut self.u1);
+            if self.friction_open_at_end(sys) {
+                return self.plain_linear_step(sys, st, t, h);
+            }
+        }
+        self.advance_in_substeps(sys, st, t, h, max_step, &inputs)
+    }
+
+    /// Whether the communication step can be [`Self::plain_linear_step`] as far as its start tells:
+    /// one internal step covers it (the count `advance_in_substeps` would take), the method is
+    /// implicit, the system linear with a lumped mass, the accelerations consistent with inputs
+    /// applied before (so only the loaded DOFs' change), and the friction contact open at the start
+    /// with no friction force left from the step before.
+    #[inline(always)]
+    fn plain_step_applies<S: SecondOrderSystem>(&self, sys: &S, st: &DynState, h: f64, max_step: f64) -> bool {
+        let n = sys.dofs();
+        self.plain_linear_steps
+            && matches!(self.method, Method::Implicit(_))
+            && h / max_step * (1.0 - 1e-12) <= 1.0
+            && self.max_steps_per_call >= 1.0
+            && sys.linearity() == Linearity::Linear
+            && matches!(sys.mass(), Mass::Diagonal(_))
+            && st.applied.len() == self.u0.len()
+            && (st.q.len(), st.v.len(), st.a.len()) == (n, n, n)
+            && st.friction_force == 0.0
+            && active_friction(sys, &self.u0).is_none()
+    }
+
+    /// Whether the friction contact is still open at the step's end (`u1`), as the step sees it.
+    #[inline(always)]
+    fn friction_open_at_end<S: SecondOrderSystem>(&self, sys: &S) -> bool {
+        active_friction(sys, &self.u1).is_none()
+    }
+
+    /// The communication step as one internal step of a linear system whose friction contact is open
+    /// at both ends, inputs `u0` and `u1` already sampled: what `advance_in_substeps` computes in this
+    /// case (the consistent accelerations' O(1) update, one sub-step that needs no iteration budget,
+    /// halving or lock events, the finiteness check) in the same order of operations, with the
+    /// finiteness check folded into the integrator's update.
+    fn plain_linear_step<S: SecondOrderSystem>(
+        &mut self,
+        sys: &S,
+        st: &mut DynState,
+        t: f64,
+        h: f64,
+    ) -> Result<(), SolverError> {
+        let Mass::Diagonal(m) = sys.mass() else {
+            unreachable!("plain_step_applies checked the mass is lumped")
+        };
+        for l in sys.input_loads() {
+            st.a[l.dof] += l.gain * (self.u0[l.input] - st.applied[l.input]) / m[l.dof];
+        }
+        self.fi_at_start = false;
+        let finite = self
+            .alpha
+            .plain_linear_step(sys, st, t + 0.0, h, (&self.u0, &self.u1), &mut self.stats)?;
+        self.stats.plain_steps += 1;
+        if !finite {
+            return Err(SolverError::NonFinite { time: t });
+        }
+        Ok(())
+    }
+
+    /// The general way: sub-steps of at most `max_step`, `self.u0` holding the inputs at `t`.
+    fn advance_in_substeps<S: SecondOrderSystem>(
+        &mut self,
+        sys: &S,
+        st: &mut DynState,
+        t: f64,
+        h: f64,
+        max_step: f64,
+        inputs: &impl Fn(f64, &mut [f64]),
+    ) -> Result<(), SolverError> {
         let substeps = (h / max_step * (1.0 - 1e-12)).ceil().max(1.0);
         if substeps > self.max_steps_per_call {
             return Err(SolverError::TooManySteps {
@@ -131,9 +218,6 @@ impl Driver {
                 limit: stability_limit,
             });
         }
-        self.u0.resize(input_count, 0.0);
-        self.u1.resize(input_count, 0.0);
-        inputs(0.0, &mut self.u0);
         self.consistent_acceleration(sys, st, t);
         let n = substeps as usize;
         self.iteration_start = self.stats.newton_iterations;
@@ -142,7 +226,7 @@ impl Driver {
         for i in 0..n {
             let end = if i + 1 == n { h } else { (i + 1) as f64 * hs };
             let was_locked = st.locked;
-            self.substep(sys, st, t, (start, end), &inputs, 0)?;
+            self.substep(sys, st, t, (start, end), inputs, 0)?;
             if st.locked != was_locked {
                 self.events.push(Event {
                     time: t + end,
@@ -229,7 +313,7 @@ impl Driver {
     fn consistent_acceleration<S: SecondOrderSystem>(&mut self, sys: &S, st: &mut DynState, t: f64) {
         let n = sys.dofs();
         let u = &self.u0;
-        let friction = sys.friction(u).filter(|f| f.kinetic > 0.0 || f.holding > 0.0);
+        let friction = active_friction(sys, u);
         let mass = sys.mass();
         self.fi_at_start = false;
         match mass {
@@ -294,4 +378,10 @@ impl Driver {
         st.applied.clear();
         st.applied.extend_from_slice(u);
     }
+}
+
+/// The friction contact for inputs `u` if it can exert a force (the integrators' test).
+#[inline(always)]
+fn active_friction<S: SecondOrderSystem>(sys: &S, u: &[f64]) -> Option<Friction> {
+    sys.friction(u).filter(|f| f.kinetic > 0.0 || f.holding > 0.0)
 }

@@ -165,13 +165,11 @@ pub struct Factor {
     /// The step size the matrices were built for.
     pub h: f64,
     pub solver: Solver,
-    /// J⁻¹·B, one column per input (the response to each unit input), rows padded to `padded(n)`
-    /// so the step kernel takes it as one more block.
-    pub input_response: Vec<f64>,
     /// J⁻¹ e_f for the friction DOF, when the system has one.
     pub friction_response: Option<(usize, Vec<f64>)>,
-    /// Linear systems only: Δ = W·[x; v; a] + J⁻¹·f, W = [W_q | W_v | W_a] (n × 3n, column-major,
-    /// rows padded to `padded(n)`): one product replaces the force sweep and the solve.
+    /// Linear systems only: Δ = W·[x; v; a; u] + (friction), W = [W_q | W_v | W_a | J⁻¹B] (n × (3n +
+    /// inputs), column-major, rows padded to `padded(n)`; J⁻¹B the response to each unit input):
+    /// one product replaces the force sweep and the solve.
     pub step_map: Option<Vec<f64>>,
 }
 
@@ -238,6 +236,17 @@ pub fn padded(n: usize) -> usize {
 /// baseline, so the FMU still runs on every x86_64 CPU); elsewhere it is plain Rust. Every path adds
 /// the same products in the same order without fused multiply–adds: the result is the same to the bit.
 pub fn axpy_columns<const B: usize>(blocks: [(&[f64], &[f64]); B], y: &mut [f64]) {
+    columns::<false, B>(blocks, y)
+}
+
+/// y = Σ A_k·x_k, the sum [`axpy_columns`] accumulates into a zeroed y, to the bit: the registers
+/// start at +0.0 instead of loading y, and y need not be zeroed first (a linear step's increment).
+pub fn set_columns<const B: usize>(blocks: [(&[f64], &[f64]); B], y: &mut [f64]) {
+    columns::<true, B>(blocks, y)
+}
+
+/// [`axpy_columns`] (`FROM_ZERO` false) or [`set_columns`] (true).
+fn columns<const FROM_ZERO: bool, const B: usize>(blocks: [(&[f64], &[f64]); B], y: &mut [f64]) {
     let rows = y.len();
     assert!(rows.is_multiple_of(LANES));
     for (a, x) in blocks {
@@ -250,26 +259,29 @@ pub fn axpy_columns<const B: usize>(blocks: [(&[f64], &[f64]); B], y: &mut [f64]
         // on a CPU that has AVX.
         if std::arch::is_x86_feature_detected!("avx") {
             match rows / 2 {
-                1 => return unsafe { avx_kernel::<0, 1, B>(blocks, y) },
-                2 => return unsafe { avx_kernel::<1, 0, B>(blocks, y) },
-                3 => return unsafe { avx_kernel::<1, 1, B>(blocks, y) },
-                4 => return unsafe { avx_kernel::<2, 0, B>(blocks, y) },
-                5 => return unsafe { avx_kernel::<2, 1, B>(blocks, y) },
-                6 => return unsafe { avx_kernel::<3, 0, B>(blocks, y) },
-                7 => return unsafe { avx_kernel::<3, 1, B>(blocks, y) },
-                8 => return unsafe { avx_kernel::<4, 0, B>(blocks, y) },
+                1 => return unsafe { avx_kernel::<0, 1, FROM_ZERO, B>(blocks, y) },
+                2 => return unsafe { avx_kernel::<1, 0, FROM_ZERO, B>(blocks, y) },
+                3 => return unsafe { avx_kernel::<1, 1, FROM_ZERO, B>(blocks, y) },
+                4 => return unsafe { avx_kernel::<2, 0, FROM_ZERO, B>(blocks, y) },
+                5 => return unsafe { avx_kernel::<2, 1, FROM_ZERO, B>(blocks, y) },
+                6 => return unsafe { avx_kernel::<3, 0, FROM_ZERO, B>(blocks, y) },
+                7 => return unsafe { avx_kernel::<3, 1, FROM_ZERO, B>(blocks, y) },
+                8 => return unsafe { avx_kernel::<4, 0, FROM_ZERO, B>(blocks, y) },
                 _ => {}
             }
         }
-        if let Some(()) = sse2_axpy(blocks, y) {
+        if let Some(()) = sse2_columns::<FROM_ZERO, B>(blocks, y) {
             return;
         }
     }
-    plain_axpy(blocks, y)
+    plain_columns::<FROM_ZERO, B>(blocks, y)
 }
 
-/// `axpy_columns` in plain Rust: the order of operations every kernel keeps.
-fn plain_axpy<const B: usize>(blocks: [(&[f64], &[f64]); B], y: &mut [f64]) {
+/// [`columns`] in plain Rust: the order of operations every kernel keeps.
+fn plain_columns<const FROM_ZERO: bool, const B: usize>(blocks: [(&[f64], &[f64]); B], y: &mut [f64]) {
+    if FROM_ZERO {
+        y.fill(0.0);
+    }
     let rows = y.len();
     for (a, x) in blocks {
         for (column, &s) in a.chunks_exact(rows).zip(x) {
@@ -280,39 +292,51 @@ fn plain_axpy<const B: usize>(blocks: [(&[f64], &[f64]); B], y: &mut [f64]) {
     }
 }
 
-/// `axpy_columns` with SSE2 for up to 16 rows; None (nothing done) for more.
+/// [`columns`] with SSE2 for up to 16 rows; None (nothing done) for more.
 #[cfg(target_arch = "x86_64")]
-fn sse2_axpy<const B: usize>(blocks: [(&[f64], &[f64]); B], y: &mut [f64]) -> Option<()> {
+fn sse2_columns<const FROM_ZERO: bool, const B: usize>(blocks: [(&[f64], &[f64]); B], y: &mut [f64]) -> Option<()> {
     let rows = y.len();
     assert!(rows.is_multiple_of(LANES));
     for (a, x) in blocks {
         assert_eq!(a.len(), rows * x.len());
     }
-    // SAFETY (all arms): checked just above, as in axpy_columns.
+    // SAFETY (all arms): checked just above, as in `columns`.
     match rows / 2 {
-        1 => unsafe { sse2_kernel::<1, B>(blocks, y) },
-        2 => unsafe { sse2_kernel::<2, B>(blocks, y) },
-        3 => unsafe { sse2_kernel::<3, B>(blocks, y) },
-        4 => unsafe { sse2_kernel::<4, B>(blocks, y) },
-        5 => unsafe { sse2_kernel::<5, B>(blocks, y) },
-        6 => unsafe { sse2_kernel::<6, B>(blocks, y) },
-        7 => unsafe { sse2_kernel::<7, B>(blocks, y) },
-        8 => unsafe { sse2_kernel::<8, B>(blocks, y) },
+        1 => unsafe { sse2_kernel::<1, FROM_ZERO, B>(blocks, y) },
+        2 => unsafe { sse2_kernel::<2, FROM_ZERO, B>(blocks, y) },
+        3 => unsafe { sse2_kernel::<3, FROM_ZERO, B>(blocks, y) },
+        4 => unsafe { sse2_kernel::<4, FROM_ZERO, B>(blocks, y) },
+        5 => unsafe { sse2_kernel::<5, FROM_ZERO, B>(blocks, y) },
+        6 => unsafe { sse2_kernel::<6, FROM_ZERO, B>(blocks, y) },
+        7 => unsafe { sse2_kernel::<7, FROM_ZERO, B>(blocks, y) },
+        8 => unsafe { sse2_kernel::<8, FROM_ZERO, B>(blocks, y) },
         _ => return None,
     }
     Some(())
 }
 
-/// `axpy_columns` for 2·P rows held in P SSE2 registers.
+/// [`columns`] for 2·P rows held in P SSE2 registers, which start from y or (`FROM_ZERO`) from +0.0.
 ///
 /// # Safety
 /// `y` has 2·P entries and every block's matrix has 2·P × x.len() entries.
 #[cfg(target_arch = "x86_64")]
-unsafe fn sse2_kernel<const P: usize, const B: usize>(blocks: [(&[f64], &[f64]); B], y: &mut [f64]) {
-    use std::arch::x86_64::{__m128d, _mm_add_pd, _mm_loadu_pd, _mm_mul_pd, _mm_set1_pd, _mm_storeu_pd};
+unsafe fn sse2_kernel<const P: usize, const FROM_ZERO: bool, const B: usize>(
+    blocks: [(&[f64], &[f64]); B],
+    y: &mut [f64],
+) {
+    use std::arch::x86_64::{
+        __m128d, _mm_add_pd, _mm_loadu_pd, _mm_mul_pd, _mm_set1_pd, _mm_setzero_pd, _mm_storeu_pd,
+    };
     unsafe {
         let out = y.as_mut_ptr();
-        let mut acc: [__m128d; P] = std::array::from_fn(|k| _mm_loadu_pd(out.add(2 * k)));
+        let start = |k: usize| {
+            if FROM_ZERO {
+                _mm_setzero_pd()
+            } else {
+                _mm_loadu_pd(out.add(2 * k))
+            }
+        };
+        let mut acc: [__m128d; P] = std::array::from_fn(start);
         for (a, x) in blocks {
             let mut column = a.as_ptr();
             for &s in x {
@@ -329,23 +353,41 @@ unsafe fn sse2_kernel<const P: usize, const B: usize>(blocks: [(&[f64], &[f64]);
     }
 }
 
-/// `axpy_columns` for 4·Q + 2·R rows (R = 0 or 1) held in Q AVX registers and R SSE register: half
-/// the multiplies and adds of the SSE2 kernel for the same products.
+/// [`columns`] for 4·Q + 2·R rows (R = 0 or 1) held in Q AVX registers and R SSE register, which
+/// start from y or (`FROM_ZERO`) from +0.0: half the multiplies and adds of the SSE2 kernel for the
+/// same products.
 ///
 /// # Safety
 /// The CPU has AVX; `y` has 4·Q + 2·R entries and every block's matrix has that many × x.len() entries.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
-unsafe fn avx_kernel<const Q: usize, const R: usize, const B: usize>(blocks: [(&[f64], &[f64]); B], y: &mut [f64]) {
+unsafe fn avx_kernel<const Q: usize, const R: usize, const FROM_ZERO: bool, const B: usize>(
+    blocks: [(&[f64], &[f64]); B],
+    y: &mut [f64],
+) {
     use std::arch::x86_64::{
-        __m128d, __m256d, _mm_add_pd, _mm_loadu_pd, _mm_mul_pd, _mm_set1_pd, _mm_storeu_pd, _mm256_add_pd,
-        _mm256_loadu_pd, _mm256_mul_pd, _mm256_set1_pd, _mm256_storeu_pd,
+        __m128d, __m256d, _mm_add_pd, _mm_loadu_pd, _mm_mul_pd, _mm_set1_pd, _mm_setzero_pd, _mm_storeu_pd,
+        _mm256_add_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_set1_pd, _mm256_setzero_pd, _mm256_storeu_pd,
     };
     unsafe {
         let out = y.as_mut_ptr();
         let rows = 4 * Q + 2 * R;
-        let mut acc: [__m256d; Q] = std::array::from_fn(|k| _mm256_loadu_pd(out.add(4 * k)));
-        let mut tail: [__m128d; R] = std::array::from_fn(|_| _mm_loadu_pd(out.add(4 * Q)));
+        let start = |k: usize| {
+            if FROM_ZERO {
+                _mm256_setzero_pd()
+            } else {
+                _mm256_loadu_pd(out.add(4 * k))
+            }
+        };
+        let start_tail = |_| {
+            if FROM_ZERO {
+                _mm_setzero_pd()
+            } else {
+                _mm_loadu_pd(out.add(4 * Q))
+            }
+        };
+        let mut acc: [__m256d; Q] = std::array::from_fn(start);
+        let mut tail: [__m128d; R] = std::array::from_fn(start_tail);
         for (a, x) in blocks {
             let mut column = a.as_ptr();
             for &s in x {
@@ -447,8 +489,13 @@ mod tests {
         }
     }
 
+    fn bits(x: &[f64]) -> Vec<u64> {
+        x.iter().map(|v| v.to_bits()).collect()
+    }
+
     /// Every kernel of the step-map product (AVX where the CPU has it, SSE2, plain Rust) gives the same
-    /// bits for every row count, so a model's results do not depend on the CPU that runs it.
+    /// bits for every row count, so a model's results do not depend on the CPU that runs it; started
+    /// from zero, each gives what it accumulates into a zeroed y (a product of −0.0 included).
     #[test]
     fn product_kernels_agree_to_the_bit() {
         let mut seed = 3u64;
@@ -465,17 +512,34 @@ mod tests {
             let start: Vec<f64> = (0..rows).map(|_| rand()).collect();
             let blocks = [(&a1[..], &x1[..]), (&a2[..], &x2[..])];
             let mut plain = start.clone();
-            plain_axpy(blocks, &mut plain);
+            plain_columns::<false, 2>(blocks, &mut plain);
             let mut dispatched = start.clone();
             axpy_columns(blocks, &mut dispatched);
             assert_eq!(plain, dispatched, "{rows} rows, dispatched kernel");
+            // from zero: what the accumulating kernels give from a zeroed y, whatever y held
+            let mut zeroed = vec![0.0; rows];
+            plain_columns::<false, 2>(blocks, &mut zeroed);
+            let mut set = start.clone();
+            set_columns(blocks, &mut set);
+            assert_eq!(bits(&zeroed), bits(&set), "{rows} rows, dispatched kernel from zero");
             #[cfg(target_arch = "x86_64")]
             {
                 let mut sse2 = start.clone();
-                if sse2_axpy(blocks, &mut sse2).is_some() {
+                if sse2_columns::<false, 2>(blocks, &mut sse2).is_some() {
                     assert_eq!(plain, sse2, "{rows} rows, SSE2");
                 }
+                let mut sse2_set = start.clone();
+                if sse2_columns::<true, 2>(blocks, &mut sse2_set).is_some() {
+                    assert_eq!(bits(&zeroed), bits(&sse2_set), "{rows} rows, SSE2 from zero");
+                }
             }
+        }
+        // every product −0.0: from zero their sum is +0.0, as in a zeroed y, not y's −0.0
+        for rows in (2..=20).step_by(2) {
+            let (a, x) = (vec![0.0; rows * 3], vec![-1.0; 3]);
+            let mut y = vec![-0.0; rows];
+            set_columns([(&a[..], &x[..])], &mut y);
+            assert!(y.iter().all(|v| v.to_bits() == 0), "{rows} rows: {y:?}");
         }
     }
 }

@@ -82,6 +82,10 @@ pub struct Statistics {
     pub factorizations: u64,
     /// Steps that failed and were split in two.
     pub halvings: u64,
+    /// Communication steps taken as one plain linear step (`Driver::advance`'s path for a linear
+    /// system with its friction contact open), counted in `steps` as well.
+    #[serde(default)]
+    pub plain_steps: u64,
 }
 
 /// Why a step could not be taken. Times are the start of the failing (sub)step, s.

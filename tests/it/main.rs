@@ -21,6 +21,7 @@ mod isolate;
 mod non_smooth;
 mod paper_turbine;
 mod physics_modes;
+mod plain_step;
 mod readme;
 mod reproduction;
 mod rotor_aero_damping;

@@ -199,7 +199,9 @@ fn undamped_two_inertia_chain_conserves_energy() {
             steps: 10_000,
             newton_iterations: 10_000,
             factorizations: 1,
-            halvings: 0
+            halvings: 0,
+            // all but the first, whose accelerations are not yet consistent with any inputs
+            plain_steps: 9_999,
         }
     );
 }

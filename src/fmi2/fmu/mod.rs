@@ -17,6 +17,7 @@ macro_rules! slave_interface_from_xml {
         const MODEL_DESCRIPTION_XML: &'static str = xml::MODEL_DESCRIPTION_XML;
         const VARIABLES: &'static [$crate::fmi2::fmu::variables::Variable] = xml::VARIABLES;
 
+        #[inline]
         fn variable(
             ty: $crate::fmi2::fmu::variables::VarType,
             r: u32,

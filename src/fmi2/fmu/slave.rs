@@ -31,12 +31,20 @@ pub fn no_getter(var: Option<&Variable>, ty: VarType, vr: u32) -> SlaveError {
     }
 }
 
-/// Clamps an input to the XML's min/max, with a warning naming it when it was outside.
+/// Clamps an input to the XML's min/max, with a warning naming it when it was outside. Inlined into
+/// the generated setters (a master sets such an input every step); the warning stays out of line.
+#[inline]
 pub fn clamp_input(name: &str, value: f64, min: Option<f64>, max: Option<f64>, log: &mut dyn Log) -> f64 {
     let (lo, hi) = (min.unwrap_or(f64::NEG_INFINITY), max.unwrap_or(f64::INFINITY));
     if (lo..=hi).contains(&value) {
         return value;
     }
+    clamp_with_warning(name, value, (lo, hi), log)
+}
+
+#[cold]
+#[inline(never)]
+fn clamp_with_warning(name: &str, value: f64, (lo, hi): (f64, f64), log: &mut dyn Log) -> f64 {
     log.warning(&format!("{name} = {value} outside [{lo}, {hi}], clamped"));
     value.clamp(lo, hi)
 }

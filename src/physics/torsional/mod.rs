@@ -143,7 +143,19 @@ pub struct Element {
 impl Element {
     /// δ = Σ g_d (θ_d − r_d θ_0): relative to the rigid rotation with DOF 0 (the rotor, or the first
     /// body downstream of a cut).
+    #[inline]
     pub fn deflection(&self, q: &[f64]) -> f64 {
+        // a shaft or a mesh: two DOFs, inlined into every output read. `Sum` adds from −0.0, the
+        // additive identity, so t₀ + t₁ is the general way's result to the bit, without its loop
+        if let ([(d0, g0), (d1, g1)], [r0, r1]) = (&self.coeffs[..], &self.ratios[..]) {
+            let q0 = q[0];
+            return g0 * (q[*d0] - r0 * q0) + g1 * (q[*d1] - r1 * q0);
+        }
+        self.deflection_of_any(q)
+    }
+
+    #[inline(never)]
+    fn deflection_of_any(&self, q: &[f64]) -> f64 {
         if self.ratios.is_empty() {
             return self.coeffs.iter().map(|&(d, g)| g * q[d]).sum();
         }
