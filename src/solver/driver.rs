@@ -177,9 +177,7 @@ impl Driver {
         let Mass::Diagonal(m) = sys.mass() else {
             unreachable!("plain_step_applies checked the mass is lumped")
         };
-        for l in sys.input_loads() {
-            st.a[l.dof] += l.gain * (self.u0[l.input] - st.applied[l.input]) / m[l.dof];
-        }
+        follow_input_change(sys, st, &self.u0, m);
         self.fi_at_start = false;
         let finite = self
             .alpha
@@ -322,9 +320,7 @@ impl Driver {
                     && st.applied.len() == u.len()
                     && (friction.is_some() || st.friction_force == 0.0) =>
             {
-                for l in sys.input_loads() {
-                    st.a[l.dof] += l.gain * (u[l.input] - st.applied[l.input]) / m[l.dof];
-                }
+                follow_input_change(sys, st, u, m);
                 if let Some(fr) = friction {
                     // undo the last friction force; it is decided afresh below
                     st.a[fr.dof] -= st.friction_force / m[fr.dof];
@@ -377,6 +373,15 @@ impl Driver {
         st.locked = locked;
         st.applied.clear();
         st.applied.extend_from_slice(u);
+    }
+}
+
+/// A linear system with lumped mass `m` whose accelerations satisfy its equations of motion for the
+/// inputs it last applied: the accelerations for inputs `u`, changed on the loaded DOFs alone.
+#[inline(always)]
+fn follow_input_change<S: SecondOrderSystem>(sys: &S, st: &mut DynState, u: &[f64], m: &[f64]) {
+    for l in sys.input_loads() {
+        st.a[l.dof] += l.gain * (u[l.input] - st.applied[l.input]) / m[l.dof];
     }
 }
 

@@ -550,9 +550,8 @@ impl<'a> Computed<'a> {
                     None => {
                         let (n, s) = ((self.open)(normal)?, (self.open)(shutdown)?);
                         let series = &mut self.series;
-                        let life = thesis_life::Life::of(&n, &s, chapter7::trip_time(&s)?, &mut |scene, channels| {
-                            series.columns(scene, channels)
-                        })?;
+                        let life =
+                            thesis_life::Life::of(&n, &s, &mut |scene, channels| series.columns(scene, channels))?;
                         self.lives.push((key, life));
                         self.lives.len() - 1
                     }

@@ -13,7 +13,7 @@ use crate::analysis::rating::gear::MeshForce;
 use crate::analysis::rating::gear_set::{self, RatedTooth, ToothDamage, description_table};
 use crate::cosim::Scene;
 use crate::physics::gearbox::description::Description;
-use crate::studies::chapter7::RunColumns;
+use crate::studies::chapter7::{RunColumns, trip_time};
 use anyhow::{Context, anyhow, bail};
 use serde::Deserialize;
 use std::fmt::Write as _;
@@ -147,8 +147,9 @@ impl Life {
     }
 
     /// Runs the normal-operation and shutdown scenes through `run` and rates their series: normal
-    /// operation from [`NORMAL_FROM_S`], the shutdown from `trip_s`.
-    pub fn of(normal: &Scene, shutdown: &Scene, trip_s: f64, run: &mut RunColumns) -> anyhow::Result<Self> {
+    /// operation from [`NORMAL_FROM_S`], the shutdown from its scene's trip.
+    pub fn of(normal: &Scene, shutdown: &Scene, run: &mut RunColumns) -> anyhow::Result<Self> {
+        let trip_s = trip_time(shutdown)?;
         let (bearings, teeth) = Self::tables(normal, shutdown)?;
         let channels = Self::channels_of(&bearings, &teeth);
         let mut rate = |scene: &Scene, from: f64| -> anyhow::Result<(f64, Vec<BearingDamage>, Vec<ToothDamage>)> {

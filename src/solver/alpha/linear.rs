@@ -76,10 +76,7 @@ impl AlphaIntegrator {
         let idx = self.linear_factor(sys, &c, t, st, None, stats)?;
         let AlphaIntegrator { cache, work: w, .. } = self;
         let finite = increment_and_update(sys, &c, cache.get(idx), w, st, Ends { t, u0, u1 })?;
-        st.locked = false;
-        st.friction_force = 0.0;
-        st.applied.clear();
-        st.applied.extend_from_slice(u1);
+        finish_friction(st, None, 0.0, u1);
         stats.steps += 1;
         Ok(finite)
     }
