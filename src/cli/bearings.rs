@@ -1,8 +1,10 @@
 //! `windrive bearings`: every rolling bearing of a gearbox rated from one series of the `gearbox6dof`
 //! FMU (ISO 281 rating from the roller sets, equivalent load, revolutions from the kinematics, Miner)
-//! through [`crate::analysis::rating::bearing_set`].
+//! through [`crate::analysis::rating::bearing_set`], with ISO 281's modified life a_ISO·L10 beside the
+//! basic L10 ([`crate::analysis::rating::life_modification`]).
 
 use crate::analysis::rating::bearing_set;
+use crate::analysis::rating::life_modification::Lubrication;
 use crate::studies::life::bearing_table;
 use std::path::PathBuf;
 
@@ -19,13 +21,40 @@ pub struct BearingsArgs {
     /// The scene's name of the gearbox6dof FMU, the channels' prefix
     #[arg(long, default_value = "gearbox")]
     pub component: String,
+    /// The oil's kinematic viscosity at 40 °C and 100 °C, mm²/s, for a_ISO (default: an ISO VG 320
+    /// mineral gear oil; an estimate, no source gives the gearbox's oil)
+    #[arg(long, value_name = "NU40,NU100", value_delimiter = ',', num_args = 2, default_values_t = [320.0, 24.0])]
+    pub oil_viscosity: Vec<f64>,
+    /// The bearings' operating temperature, °C, for a_ISO (an estimate; 50–80 °C is the range to try)
+    #[arg(long, default_value_t = 65.0)]
+    pub oil_temperature: f64,
+    /// ISO 281's contamination factor e_C, for a_ISO (an estimate: 0.8–0.6 normal cleanliness, 0.6–0.4
+    /// slight contamination for bearings of 100 mm pitch diameter and more)
+    #[arg(long, default_value_t = 0.5)]
+    pub contamination: f64,
     #[command(flatten)]
     pub rating: super::rating::RatingOptions,
 }
 
+impl BearingsArgs {
+    /// The lubrication the options give, checked.
+    fn lubrication(&self) -> anyhow::Result<Lubrication> {
+        let oil = Lubrication {
+            viscosity_40: self.oil_viscosity[0],
+            viscosity_100: self.oil_viscosity[1],
+            temperature_c: self.oil_temperature,
+            contamination: self.contamination,
+        };
+        oil.check()
+            .map_err(|e| anyhow::anyhow!("--oil-viscosity, --oil-temperature, --contamination: {e}"))?;
+        Ok(oil)
+    }
+}
+
 pub fn run(args: &BearingsArgs) -> anyhow::Result<()> {
-    let table = bearing_table(&args.gearbox, &args.component)?;
+    let mut table = bearing_table(&args.gearbox, &args.component)?;
     args.rating.check()?;
+    table.lubrication = args.lubrication()?;
     if args.rating.channels {
         println!("{}", table.channels().join("\n"));
         return Ok(());

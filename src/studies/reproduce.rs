@@ -336,12 +336,21 @@ pub struct Report {
     pub rows: Vec<Row>,
     /// Per pair of scenes (normal operation, shutdown), in the order the rows first use them.
     pub lives: Vec<((String, String), thesis_life::Life)>,
+    /// The bands of the rows counted with ISO 281's modified life over the oil's estimated range
+    /// ([`thesis_life::oils`]), computed here: the oil is a rating input, not a scene's, so the
+    /// sensitivity campaign does not vary it.
+    pub oil_bands: HashMap<String, Band>,
 }
 
 impl Report {
-    /// docs/REPRODUCTION.md: the table ([`markdown`]), then the damage behind the 20-year rows.
+    /// docs/REPRODUCTION.md: the table ([`markdown`]), then the damage behind the 20-year rows. A row
+    /// the sensitivity campaign has no band for takes its oil band, if it has one.
     pub fn markdown(&self, bands: &HashMap<String, Band>) -> String {
-        let mut s = markdown(&self.rows, bands);
+        let mut all = bands.clone();
+        for (quantity, band) in &self.oil_bands {
+            all.entry(quantity.clone()).or_insert_with(|| band.clone());
+        }
+        let mut s = markdown(&self.rows, &all);
         for ((normal, shutdown), life) in &self.lives {
             s.push('\n');
             s.push_str(&life.markdown(normal, shutdown));
@@ -359,6 +368,18 @@ fn report_where(open: OpenScene, keep: &dyn Fn(&Ours) -> bool) -> anyhow::Result
     let mut ours = Computed::new(open);
     let kept: Vec<Entry> = entries()?.into_iter().filter(|e| keep(&e.ours)).collect();
     ours.plan(&kept.iter().map(|e| &e.ours).collect::<Vec<_>>())?;
+    let modified: Vec<(String, (String, String), thesis_life::Quantity)> = kept
+        .iter()
+        .filter_map(|e| match &e.ours {
+            Ours::Life {
+                normal,
+                shutdown,
+                quantity,
+                count: Some(thesis_life::Count::Iso281Modified),
+            } => Some((e.quantity.clone(), (normal.clone(), shutdown.clone()), *quantity)),
+            _ => None,
+        })
+        .collect();
     let rows = kept
         .into_iter()
         .map(|e| {
@@ -373,10 +394,62 @@ fn report_where(open: OpenScene, keep: &dyn Fn(&Ours) -> bool) -> anyhow::Result
             })
         })
         .collect::<anyhow::Result<Vec<Row>>>()?;
+    let mut oil_bands = HashMap::new();
+    for (name, scenes, quantity) in modified {
+        let row = rows.iter().find(|r| r.quantity == name).expect("a row per kept entry");
+        let life = &ours
+            .lives
+            .iter()
+            .find(|(k, _)| *k == scenes)
+            .expect("computed with the row")
+            .1;
+        oil_bands.insert(name, oil_band(row, &life.over_oils(quantity)?));
+    }
     Ok(Report {
         rows,
         lives: ours.lives,
+        oil_bands,
     })
+}
+
+/// A row's band over the oils of [`thesis_life::oils`] (`values`, the estimate's first), as the
+/// sensitivity campaign writes a band: the verdict at each oil counted.
+fn oil_band(row: &Row, values: &[f64]) -> Band {
+    let verdict = |ours: f64| {
+        Row {
+            ours,
+            quantity: String::new(),
+            source: String::new(),
+            reason: String::new(),
+            ..*row
+        }
+        .verdict()
+        .label()
+    };
+    let mut counts: Vec<(&str, usize)> = Vec::new();
+    for v in values {
+        let label = verdict(*v);
+        match counts.iter_mut().find(|(l, _)| *l == label) {
+            Some((_, n)) => *n += 1,
+            None => counts.push((label, 1)),
+        }
+    }
+    Band {
+        quantity: row.quantity.clone(),
+        group: "oil".into(),
+        evaluations: values.len(),
+        nominal: values[0],
+        low: values.iter().copied().fold(f64::INFINITY, f64::min),
+        high: values.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        nominal_verdict: verdict(values[0]).into(),
+        verdicts: counts
+            .iter()
+            .map(|(l, n)| format!("{l} {n}"))
+            .collect::<Vec<_>>()
+            .join("; "),
+        holds: counts.len() == 1,
+        drivers: "the bearings' temperature (50–80 °C) and the oil's cleanliness (e_C 0.2–0.8)".into(),
+    }
 }
 
 /// Every scene some row runs (folder names under scenes/), each once.
@@ -563,7 +636,11 @@ impl<'a> Computed<'a> {
                 let count = match count {
                     Some(c) => *c,
                     None if !bearings => thesis_life::Count::Iso281,
-                    None => return Err(anyhow!("{quantity:?} needs a count (iso281 or thesis)")),
+                    None => {
+                        return Err(anyhow!(
+                            "{quantity:?} needs a count (iso281, iso281_modified or thesis)"
+                        ));
+                    }
                 };
                 self.lives[index].1.quantity(*quantity, count)?
             }
@@ -885,7 +962,7 @@ mod tests {
     #[test]
     fn the_thesis_values_parse_and_the_static_rows_compute() {
         let entries = entries().unwrap();
-        assert_eq!(entries.len(), 137);
+        assert_eq!(entries.len(), 141);
         let no_scene: OpenScene = &|name| Err(anyhow!("{name}: no scene in this test"));
         let mut ours = Computed::new(no_scene);
         for e in entries.iter().filter(|e| !e.ours.runs_a_scene()) {

@@ -2,8 +2,9 @@
 //! our 6-DOF runs, for `windrive reproduce`'s conclusion rows. The thesis's method: one short
 //! normal-operation series at rated wind stands for every operating hour of the 20 years (Table 7.1's
 //! 161 950 h), and one shutdown series counts once per shutdown in the life. Each bearing's and tooth
-//! flank's damage in each series comes from our ratings ([`bearing_set`], [`gear_set`]); bearings two
-//! ways, ISO 281's revolutions and the thesis's own rainflow count of the load.
+//! flank's damage in each series comes from our ratings ([`bearing_set`], [`gear_set`]); bearings three
+//! ways: ISO 281's revolutions over the basic life L10, over the modified life a_ISO·L10 (at every oil
+//! of [`oils`], the estimates' range), and the thesis's own rainflow count of the load.
 //!
 //! [`bearing_set`]: crate::analysis::rating::bearing_set
 //! [`gear_set`]: crate::analysis::rating::gear_set
@@ -11,6 +12,7 @@
 use crate::analysis::rating::bearing_set::{BearingDamage, BearingTable, bearing_table};
 use crate::analysis::rating::gear::MeshForce;
 use crate::analysis::rating::gear_set::{self, RatedTooth, ToothDamage, description_table};
+use crate::analysis::rating::life_modification::Lubrication;
 use crate::cosim::Scene;
 use crate::physics::gearbox::description::Description;
 use crate::studies::chapter7::{RunColumns, trip_time};
@@ -40,6 +42,8 @@ const COMPONENT: &str = "gearbox";
 pub enum Count {
     /// ISO 281: revolutions over the basic rating life at each sample's equivalent load.
     Iso281,
+    /// ISO 281's modified rating life a_ISO·L10 ([`Lubrication::default`]'s oil).
+    Iso281Modified,
     /// The thesis's (its Eqs. 5.25–5.26): rainflow cycles of the load, each at its range.
     Thesis,
 }
@@ -94,9 +98,40 @@ impl Damage {
     }
 }
 
-/// Every rated bearing's damage (both counts) and every rated flank's, by name.
+/// The oils a bearing's modified life is taken with: the estimate ([`Lubrication::default`]) first,
+/// then the corners and edges of its range, the bearings at 50, 65 and 80 °C and e_C 0.2, 0.5 and 0.8.
+pub fn oils() -> Vec<Lubrication> {
+    let nominal = Lubrication::default();
+    let mut all = vec![nominal];
+    for temperature_c in [50.0, 65.0, 80.0] {
+        for contamination in [0.2, 0.5, 0.8] {
+            let oil = Lubrication {
+                temperature_c,
+                contamination,
+                ..nominal
+            };
+            if oil != nominal {
+                all.push(oil);
+            }
+        }
+    }
+    all
+}
+
+/// One bearing's damage, counted three ways.
+pub struct BearingLife {
+    pub name: String,
+    /// ISO 281, revolutions over L10.
+    pub iso: Damage,
+    /// ISO 281, revolutions over a_ISO·L10, one per oil of [`oils`] (the estimate first).
+    pub modified: Vec<Damage>,
+    /// The thesis's count.
+    pub thesis: Damage,
+}
+
+/// Every rated bearing's damage (every count) and every rated flank's, by name.
 pub struct Life {
-    pub bearings: Vec<(String, Damage, Damage)>,
+    pub bearings: Vec<BearingLife>,
     pub flanks: Vec<(String, Damage)>,
     /// Each flank's stage: its name's trailing number (s1, ps2, g3: 1, 2, 3).
     stages: Vec<u32>,
@@ -152,7 +187,9 @@ impl Life {
         let trip_s = trip_time(shutdown)?;
         let (bearings, teeth) = Self::tables(normal, shutdown)?;
         let channels = Self::channels_of(&bearings, &teeth);
-        let mut rate = |scene: &Scene, from: f64| -> anyhow::Result<(f64, Vec<BearingDamage>, Vec<ToothDamage>)> {
+        let oils = oils();
+        // per oil, every bearing rated; the first oil's (the estimate's) L10 and thesis's counts serve all
+        let mut rate = |scene: &Scene, from: f64| -> anyhow::Result<(f64, Vec<Vec<BearingDamage>>, Vec<ToothDamage>)> {
             let mut columns = run(scene, &channels)?;
             let time = columns.remove(0);
             let start = time.partition_point(|&t| t < from);
@@ -161,23 +198,32 @@ impl Life {
             }
             let t = &time[start..];
             let column = |c: &str| &columns[channels.iter().position(|n| *n == c).expect("listed above")][start..];
-            let b = bearings
-                .rate_columns(&scene.name, t, column)
-                .map_err(|e| anyhow!("{e}"))?;
+            let mut b = Vec::with_capacity(oils.len());
+            for oil in &oils {
+                let table = BearingTable {
+                    lubrication: *oil,
+                    ..bearings.clone()
+                };
+                b.push(table.rate_columns(&scene.name, t, column).map_err(|e| anyhow!("{e}"))?);
+            }
             let g = gear_set::rate_columns(&teeth, t, column).map_err(|e| anyhow!("{e}"))?;
             Ok((t[t.len() - 1] - t[0], b, g))
         };
         let (seconds, normal_bearings, normal_teeth) = rate(normal, NORMAL_FROM_S)?;
         let (_, shutdown_bearings, shutdown_teeth) = rate(shutdown, trip_s)?;
-        let bearings = normal_bearings
+        let bearings = normal_bearings[0]
             .iter()
-            .zip(&shutdown_bearings)
-            .map(|(n, s)| {
-                (
-                    n.name.clone(),
-                    Damage::of(n.damage, seconds, s.damage),
-                    Damage::of(n.thesis_damage, seconds, s.thesis_damage),
-                )
+            .zip(&shutdown_bearings[0])
+            .enumerate()
+            .map(|(i, (n, s))| BearingLife {
+                name: n.name.clone(),
+                iso: Damage::of(n.damage, seconds, s.damage),
+                modified: normal_bearings
+                    .iter()
+                    .zip(&shutdown_bearings)
+                    .map(|(n, s)| Damage::of(n[i].modified_damage, seconds, s[i].modified_damage))
+                    .collect(),
+                thesis: Damage::of(n.thesis_damage, seconds, s.thesis_damage),
             })
             .collect();
         let (mut flanks, mut stages) = (vec![], vec![]);
@@ -200,13 +246,15 @@ impl Life {
         })
     }
 
-    fn bearing_damages(&self, count: Count) -> impl Iterator<Item = (&str, &Damage)> {
-        self.bearings.iter().map(move |(name, iso, thesis)| {
+    /// Each bearing's damage as `count` counts it, the modified life's with oil `oil` of [`oils`].
+    fn bearing_damages(&self, count: Count, oil: usize) -> impl Iterator<Item = (&str, &Damage)> {
+        self.bearings.iter().map(move |b| {
             (
-                name.as_str(),
+                b.name.as_str(),
                 match count {
-                    Count::Iso281 => iso,
-                    Count::Thesis => thesis,
+                    Count::Iso281 => &b.iso,
+                    Count::Iso281Modified => &b.modified[oil],
+                    Count::Thesis => &b.thesis,
                 },
             )
         })
@@ -214,10 +262,21 @@ impl Life {
 
     /// One quantity; `count` for the bearings' (the flanks have one count, ISO 6336's load cycles).
     pub fn quantity(&self, q: Quantity, count: Count) -> anyhow::Result<f64> {
+        self.quantity_with_oil(q, count, 0)
+    }
+
+    /// A quantity counted with the modified life at every oil of [`oils`], the estimate's first.
+    pub fn over_oils(&self, q: Quantity) -> anyhow::Result<Vec<f64>> {
+        (0..oils().len())
+            .map(|oil| self.quantity_with_oil(q, Count::Iso281Modified, oil))
+            .collect()
+    }
+
+    fn quantity_with_oil(&self, q: Quantity, count: Count, oil: usize) -> anyhow::Result<f64> {
         let planet = |n: &str| n.starts_with("planet_");
         let hss = |n: &str| n.starts_with("hss_");
         let failing = |keep: &dyn Fn(&str) -> bool| {
-            self.bearing_damages(count)
+            self.bearing_damages(count, oil)
                 .filter(|(n, d)| keep(n) && d.life() >= 1.0)
                 .count() as f64
         };
@@ -225,7 +284,7 @@ impl Life {
         let largest = |it: &mut dyn Iterator<Item = f64>| it.fold(0.0f64, f64::max);
         Ok(match q {
             Quantity::BearingShutdownShare => {
-                smallest(&mut self.bearing_damages(count).map(|(_, d)| d.shutdown_share()))
+                smallest(&mut self.bearing_damages(count, oil).map(|(_, d)| d.shutdown_share()))
             }
             Quantity::PlanetBearingsFailing => failing(&planet),
             Quantity::HssBearingsFailing => failing(&hss),
@@ -233,7 +292,7 @@ impl Life {
                 let most = |first: bool| {
                     largest(
                         &mut self
-                            .bearing_damages(count)
+                            .bearing_damages(count, oil)
                             .filter(|(n, _)| (planet(n) || hss(n)) == first)
                             .map(|(_, d)| d.life()),
                     )
@@ -269,19 +328,32 @@ impl Life {
              The thesis's method (§7.2.4): {normal}'s series from {NORMAL_FROM_S} s stands for the \
              {OPERATING_HOURS} operating hours of Table 7.1, {shutdown}'s shutdown (from the trip) counts \
              {SHUTDOWNS} times (Germanischer Lloyd's 1100 a year, every one as the rated shutdown). A damage of 1 \
-             is a failure within the 20 years (ISO 281: the L10 life, 10 % failing). Written by `windrive \
-             reproduce` (src/studies/thesis_life.rs).\n\n\
-             | bearing | ISO 281: damage | ISO 281: shutdowns' share | thesis's count: damage | thesis's count: shutdowns' share |\n\
-             |---|---|---|---|---|\n"
+             is a failure within the 20 years (ISO 281: the L10 life, 10 % failing). ISO 281's modified life \
+             a_ISO·L10 takes an estimated oil: ISO VG 320 mineral (320 and 24 mm²/s at 40 and 100 °C), bearings \
+             at {} °C, contamination factor e_C {}; its range is the smallest and largest damage over the \
+             bearings at 50–80 °C and e_C 0.2–0.8. Written by `windrive reproduce` (src/studies/thesis_life.rs).\n\n\
+             | bearing | ISO 281: damage | ISO 281: shutdowns' share | a_ISO·L10: damage | a_ISO·L10: over the oil's range | a_ISO·L10: shutdowns' share | thesis's count: damage | thesis's count: shutdowns' share |\n\
+             |---|---|---|---|---|---|---|---|\n",
+            Lubrication::default().temperature_c,
+            Lubrication::default().contamination,
         );
-        for (name, iso, thesis) in &self.bearings {
+        for b in &self.bearings {
+            let over: Vec<f64> = b.modified.iter().map(Damage::life).collect();
+            let (low, high) = over
+                .iter()
+                .fold((f64::INFINITY, 0.0f64), |(lo, hi), x| (lo.min(*x), hi.max(*x)));
             let _ = writeln!(
                 s,
-                "| {name} | {} | {} | {} | {} |",
-                sci(iso.life()),
-                percent(iso.shutdown_share()),
-                sci(thesis.life()),
-                percent(thesis.shutdown_share())
+                "| {} | {} | {} | {} | {}–{} | {} | {} | {} |",
+                b.name,
+                sci(b.iso.life()),
+                percent(b.iso.shutdown_share()),
+                sci(b.modified[0].life()),
+                sci(low),
+                sci(high),
+                percent(b.modified[0].shutdown_share()),
+                sci(b.thesis.life()),
+                percent(b.thesis.shutdown_share())
             );
         }
         s.push_str(
@@ -320,24 +392,37 @@ mod tests {
         };
         // per second of normal operation, one operating-hours' worth is 161 950 × 3600 s
         let hours = OPERATING_HOURS * 3600.0;
+        // the modified life: planet_1_dw's damage twice its L10 count at the estimate, half of it at
+        // the other oils; the rest as their L10 count
+        let b = |name: &str, iso: Damage, thesis: Damage| {
+            let scale = |k: f64| Damage {
+                normal_per_s: iso.normal_per_s * k,
+                per_shutdown: iso.per_shutdown * k,
+            };
+            let modified = (0..oils().len())
+                .map(|i| match (name, i) {
+                    ("planet_1_dw", 0) => scale(2.0),
+                    ("planet_1_dw", _) => scale(0.5),
+                    _ => iso,
+                })
+                .collect();
+            BearingLife {
+                name: name.into(),
+                iso,
+                modified,
+                thesis,
+            }
+        };
         Life {
             bearings: vec![
-                (
-                    "planet_1_uw".into(),
-                    d(0.5 / hours, 0.0),
-                    d(0.1 / hours, 0.9 / SHUTDOWNS),
-                ),
-                (
-                    "planet_1_dw".into(),
-                    d(1.5 / hours, 0.0),
-                    d(0.1 / hours, 2.0 / SHUTDOWNS),
-                ),
-                (
-                    "hss_a".into(),
+                b("planet_1_uw", d(0.5 / hours, 0.0), d(0.1 / hours, 0.9 / SHUTDOWNS)),
+                b("planet_1_dw", d(1.5 / hours, 0.0), d(0.1 / hours, 2.0 / SHUTDOWNS)),
+                b(
+                    "hss_a",
                     d(0.2 / hours, 0.1 / SHUTDOWNS),
                     d(0.3 / hours, 0.9 / SHUTDOWNS),
                 ),
-                ("ims_a".into(), d(3.0 / hours, 0.0), d(0.0, 0.2 / SHUTDOWNS)),
+                b("ims_a", d(3.0 / hours, 0.0), d(0.0, 0.2 / SHUTDOWNS)),
             ],
             flanks: vec![
                 ("s1".into(), d(1.0 / hours, 1.0 / SHUTDOWNS)),
@@ -352,8 +437,8 @@ mod tests {
     fn twenty_years_add_the_hours_of_normal_operation_and_every_shutdown() {
         let l = life();
         let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
-        assert!(close(l.bearings[2].2.life(), 1.2));
-        assert!(close(l.bearings[2].2.shutdown_share(), 0.75));
+        assert!(close(l.bearings[2].thesis.life(), 1.2));
+        assert!(close(l.bearings[2].thesis.shutdown_share(), 0.75));
         // ISO: planet_1_dw (1.5) fails, planet_1_uw (0.5) does not; the thesis's count: planet_1_dw (2.1)
         assert_eq!(l.quantity(Quantity::PlanetBearingsFailing, Count::Iso281).unwrap(), 1.0);
         assert_eq!(l.quantity(Quantity::HssBearingsFailing, Count::Thesis).unwrap(), 1.0);
@@ -377,5 +462,28 @@ mod tests {
                 .unwrap(),
             4.0
         ));
+        // the modified life: planet_1_dw at 3.0 against the IMS bearing's 3.0 with the estimated oil, at
+        // 0.75 (so none of the planets failing) with every other oil
+        assert!(close(
+            l.quantity(Quantity::PlanetAndHssLifeOverOthers, Count::Iso281Modified)
+                .unwrap(),
+            1.0
+        ));
+        let over = l.over_oils(Quantity::PlanetBearingsFailing).unwrap();
+        assert_eq!(over.len(), 9);
+        assert_eq!(over[0], 1.0);
+        assert!(over[1..].iter().all(|n| *n == 0.0));
+    }
+
+    /// The estimate first, then the other eight points of the 3 × 3 grid, each once.
+    #[test]
+    fn oils_span_the_estimates_range() {
+        let all = oils();
+        assert_eq!(all[0], Lubrication::default());
+        assert_eq!(all.len(), 9);
+        for (i, a) in all.iter().enumerate() {
+            assert!(a.check().is_ok());
+            assert!(all[..i].iter().all(|b| b != a));
+        }
     }
 }

@@ -122,6 +122,31 @@ fn every_claimed_row_holds_and_the_documentation_is_what_the_code_gives() {
         Some(false),
         "the README says the flanks' verdict rests on the brake"
     );
+    // the README's first screen on ISO 281's modified life: the planet bearings fail first with the
+    // estimated oil but not across the oil's range, and no HSS bearing fails with any oil in it
+    let oil = |prefix: &str| {
+        let row = rows.iter().find(|r| r.quantity.starts_with(prefix)).unwrap();
+        let band = report.oil_bands.get(&row.quantity).unwrap();
+        (row.verdict(), band.verdict_holds(row), band.high)
+    };
+    let first = "2 MW, 20 years: the planet and HSS bearings fail first (their shortest life / the other bearings' \
+                 shortest), ISO 281 modified";
+    assert_eq!(oil(first).0, Verdict::Holds);
+    assert!(!oil(first).1, "the README says it rests on the oil");
+    let hss = oil("2 MW, 20 years: HSS bearings failing of three (damage ≥ 1), ISO 281 modified");
+    assert_eq!((hss.0, hss.1, hss.2), (Verdict::Contradicts, true, 0.0));
+    // "the HSS bearings' lives grow 6–50×" (README, and the row's reason)
+    let growth: Vec<f64> = report.lives[0]
+        .1
+        .bearings
+        .iter()
+        .filter(|b| b.name.starts_with("hss_"))
+        .flat_map(|b| b.modified.iter().map(move |m| b.iso.life() / m.life()))
+        .collect();
+    let (least, most) = growth
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(l, m), g| (l.min(*g), m.max(*g)));
+    assert_eq!((least.floor(), most.round()), (6.0, 50.0), "{growth:?}");
     let generated = report.markdown(&bands);
     for (line, (ours, committed)) in generated.lines().zip(docs.lines()).enumerate() {
         assert_eq!(

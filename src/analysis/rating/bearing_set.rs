@@ -4,11 +4,14 @@
 //! against each other from the gearbox's kinematics, and Miner's sum of revolutions over the basic
 //! rating life L10 = (C/P)^(10/3) million revolutions, sample by sample. Beside it, for comparison, the
 //! thesis's count (its ch. 5.4): rainflow cycles of the load, each a load cycle at its range, over the
-//! same life law, which weighs a shutdown's few large swings far above hours of turning.
+//! same life law, which weighs a shutdown's few large swings far above hours of turning. And the
+//! modified rating life L_nm = a_ISO·L10 sample by sample ([`life_modification`]: lubrication,
+//! contamination and the fatigue load limit at each sample's speed and load).
 
 use crate::analysis::fatigue::ldd::sample_revolutions;
 use crate::analysis::fatigue::rainflow::cycles;
 use crate::analysis::fatigue::sn_curve::bearing_l10;
+use crate::analysis::rating::life_modification::{self, Lubrication};
 use crate::analysis::signal::series::{self, SeriesError};
 use crate::physics::gearbox::Gearbox;
 use crate::physics::gearbox::description::{Contact, Description, Rollers};
@@ -109,6 +112,8 @@ pub struct RatedBearing {
     pub rollers: Rollers,
     /// C_r, N.
     pub rating: f64,
+    /// ISO 281's fatigue load limit C_u, N.
+    pub fatigue_limit: f64,
     pub radial: String,
     pub axial: String,
     /// Relative speed of its rings over the input (rotor) speed.
@@ -126,6 +131,8 @@ pub struct BearingTable {
     pub rotor_speed: String,
     pub generator_speed: String,
     pub bearings: Vec<RatedBearing>,
+    /// The oil and its cleanliness every bearing's a_ISO is taken with.
+    pub lubrication: Lubrication,
 }
 
 /// A bearing's result over one series.
@@ -148,6 +155,14 @@ pub struct BearingDamage {
     /// Miner damage in the window (revolutions over L10) and scaled to one day.
     pub damage: f64,
     pub damage_per_day: f64,
+    /// ISO 281's fatigue load limit C_u, N.
+    pub fatigue_load_limit: f64,
+    /// The viscosity ratio κ at the window's mean speed (revolutions over time).
+    pub viscosity_ratio: f64,
+    /// Miner damage over the modified rating life a_ISO·L10 at each sample's speed and load, in the
+    /// window and per day.
+    pub modified_damage: f64,
+    pub modified_damage_per_day: f64,
     /// Hours to a damage of 1 (the L10 life) if the window repeated: the window's L10h.
     pub life_hours: f64,
     /// The thesis's damage (its Eqs. 5.25–5.26): Σ n_i / (10⁶·(C/ΔP_i)^(10/3)) over the rainflow cycles
@@ -192,6 +207,7 @@ pub fn bearing_table(description: &Description, component: &str) -> Result<Beari
                 name: b.name.clone(),
                 rollers,
                 rating: dynamic_load_rating(&rollers),
+                fatigue_limit: life_modification::fatigue_load_limit(&rollers),
                 radial: format!("{component}.{}_radial_load", b.name),
                 axial: format!("{component}.{}_axial_load", b.name),
                 speed_ratio,
@@ -204,27 +220,32 @@ pub fn bearing_table(description: &Description, component: &str) -> Result<Beari
         rotor_speed: format!("{component}.rotor_speed"),
         generator_speed: format!("{component}.generator_speed"),
         bearings,
+        lubrication: Lubrication::default(),
     })
 }
 
 impl RatedBearing {
-    /// Rates the bearing over time `t` with its load channels and the rotor speed.
-    pub fn rate(&self, t: &[f64], radial: &[f64], axial: &[f64], speed: &[f64]) -> BearingDamage {
+    /// Rates the bearing over time `t` with its load channels and the rotor speed, its a_ISO with `oil`.
+    pub fn rate(&self, t: &[f64], radial: &[f64], axial: &[f64], speed: &[f64], oil: &Lubrication) -> BearingDamage {
         const P: f64 = 10.0 / 3.0;
         let (mut revolutions, mut damage, mut weighted, mut max_load) = (0.0, 0.0, 0.0, 0.0f64);
+        let mut modified = 0.0;
+        let pitch = self.rollers.pitch_diameter_mm;
         let loads: Vec<f64> = radial
             .iter()
             .zip(axial)
             .map(|(&r, &a)| equivalent_load(&self.rollers, r, a))
             .collect();
-        for (j, (_dt, revs)) in sample_revolutions(t, speed).enumerate() {
+        for (j, (dt, revs)) in sample_revolutions(t, speed).enumerate() {
             let n = revs * self.speed_ratio;
             let load = loads[j];
             max_load = max_load.max(load);
             revolutions += n;
             weighted += n * load.powf(P);
-            if load > 0.0 {
-                damage += n / (bearing_l10(self.rating, load, true) * 1e6);
+            if load > 0.0 && n > 0.0 {
+                let d = n / (bearing_l10(self.rating, load, true) * 1e6);
+                damage += d;
+                modified += d / oil.factor(n / dt * 60.0, pitch, self.fatigue_limit, load);
             }
         }
         let thesis_damage: f64 = cycles(&loads)
@@ -233,6 +254,7 @@ impl RatedBearing {
             .map(|c| c.count / (bearing_l10(self.rating, c.range, true) * 1e6))
             .sum();
         let seconds = t[t.len() - 1] - t[0];
+        let mean_rpm = revolutions / seconds * 60.0;
         BearingDamage {
             name: self.name.clone(),
             kind: RollerKind::of(&self.rollers),
@@ -250,6 +272,10 @@ impl RatedBearing {
             },
             damage,
             damage_per_day: damage * 86400.0 / seconds,
+            fatigue_load_limit: self.fatigue_limit,
+            viscosity_ratio: oil.viscosity_ratio(mean_rpm, pitch),
+            modified_damage: modified,
+            modified_damage_per_day: modified * 86400.0 / seconds,
             life_hours: seconds / damage / 3600.0,
             thesis_damage,
             thesis_damage_per_day: thesis_damage * 86400.0 / seconds,
@@ -326,7 +352,7 @@ impl BearingTable {
         Ok(self
             .bearings
             .iter()
-            .map(|b| b.rate(t, column(&b.radial), column(&b.axial), rotor))
+            .map(|b| b.rate(t, column(&b.radial), column(&b.axial), rotor, &self.lubrication))
             .collect())
     }
 
@@ -370,38 +396,76 @@ impl BearingTable {
 }
 
 /// The table `windrive bearings` prints: a row per rated bearing (type, rating, loads, revolutions,
-/// damage per day, L10 life and the thesis's count beside it).
+/// damage per day and L10 life, the modified life's κ, C_u and damage per day, and the thesis's count).
 pub fn table(rated: &[BearingDamage]) -> String {
-    let mut s = format!(
-        "{:<14} {:<12} {:>3} {:>6} {:>8} {:>8} {:>9} {:>9} {:>11} {:>11} {:>11} {:>11}\n",
-        "bearing", "type", "Z", "α", "C_r", "n/n_rot", "P_eq", "P_max", "revolutions", "D/day", "L10h", "thesis/day"
-    );
-    s.push_str(&format!(
-        "{:<14} {:<12} {:>3} {:>6} {:>8} {:>8} {:>9} {:>9} {:>11} {:>11} {:>11} {:>11}\n",
-        "", "", "", "deg", "kN", "", "kN", "kN", "", "", "h", ""
-    ));
+    let line = |cells: [&str; 15]| {
+        format!(
+            "{:<14} {:<12} {:>3} {:>6} {:>8} {:>8} {:>9} {:>9} {:>11} {:>11} {:>11} {:>6} {:>7} {:>11} {:>11}\n",
+            cells[0],
+            cells[1],
+            cells[2],
+            cells[3],
+            cells[4],
+            cells[5],
+            cells[6],
+            cells[7],
+            cells[8],
+            cells[9],
+            cells[10],
+            cells[11],
+            cells[12],
+            cells[13],
+            cells[14]
+        )
+    };
+    let mut s = line([
+        "bearing",
+        "type",
+        "Z",
+        "α",
+        "C_r",
+        "n/n_rot",
+        "P_eq",
+        "P_max",
+        "revolutions",
+        "D/day",
+        "L10h",
+        "κ",
+        "C_u",
+        "D_nm/day",
+        "thesis/day",
+    ]);
+    s.push_str(&line([
+        "", "", "", "deg", "kN", "", "kN", "kN", "", "", "h", "", "kN", "", "",
+    ]));
     for r in rated {
         let rows = if r.rows > 1 {
             format!("{}×", r.rows)
         } else {
             String::new()
         };
-        s.push_str(&format!(
-            "{:<14} {:<12} {:>3} {:>6.1} {:>8.0} {:>8.3} {:>9.1} {:>9.1} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e}\n",
-            r.name,
-            format!("{rows}{}", r.kind.name()),
-            r.rollers,
-            r.contact_angle_deg,
-            r.dynamic_load_rating / 1e3,
-            r.speed_ratio,
-            r.equivalent_load / 1e3,
-            r.max_equivalent_load / 1e3,
-            r.revolutions,
-            r.damage_per_day,
-            r.life_hours,
-            r.thesis_damage_per_day,
-        ));
+        s.push_str(&line([
+            &r.name,
+            &format!("{rows}{}", r.kind.name()),
+            &r.rollers.to_string(),
+            &format!("{:.1}", r.contact_angle_deg),
+            &format!("{:.0}", r.dynamic_load_rating / 1e3),
+            &format!("{:.3}", r.speed_ratio),
+            &format!("{:.1}", r.equivalent_load / 1e3),
+            &format!("{:.1}", r.max_equivalent_load / 1e3),
+            &format!("{:.4e}", r.revolutions),
+            &format!("{:.4e}", r.damage_per_day),
+            &format!("{:.4e}", r.life_hours),
+            &format!("{:.2}", r.viscosity_ratio),
+            &format!("{:.0}", r.fatigue_load_limit / 1e3),
+            &format!("{:.4e}", r.modified_damage_per_day),
+            &format!("{:.4e}", r.thesis_damage_per_day),
+        ]));
     }
+    s.push_str(
+        "D_nm: Miner over ISO 281's modified life a_ISO·L10 at each sample's speed and load (κ at the window's mean \
+         speed; the oil and e_C as given, estimates by default)\n",
+    );
     s
 }
 
@@ -493,6 +557,7 @@ mod tests {
             name: "x".into(),
             rollers: r,
             rating: dynamic_load_rating(&r),
+            fatigue_limit: life_modification::fatigue_load_limit(&r),
             radial: String::new(),
             axial: String::new(),
             speed_ratio: 3.5,
@@ -501,7 +566,8 @@ mod tests {
         let t: Vec<f64> = (0..n).map(|i| i as f64 * 0.01).collect();
         let load = vec![150e3; n];
         let speed = vec![2.0; n];
-        let d = b.rate(&t, &load, &vec![0.0; n], &speed);
+        let oil = Lubrication::default();
+        let d = b.rate(&t, &load, &vec![0.0; n], &speed, &oil);
         let revs = 10.0 * 2.0 / std::f64::consts::TAU * 3.5;
         assert!((d.revolutions / revs - 1.0).abs() < 1e-12);
         let l10 = (b.rating / 150e3).powf(10.0 / 3.0) * 1e6;
@@ -510,10 +576,16 @@ mod tests {
         assert!((d.life_hours / (l10 / (revs / 10.0) / 3600.0) - 1.0).abs() < 1e-9);
         assert!((d.damage_per_day / (d.damage * 8640.0) - 1.0).abs() < 1e-12);
         assert_eq!(d.thesis_damage, 0.0, "a constant load has no load cycles");
+        // L_nm at one speed and load: the damage over a_ISO at the rings' 66.8 r/min, κ at that speed
+        let rpm = 2.0 * 3.5 * 60.0 / std::f64::consts::TAU;
+        let a = oil.factor(rpm, 225.0, b.fatigue_limit, 150e3);
+        assert!((d.modified_damage / (d.damage / a) - 1.0).abs() < 1e-9);
+        assert!((d.viscosity_ratio / oil.viscosity_ratio(rpm, 225.0) - 1.0).abs() < 1e-9);
+        assert!((d.modified_damage_per_day / (d.modified_damage * 8640.0) - 1.0).abs() < 1e-12);
         // the thesis's count: 500 full cycles between 0 and 150 kN (rainflow: 499.5 + the residue's
         // half cycles), each over (C/150 kN)^(10/3) million cycles
         let square: Vec<f64> = (0..n).map(|i| if i % 2 == 0 { 0.0 } else { 150e3 }).collect();
-        let d = b.rate(&t, &square, &vec![0.0; n], &speed);
+        let d = b.rate(&t, &square, &vec![0.0; n], &speed, &oil);
         let counted: f64 = cycles(&square).iter().map(|c| c.count).sum();
         assert!((counted - 500.0).abs() <= 0.5, "{counted}");
         assert!((d.thesis_damage / (counted / l10) - 1.0).abs() < 1e-12);

@@ -6,5 +6,6 @@
 pub mod bearing_set;
 pub mod gear;
 pub mod gear_set;
+pub mod life_modification;
 pub mod limits;
 pub mod tooth_root;
