@@ -46,6 +46,7 @@ COLUMNS = {
     "revolutions": "revolutions",
     "c": "dynamic_load_rating",
     "thesis_day": "thesis_damage_per_day",  # the thesis's count (rainflow cycles of P), for comparison
+    "nm_day": "modified_damage_per_day",  # ISO 281's modified life a_ISO·L10, the default (estimated) oil
 }
 
 

@@ -99,14 +99,21 @@ def tables(folder: Path) -> str:
     bearings_csv = folder / "lifetime_bearings.csv"
     if bearings_csv.is_file():
         b = pd.read_csv(bearings_csv)
-        w("| bearing | C_r, kN | D over the design life | life, years | events' share: ISO 281 | under the thesis's count |")
-        w("|---|---|---|---|---|---|")
+        # a report made before the campaigns carried a_ISO has no modified-life columns
+        modified = "modified_damage" in b and b.modified_damage.notna().any()
+        extra = (" D with a_ISO·L10 | events' share: a_ISO·L10 |", "---|---|") if modified else ("", "")
+        w(f"| bearing | C_r, kN | D over the design life | life, years | events' share: ISO 281 |{extra[0]} "
+          f"under the thesis's count |")  # fmt: skip
+        w(f"|---|---|---|---|---|{extra[1]}---|")
         for _, r in b.iterrows():
+            cells = f" {_g(r.modified_damage)} | {_pct(r.modified_events_share)} |" if modified else ""
             w(f"| {r.bearing} | {r.dynamic_load_rating / 1e3:.0f} | {_g(r.damage)} | {_g(r.life_years, 3)} | "
-              f"{_pct(r.events_share)} | {_pct(r.thesis_events_share)} |")  # fmt: skip
+              f"{_pct(r.events_share)} |{cells} {_pct(r.thesis_events_share)} |")  # fmt: skip
         w("")
-        w(f"Bearings failing within the design life (D ≥ 1, ISO 281): {_names(b[b.damage >= 1.0].bearing)}; "
-          f"under the thesis's count: {_names(b[b.thesis_damage >= 1.0].bearing)}.")  # fmt: skip
+        failing = f"Bearings failing within the design life (D ≥ 1, ISO 281): {_names(b[b.damage >= 1.0].bearing)}; "
+        if modified:
+            failing += f"with a_ISO·L10 (an estimated oil): {_names(b[b.modified_damage >= 1.0].bearing)}; "
+        w(f"{failing}under the thesis's count: {_names(b[b.thesis_damage >= 1.0].bearing)}.")
         w("")
     gears_csv = folder / "lifetime_gears.csv"
     if gears_csv.is_file():

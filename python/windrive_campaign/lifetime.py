@@ -68,7 +68,8 @@ def compute(t: pd.DataFrame, meta: dict, windrive: str | None = None) -> Lifetim
     for row in d["rows"] + d["gears"] + d["bearings"]:
         row["share"] = {g: nan(s) for g, s in row["share"].items()}
         row["share_ci"] = {g: [nan(x) for x in ci] for g, ci in row["share_ci"].items()}
-        for k in ("lifetime_del", "dynamic_load_rating", "events_share", "thesis_damage", "thesis_events_share"):
+        for k in ("lifetime_del", "dynamic_load_rating", "events_share", "thesis_damage", "thesis_events_share",
+                  "modified_damage", "modified_events_share"):
             if k in row:
                 row[k] = nan(row[k])
         if "life_years" in row:  # null: no damage, it never fails

@@ -11,7 +11,8 @@
 //!   spec's fixed [min, max] (fixed, so cases add up; loads outside count in the end bins), each sample
 //!   holding until the next — as `windrive ldd`, whose bins span the series instead;
 //! - `gear.<tooth>.{flank_day, root_day, max_contact, max_root, cycles}` as `windrive gears --json`;
-//! - `bearing.<name>.{day, p_eq, p_max, revolutions, c, thesis_day}` as `windrive bearings --json`.
+//! - `bearing.<name>.{day, p_eq, p_max, revolutions, c, thesis_day, nm_day}` as `windrive bearings --json`
+//!   (nm_day: the damage per day over ISO 281's modified life a_ISO·L10 with the default oil).
 //!
 //! A quantity that is not a number (a tooth windrive does not rate) is NaN, JSON's `null`.
 
@@ -306,6 +307,7 @@ pub fn analyse(time: &[f64], names: &[String], columns: &[Vec<f64>], spec: &Case
                 ("revolutions", r.revolutions),
                 ("c", r.dynamic_load_rating),
                 ("thesis_day", r.thesis_damage_per_day),
+                ("nm_day", r.modified_damage_per_day),
             ] {
                 row.number(format!("bearing.{}.{column}", r.name), x);
             }

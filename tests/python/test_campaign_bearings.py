@@ -225,7 +225,7 @@ def test_the_lifetime_report_is_the_weighted_sum_of_the_table(real_run, tmp_path
     table = pd.read_csv(tmp_path / "lifetime_bearings.csv")
     groups = ["DLC 1.2 14 m/s", "shutdown-rated"]
     assert list(table.columns) == ["bearing", "dynamic_load_rating", "damage", "damage_lo", "damage_hi", "life_years",
-                                   "events_share",
+                                   "events_share", "modified_damage", "modified_events_share",
                                    "thesis_damage", "thesis_events_share", *(f"share:{g}" for g in groups)]  # fmt: skip
     assert list(table.bearing) == GRC
     for _, b in table.iterrows():
@@ -249,14 +249,22 @@ def test_the_lifetime_report_is_the_weighted_sum_of_the_table(real_run, tmp_path
         }
         assert b.thesis_damage == pytest.approx(sum(thesis.values()), rel=1e-12), b.bearing
         assert b.thesis_events_share == pytest.approx(thesis[groups[1]] / sum(thesis.values()), rel=1e-12)
+        # and ISO 281's modified life from its column
+        modified = {
+            groups[0]: dlc.hours / 24 * dlc[f"bearing.{b.bearing}.nm_day"],
+            groups[1]: event.events * event[f"bearing.{b.bearing}.nm_day"] * event.analysed_s / 86400,
+        }
+        assert b.modified_damage == pytest.approx(sum(modified.values()), rel=1e-12), b.bearing
+        assert b.modified_events_share == pytest.approx(modified[groups[1]] / sum(modified.values()), rel=1e-12)
 
     section = json.loads((tmp_path / "lifetime.json").read_text(), parse_constant=pytest.fail)["bearings"]
-    assert section["method"].startswith("ISO 281 basic rating life L10") and "no a_ISO" in section["method"]
+    assert section["method"].startswith("ISO 281 basic rating life L10") and "a_ISO·L10" in section["method"]
     assert [b["bearing"] for b in section["lifetime"]] == GRC
     assert section["lifetime"][0]["damage"] == pytest.approx(table.damage[0], rel=1e-15)
     assert (tmp_path / "lifetime_bearings.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "bearing damage over 20 years" in r.stdout and "share of bearing damage [%]" in r.stdout
     hss_c = table.iloc[-1]
     assert (f"hss_c          {hss_c.dynamic_load_rating / 1e3:>8.0f} {hss_c.damage:>11.4e} "
-            f"{hss_c.life_years:>13.4g} {100 * hss_c.events_share:>11.2f}   {hss_c.thesis_damage:>15.4e}") in r.stdout  # fmt: skip
+            f"{hss_c.life_years:>13.4g} {100 * hss_c.events_share:>11.2f}   {hss_c.modified_damage:>13.4e} "
+            f"{100 * hss_c.modified_events_share:>11.2f}   {hss_c.thesis_damage:>15.4e}") in r.stdout  # fmt: skip
     assert r.stdout.rstrip().endswith("lifetime_bearings.csv, lifetime_bearings.png")

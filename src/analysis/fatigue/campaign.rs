@@ -180,6 +180,10 @@ pub struct BearingRow {
     /// The thesis's count (rainflow cycles of P as load cycles, its ch. 5.4), for comparison.
     pub thesis_damage: f64,
     pub thesis_events_share: f64,
+    /// Miner over ISO 281's modified life a_ISO·L10 (the cases' `nm_day`, rated with the default oil;
+    /// NaN for cases rated before it existed), and the events' share of it.
+    pub modified_damage: f64,
+    pub modified_events_share: f64,
 }
 
 /// Our DEL ratio of a shutdown to another group, beside the thesis's.
@@ -799,16 +803,19 @@ fn bearing_rows(w: &Weighed, columns: &[String]) -> Result<Vec<BearingRow>, Camp
         let Some(life) = miner(w, i, c)? else {
             continue;
         };
-        let thesis = match column_of(bearing, "thesis_day") {
-            Some(k) => miner(w, k, &columns[k])?,
-            None => None,
+        let other_count = |what: &str| match column_of(bearing, what) {
+            Some(k) => miner(w, k, &columns[k]),
+            None => Ok(None),
         };
+        let (thesis, modified) = (other_count("thesis_day")?, other_count("nm_day")?);
         rows.push(BearingRow {
             bearing: bearing.into(),
             dynamic_load_rating: rating,
             events_share: events_share(&life),
             thesis_damage: thesis.as_ref().map_or(f64::NAN, |t| t.damage),
             thesis_events_share: thesis.as_ref().map_or(f64::NAN, &events_share),
+            modified_damage: modified.as_ref().map_or(f64::NAN, |m| m.damage),
+            modified_events_share: modified.as_ref().map_or(f64::NAN, &events_share),
             life,
         });
     }
