@@ -398,25 +398,19 @@ impl BearingTable {
 /// The table `windrive bearings` prints: a row per rated bearing (type, rating, loads, revolutions,
 /// damage per day and L10 life, the modified life's κ, C_u and damage per day, and the thesis's count).
 pub fn table(rated: &[BearingDamage]) -> String {
+    // the columns' widths; the first two left-aligned, the rest right-aligned
+    const WIDTHS: [usize; 15] = [14, 12, 3, 6, 8, 8, 9, 9, 11, 11, 11, 6, 7, 11, 11];
     let line = |cells: [&str; 15]| {
-        format!(
-            "{:<14} {:<12} {:>3} {:>6} {:>8} {:>8} {:>9} {:>9} {:>11} {:>11} {:>11} {:>6} {:>7} {:>11} {:>11}\n",
-            cells[0],
-            cells[1],
-            cells[2],
-            cells[3],
-            cells[4],
-            cells[5],
-            cells[6],
-            cells[7],
-            cells[8],
-            cells[9],
-            cells[10],
-            cells[11],
-            cells[12],
-            cells[13],
-            cells[14]
-        )
+        let mut row = String::new();
+        for (k, (cell, width)) in cells.iter().zip(WIDTHS).enumerate() {
+            let sep = if k == 0 { "" } else { " " };
+            if k < 2 {
+                row.push_str(&format!("{sep}{cell:<width$}"));
+            } else {
+                row.push_str(&format!("{sep}{cell:>width$}"));
+            }
+        }
+        row + "\n"
     };
     let mut s = line([
         "bearing",
@@ -470,10 +464,11 @@ pub fn table(rated: &[BearingDamage]) -> String {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn cylindrical(count: u32, d: f64, l: f64, dm: f64) -> Rollers {
+    /// A one-row cylindrical roller set of `count` rollers, Ø`d` × `l` mm on pitch diameter `dm` mm.
+    pub(crate) fn cylindrical(count: u32, d: f64, l: f64, dm: f64) -> Rollers {
         Rollers {
             count,
             diameter_mm: d,

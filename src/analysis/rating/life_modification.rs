@@ -152,30 +152,16 @@ pub fn fatigue_load_limit(r: &Rollers) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::analysis::rating::bearing_set::tests::cylindrical;
     use crate::physics::hertz::{LineContact, effective_modulus};
 
     fn close(a: f64, b: f64, rel: f64) -> bool {
         (a / b - 1.0).abs() <= rel
     }
 
+    /// The GRC's planet bearing estimate (20 × Ø34 × 60 mm on 225 mm).
     fn planet() -> Rollers {
-        Rollers {
-            count: 20,
-            diameter_mm: 34.0,
-            length_mm: 60.0,
-            pitch_diameter_mm: 225.0,
-            contact_angle_deg: 0.0,
-            rows: 1,
-            row_spacing_mm: 0.0,
-            clearance_um: 0.0,
-            axial_clearance_um: 0.0,
-            laminae: 10,
-            contact: crate::physics::gearbox::description::Contact::Line,
-            roller_stiffness: None,
-            profile_radius_mm: None,
-            race_profile_radii_mm: None,
-            crowning_um: 0.0,
-        }
+        cylindrical(20, 34.0, 60.0, 225.0)
     }
 
     /// The three κ branches meet where they change (a mistyped constant would open a step), and the
