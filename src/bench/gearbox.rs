@@ -1,7 +1,8 @@
 //! `windrive bench gearbox`: the 6-DOF GRC gearbox in drivetrain D's 30 s shutdown scene
 //! (scenes/d-shutdown-6dof) through the master with lamina bearings and 35, 11 and 5 slices per
 //! mesh, with the main shaft as one element or rigid, with linear bearings and at internal steps of
-//! 1 and 0.5 ms, each against the 35-slice lamina run at 0.25 ms without numerical damping (largest
+//! 1 and 0.5 ms, and with the FMU's other Newton iterations (`newton` = kept, predicted,
+//! kept+predicted), each against the 35-slice lamina run at 0.25 ms without numerical damping (largest
 //! mesh forces, bearing load and contact pressures, rollers in contact, HSS torque); the torsional
 //! model in the same scene (scenes/d-shutdown) as the baseline measured in the same run; the
 //! integrators at part load, where the teeth and rollers open and close (drivetrain C at cut-in wind,
@@ -192,9 +193,14 @@ pub fn torsional_baseline(dir: &Path, stop: f64) -> anyhow::Result<f64> {
 pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyhow::Result<()> {
     let mut reference: Option<Vec<Vec<f64>>> = None;
     // the reference is the full model at a quarter of the FMU's default internal step (1 ms): its
-    // differences are the errors of each row, the step's included
-    let variants: [(&str, usize, &str, f64, &str, MainShaft); 9] = [
-        (
+    // differences are the errors of each row, the step's included; rows take the default Newton
+    // iteration (`pattern`) or, at the FMU's default step and integrator, another (`newton`)
+    let pattern = |label, slices, bearings, step, integrator, shaft| {
+        (label, slices, bearings, step, integrator, shaft, "pattern")
+    };
+    let newton = |label, bearings, newton| (label, 35, bearings, 1e-3, "hht", MainShaft::Preset, newton);
+    let variants: [(&str, usize, &str, f64, &str, MainShaft, &str); 13] = [
+        pattern(
             "reference: 0.25 ms",
             35,
             "lamina",
@@ -202,21 +208,26 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
             "implicit",
             MainShaft::Preset,
         ),
-        ("35 slices, lamina", 35, "lamina", 1e-3, "hht", MainShaft::Preset),
-        ("same, Newmark", 35, "lamina", 1e-3, "implicit", MainShaft::Preset),
-        ("same, 0.5 ms", 35, "lamina", 5e-4, "hht", MainShaft::Preset),
-        ("11 slices, lamina", 11, "lamina", 1e-3, "hht", MainShaft::Preset),
-        ("5 slices, lamina", 5, "lamina", 1e-3, "hht", MainShaft::Preset),
-        ("main shaft 1 element", 35, "lamina", 1e-3, "hht", MainShaft::OneElement),
-        ("rigid main shaft", 35, "lamina", 1e-3, "hht", MainShaft::Rigid),
-        ("35 slices, linear", 35, "linear", 1e-3, "hht", MainShaft::Preset),
+        pattern("35 slices, lamina", 35, "lamina", 1e-3, "hht", MainShaft::Preset),
+        newton("same, Newton kept", "lamina", "kept"),
+        newton("same, Newton predicted", "lamina", "predicted"),
+        newton("same, kept+predicted", "lamina", "kept+predicted"),
+        pattern("same, Newmark", 35, "lamina", 1e-3, "implicit", MainShaft::Preset),
+        pattern("same, 0.5 ms", 35, "lamina", 5e-4, "hht", MainShaft::Preset),
+        pattern("11 slices, lamina", 11, "lamina", 1e-3, "hht", MainShaft::Preset),
+        pattern("5 slices, lamina", 5, "lamina", 1e-3, "hht", MainShaft::Preset),
+        pattern("main shaft 1 element", 35, "lamina", 1e-3, "hht", MainShaft::OneElement),
+        pattern("rigid main shaft", 35, "lamina", 1e-3, "hht", MainShaft::Rigid),
+        pattern("35 slices, linear", 35, "linear", 1e-3, "hht", MainShaft::Preset),
+        newton("same, kept+predicted", "linear", "kept+predicted"),
     ];
-    for (label, slices, bearings, step, integrator, shaft) in variants {
+    for (label, slices, bearings, step, integrator, shaft, newton) in variants {
         let mut o = vec![
             param("gearbox", "slices", slices),
             param("gearbox", "bearing_model", bearings),
             param("gearbox", "max_internal_step", step),
             param("gearbox", "integrator", integrator),
+            param("gearbox", "newton", newton),
         ];
         if let Some(file) = shaft.description()? {
             o.push(param("gearbox", "gearbox", file.display()));

@@ -14,7 +14,7 @@ use crate::physics::gearbox::loads::BearingLoad;
 use crate::physics::gearbox::loads::Loads;
 use crate::physics::gearbox::model::{INPUT_BRAKE_COMMAND, INPUT_GENERATOR_TORQUE, INPUT_ROTOR_TORQUE};
 use crate::physics::gearbox::statics::equilibrium;
-use crate::solver::alpha::Alpha;
+use crate::solver::alpha::{Alpha, Newton};
 use crate::solver::{Driver, DynState, Method, Statistics};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -51,6 +51,7 @@ pub struct Built {
     pub description: Description,
     pub model: Gearbox,
     pub method: Method,
+    pub newton: Newton,
     /// Output slot → mesh, shaft, bearing index in the model.
     meshes: Vec<Option<usize>>,
     shafts: Vec<Option<usize>>,
@@ -121,6 +122,9 @@ impl Params {
                 );
             }
         };
+        let newton = Newton::parse(&self.newton).ok_or_else(|| {
+            ParameterError::invalid("newton", &self.newton, "use pattern, kept, predicted or kept+predicted")
+        })?;
         let mut model = Gearbox::new(&d).map_err(|e| ParameterError::Model(format!("gearbox {:?}: {e}", d.name)))?;
         let rated_generator = model.rated_rotor_torque.map(|t| t / model.gear_ratio);
         let brake_torque_max = match (self.brake_torque_max > 0.0, rated_generator) {
@@ -155,6 +159,7 @@ impl Params {
             description: d,
             model,
             method,
+            newton,
             meshes,
             shafts,
             bearings,
@@ -208,6 +213,7 @@ impl Gearbox6dofSlave {
         if self.built.is_none() {
             let built = self.params.build(self.resources.as_deref())?;
             self.driver = Driver::new(built.method);
+            self.driver.set_newton(built.newton);
             self.built = Some(Arc::new(built));
             self.loads = None;
         }

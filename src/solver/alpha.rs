@@ -57,6 +57,54 @@ const NEARLY_LINEAR_INCREMENT_TOLERANCE: f64 = 1e-8;
 /// in 12.6 s instead of 298.
 const RELAXED_AFTER: usize = 6;
 
+/// [`Newton::keep`]: a kept factorisation is refreshed (a fresh tangent at the current iterate) when
+/// an increment is more than this fraction of the one before it (the contraction rate θ of Hairer and
+/// Wanner's RADAU5), or after [`KEPT_ITERATIONS`] iterations on it without convergence.
+pub const THETA_REFRESH: f64 = 0.5;
+
+/// [`Newton::keep`]: iterations on one factorisation within a step before it is refreshed; a fresh one
+/// that diverges or does not converge within as many sends the step back to the default iteration.
+pub const KEPT_ITERATIONS: usize = 6;
+
+/// [`Newton::keep`]: the smallest η = θ/(1 − θ) the increment test credits a contracting iteration
+/// with (an increment up to ten times the tolerance is accepted when the next would be θ times it).
+pub const ETA_FLOOR: f64 = 0.1;
+
+/// How the Newton iteration of the nearly piecewise-linear class (the 6-DOF gearbox, whose contact
+/// pattern changes at almost every step) treats its Jacobian and where it starts. The default (both
+/// false) is the iteration every other class takes: Δ = 0, the pattern's factorisation, a new one
+/// whenever an iterate's pattern changes. Either option changes the iteration's path, so outputs move
+/// at the Newton tolerance; the converged iterates meet the same tests.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Newton {
+    /// Modified Newton on a kept factorisation: the last step's J is reused across steps and
+    /// patterns (same step size) while the iteration contracts (θ ≤ [`THETA_REFRESH`]), refreshed
+    /// at the iterate when it does not, and the step retaken the default way from Δ = 0 when even the
+    /// fresh J stalls (counted in `Statistics::newton_restarts`). The increment tolerance then
+    /// bounds the iterate's error θ/(1 − θ)·‖δ‖ (Hairer and Wanner's test), not the increment ‖δ‖.
+    /// The kept J is history: a clone starts without it, and a state restored into an instance meets
+    /// the J that instance last kept, so a rerun from a snapshot agrees with the first run to the
+    /// Newton tolerance, not to the bit.
+    pub keep: bool,
+    /// Start from the constant-acceleration predictor Δ = h·v + ½h²·a (a₁ = a under every member of
+    /// the family) instead of Δ = 0, whose first iterate has v₁ ≈ −v.
+    pub predict: bool,
+}
+
+impl Newton {
+    /// The FMU parameter's spelling: `pattern` (the default), `kept`, `predicted` or `kept+predicted`.
+    pub fn parse(s: &str) -> Option<Self> {
+        let (keep, predict) = match s.trim().to_ascii_lowercase().as_str() {
+            "" | "pattern" => (false, false),
+            "kept" => (true, false),
+            "predicted" => (false, true),
+            "kept+predicted" => (true, true),
+            _ => return None,
+        };
+        Some(Self { keep, predict })
+    }
+}
+
 /// One step: from `t` by `h`, inputs `u0` at t and `u1` at t + h; `fi0`, when the caller has them,
 /// the internal forces at the step's start state (the methods that weight the start of the step
 /// need them, and a driver has just evaluated them for the consistent accelerations).
@@ -278,6 +326,10 @@ impl Work {
 /// cache, refilled on demand with identical factors, so snapshots stay cheap and bit-identical.
 pub struct AlphaIntegrator {
     pub params: Alpha,
+    /// The nearly piecewise-linear class's iteration (default: as every class).
+    pub newton: Newton,
+    /// [`Newton::keep`]: the cache entry of the factorisation the last step converged on.
+    kept: Option<usize>,
     /// The coefficients of the last step size (seven divisions saved per step).
     coefficients: Option<Coefficients>,
     cache: Cache,
@@ -286,7 +338,9 @@ pub struct AlphaIntegrator {
 
 impl Clone for AlphaIntegrator {
     fn clone(&self) -> Self {
-        Self::new(self.params)
+        let mut c = Self::new(self.params);
+        c.newton = self.newton;
+        c
     }
 }
 
@@ -294,6 +348,8 @@ impl AlphaIntegrator {
     pub fn new(params: Alpha) -> Self {
         Self {
             params,
+            newton: Newton::default(),
+            kept: None,
             coefficients: None,
             cache: Cache::default(),
             work: Work::default(),
@@ -421,8 +477,6 @@ impl AlphaIntegrator {
     ) -> Result<(), SolverError> {
         let Span { t, u0, u1, .. } = *span;
         let n = sys.dofs();
-        let t1 = t + c.h;
-        let linearity = sys.linearity();
         let friction_dof = friction.map(|f| f.dof);
         {
             let w = &mut self.work;
@@ -438,8 +492,61 @@ impl AlphaIntegrator {
                 }
             }
             sys.factor_key(t, &st.q, &mut w.key);
-            w.delta.iter_mut().for_each(|x| *x = 0.0);
         }
+        let nearly = sys.linearity() == Linearity::NearlyPiecewiseLinear;
+        let keep = nearly && self.newton.keep;
+        let predict = nearly && self.newton.predict;
+        let mut outcome = None;
+        if keep {
+            self.work.start(st, c, predict);
+            outcome = self.kept_iteration(sys, st, c, t, friction, stats)?;
+            if outcome.is_none() {
+                stats.newton_restarts += 1;
+                sys.factor_key(t, &st.q, &mut self.work.key);
+            }
+        }
+        let (force, held) = match outcome {
+            Some(done) => done,
+            None => {
+                // a restarted step is taken the default way, from Δ = 0
+                self.work.start(st, c, predict && !keep);
+                let (force, held, idx) = self.pattern_iteration(sys, st, c, t, friction, stats)?;
+                if keep {
+                    self.kept = Some(idx);
+                }
+                (force, held)
+            }
+        };
+        let w = &mut self.work;
+        let stuck = friction_dof.filter(|_| held);
+        if let Some(f) = stuck {
+            w.delta[f] = c.increment_to_rest(st.v[f], st.a[f]);
+        }
+        for d in 0..n {
+            let (dd, v, a) = (w.delta[d], st.v[d], st.a[d]);
+            st.q[d] += dd;
+            st.v[d] = c.velocity(dd, v, a);
+            st.a[d] = c.acceleration(dd, v, a);
+        }
+        finish_friction(st, stuck, force, u1);
+        Ok(())
+    }
+
+    /// The iteration every class takes from the Δ in the work: the factorisation of the start's
+    /// pattern, a new one (cached per pattern) whenever an iterate's pattern changes. Returns the
+    /// friction force, whether the contact holds, and the cache entry it converged on.
+    fn pattern_iteration<S: SecondOrderSystem>(
+        &mut self,
+        sys: &S,
+        st: &DynState,
+        c: &Coefficients,
+        t: f64,
+        friction: Option<Friction>,
+        stats: &mut Statistics,
+    ) -> Result<(f64, bool, usize), SolverError> {
+        let t1 = t + c.h;
+        let linearity = sys.linearity();
+        let friction_dof = friction.map(|f| f.dof);
         let mut idx = self.factor(sys, c, (t1, &st.q, &st.v), true, friction_dof, stats)?;
         let mut force = 0.0;
         let mut held = false;
@@ -462,24 +569,7 @@ impl AlphaIntegrator {
             let AlphaIntegrator { cache, work: w, .. } = self;
             let factor = cache.get(idx);
             // r = −R(Δ) with the friction force of the current iterate
-            for d in 0..n {
-                w.q1[d] = st.q[d] + w.delta[d];
-                w.v1[d] = c.velocity(w.delta[d], st.v[d], st.a[d]);
-            }
-            sys.internal_forces(t1, &w.q1, &w.v1, &mut w.fi);
-            for d in 0..n {
-                let a1 = c.acceleration(w.delta[d], st.v[d], st.a[d]);
-                w.step[d] = (1.0 - c.am) * a1 + c.am * st.a[d];
-                w.r[d] = (1.0 - c.af) * (w.f1[d] - w.fi[d]) + c.af * (w.f0[d] - w.fi0[d]);
-            }
-            if let Some(f) = friction_dof {
-                w.r[f] += (1.0 - c.af) * force;
-            }
-            {
-                let (step, r) = (&w.step, &mut w.r);
-                sys.mass().add_product(-1.0, step, r);
-            }
-            residual = w.r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            residual = w.residual(sys, st, c, t1, friction_dof, force);
             // a residual at the rounding level of the forces themselves cannot be reduced further
             // (only the smooth classes ask: the piecewise-linear one converges on its pattern)
             // past RELAXED_AFTER iterations a residual ten times the tolerance is the rounding floor the
@@ -487,75 +577,227 @@ impl AlphaIntegrator {
             // increment is halved
             let relaxed = linearity == Linearity::NearlyPiecewiseLinear && iteration >= RELAXED_AFTER;
             let floor = if relaxed { 10.0 } else { 1.0 };
-            let settled = |w: &Work| {
-                residual <= floor * RESIDUAL_TOLERANCE * w.fi.iter().chain(&w.f1).fold(0.0f64, |m, x| m.max(x.abs()))
-            };
-            w.step.iter_mut().for_each(|x| *x = 0.0);
-            factor.solver.add_solution(&w.r, &mut w.step);
-            if relaxed {
-                w.step.iter_mut().for_each(|x| *x *= 0.5);
-            }
-            // r is free until the next residual: it keeps the iterate this increment starts from
-            w.r.copy_from_slice(&w.delta);
-            for (d, s) in w.delta.iter_mut().zip(&w.step) {
-                *d += s;
-            }
-            if let (Some(fr), Some((f, resp))) = (friction, &factor.friction_response) {
-                (force, held) =
-                    c.resolve_friction(&fr, st.locked, (*f, resp), &mut w.delta, (st.v[*f], st.a[*f]), force);
-                // the increment that counts for convergence is the one the friction solve left
-                for d in 0..n {
-                    w.step[d] = w.delta[d] - w.r[d];
-                }
-            }
+            (force, held) = w.increment(factor, c, friction, st, relaxed, (force, held));
             let converged = match linearity {
                 Linearity::Linear => true,
-                Linearity::PiecewiseLinear => {
-                    for d in 0..n {
-                        w.q1[d] = st.q[d] + w.delta[d];
-                    }
-                    sys.factor_key(t1, &w.q1, &mut w.key_new);
-                    let same = same_key(&w.key_new, &w.key);
-                    std::mem::swap(&mut w.key, &mut w.key_new);
-                    same
-                }
+                Linearity::PiecewiseLinear => w.same_pattern(sys, st, t1),
                 Linearity::NearlyPiecewiseLinear => {
-                    for d in 0..n {
-                        w.q1[d] = st.q[d] + w.delta[d];
-                    }
-                    sys.factor_key(t1, &w.q1, &mut w.key_new);
-                    let same = same_key(&w.key_new, &w.key);
-                    std::mem::swap(&mut w.key, &mut w.key_new);
-                    same && (settled(w) || small_increment(w, st, c, NEARLY_LINEAR_INCREMENT_TOLERANCE))
+                    w.same_pattern(sys, st, t1)
+                        && (w.settled(residual, floor) || small_increment(w, st, c, NEARLY_LINEAR_INCREMENT_TOLERANCE))
                 }
-                Linearity::Nonlinear => settled(w) || small_increment(w, st, c, INCREMENT_TOLERANCE),
+                Linearity::Nonlinear => w.settled(residual, floor) || small_increment(w, st, c, INCREMENT_TOLERANCE),
             };
             if converged {
                 break;
             }
-            for d in 0..n {
-                w.q1[d] = st.q[d] + w.delta[d];
-                w.v1[d] = c.velocity(w.delta[d], st.v[d], st.a[d]);
+            idx = self.factor_at_iterate(sys, st, c, t1, friction_dof, false, stats)?;
+        }
+        Ok((force, held, idx))
+    }
+
+    /// [`Newton::keep`]: modified Newton from the Δ in the work on the factorisation the last step
+    /// converged on (the start's pattern's when there is none for this step size), refreshed once at
+    /// the iterate when the iteration contracts slowly or not within [`KEPT_ITERATIONS`]. Returns the
+    /// friction force and whether the contact holds, or None when even the fresh factorisation stalls
+    /// (the caller retakes the step the default way).
+    fn kept_iteration<S: SecondOrderSystem>(
+        &mut self,
+        sys: &S,
+        st: &DynState,
+        c: &Coefficients,
+        t: f64,
+        friction: Option<Friction>,
+        stats: &mut Statistics,
+    ) -> Result<Option<(f64, bool)>, SolverError> {
+        let n = sys.dofs();
+        let t1 = t + c.h;
+        let friction_dof = friction.map(|f| f.dof);
+        let kept = self
+            .kept
+            .filter(|&i| self.cache.holds(i) && same_step(self.cache.get(i).h, c.h));
+        let mut idx = match kept {
+            Some(i) => {
+                let entry = self.cache.get_mut(i);
+                if let Some(d) = friction_dof
+                    && entry.friction_response.as_ref().map(|f| f.0) != Some(d)
+                {
+                    entry.friction_response = Some((d, entry.solver.unit_response(n, d)));
+                }
+                i
             }
-            let (q1, v1) = (std::mem::take(&mut w.q1), std::mem::take(&mut w.v1));
-            let found = self.factor(sys, c, (t1, &q1, &v1), true, friction_dof, stats);
-            self.work.q1 = q1;
-            self.work.v1 = v1;
-            idx = found?;
+            None => self.factor(sys, c, (t1, &st.q, &st.v), true, friction_dof, stats)?,
+        };
+        let mut fresh = false;
+        let mut on_factor = 0;
+        // ‖δ‖∞ of the previous iteration on this factorisation (NaN: none yet)
+        let mut previous = f64::NAN;
+        let (mut force, mut held) = (0.0, false);
+        for _ in 0..2 * KEPT_ITERATIONS {
+            stats.newton_iterations += 1;
+            let AlphaIntegrator { cache, work: w, .. } = self;
+            let factor = cache.get(idx);
+            let residual = w.residual(sys, st, c, t1, friction_dof, force);
+            (force, held) = w.increment(factor, c, friction, st, false, (force, held));
+            on_factor += 1;
+            let size = w.step.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            // the contraction rate θ of the increments on one J: the new iterate is within
+            // η·‖δ‖ of the solution, η = θ/(1 − θ), and the increment test asks that of this error
+            // (with η no smaller than ETA_FLOOR); ‖δ‖ itself on the first iteration on a J
+            let theta = size / previous;
+            previous = size;
+            let eta = if theta.is_nan() {
+                1.0
+            } else if theta < 1.0 {
+                (theta / (1.0 - theta)).max(ETA_FLOOR)
+            } else {
+                f64::INFINITY
+            };
+            let fraction = NEARLY_LINEAR_INCREMENT_TOLERANCE / eta;
+            if w.same_pattern(sys, st, t1) && (w.settled(residual, 1.0) || small_increment(w, st, c, fraction)) {
+                self.kept = Some(idx);
+                return Ok(Some((force, held)));
+            }
+            let stalled = on_factor == KEPT_ITERATIONS;
+            if fresh && (stalled || theta >= 1.0) {
+                break;
+            }
+            if !fresh && (stalled || theta > THETA_REFRESH) {
+                idx = self.factor_at_iterate(sys, st, c, t1, friction_dof, true, stats)?;
+                fresh = true;
+                on_factor = 0;
+                previous = f64::NAN;
+            }
         }
+        self.kept = None;
+        Ok(None)
+    }
+
+    /// The factorisation at the current iterate, for its pattern (the key in the work): the cached
+    /// one, or built afresh (`fresh`, or none cached).
+    #[allow(clippy::too_many_arguments)]
+    fn factor_at_iterate<S: SecondOrderSystem>(
+        &mut self,
+        sys: &S,
+        st: &DynState,
+        c: &Coefficients,
+        t1: f64,
+        friction_dof: Option<usize>,
+        fresh: bool,
+        stats: &mut Statistics,
+    ) -> Result<usize, SolverError> {
+        let n = sys.dofs();
         let w = &mut self.work;
-        let stuck = friction_dof.filter(|_| held);
-        if let Some(f) = stuck {
-            w.delta[f] = c.increment_to_rest(st.v[f], st.a[f]);
-        }
         for d in 0..n {
-            let (dd, v, a) = (w.delta[d], st.v[d], st.a[d]);
-            st.q[d] += dd;
-            st.v[d] = c.velocity(dd, v, a);
-            st.a[d] = c.acceleration(dd, v, a);
+            w.q1[d] = st.q[d] + w.delta[d];
+            w.v1[d] = c.velocity(w.delta[d], st.v[d], st.a[d]);
         }
-        finish_friction(st, stuck, force, u1);
-        Ok(())
+        let (q1, v1) = (std::mem::take(&mut w.q1), std::mem::take(&mut w.v1));
+        let found = if fresh {
+            self.build(sys, c, (t1, &q1, &v1), true, friction_dof, stats)
+        } else {
+            self.factor(sys, c, (t1, &q1, &v1), true, friction_dof, stats)
+        };
+        self.work.q1 = q1;
+        self.work.v1 = v1;
+        found
+    }
+}
+
+impl Work {
+    /// The iteration's first Δ: zero, or the constant-acceleration predictor h·v + ½h²·a.
+    fn start(&mut self, st: &DynState, c: &Coefficients, predict: bool) {
+        if predict {
+            for (d, (v, a)) in self.delta.iter_mut().zip(st.v.iter().zip(&st.a)) {
+                *d = c.h * v + 0.5 * c.h * c.h * a;
+            }
+        } else {
+            self.delta.iter_mut().for_each(|x| *x = 0.0);
+        }
+    }
+
+    /// r = −R(Δ) with the friction force `force` of the current iterate; returns ‖r‖∞.
+    fn residual<S: SecondOrderSystem>(
+        &mut self,
+        sys: &S,
+        st: &DynState,
+        c: &Coefficients,
+        t1: f64,
+        friction_dof: Option<usize>,
+        force: f64,
+    ) -> f64 {
+        let n = sys.dofs();
+        for d in 0..n {
+            self.q1[d] = st.q[d] + self.delta[d];
+            self.v1[d] = c.velocity(self.delta[d], st.v[d], st.a[d]);
+        }
+        sys.internal_forces(t1, &self.q1, &self.v1, &mut self.fi);
+        for d in 0..n {
+            let a1 = c.acceleration(self.delta[d], st.v[d], st.a[d]);
+            self.step[d] = (1.0 - c.am) * a1 + c.am * st.a[d];
+            self.r[d] = (1.0 - c.af) * (self.f1[d] - self.fi[d]) + c.af * (self.f0[d] - self.fi0[d]);
+        }
+        if let Some(f) = friction_dof {
+            self.r[f] += (1.0 - c.af) * force;
+        }
+        {
+            let (step, r) = (&self.step, &mut self.r);
+            sys.mass().add_product(-1.0, step, r);
+        }
+        self.r.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+    }
+
+    /// Whether `residual` (of the iterate the forces in the work were evaluated at) is at the
+    /// rounding level of the largest force acting, `floor` times the tolerance.
+    fn settled(&self, residual: f64, floor: f64) -> bool {
+        residual <= floor * RESIDUAL_TOLERANCE * self.fi.iter().chain(&self.f1).fold(0.0f64, |m, x| m.max(x.abs()))
+    }
+
+    /// δ = J⁻¹r from the residual in `r` (halved when `relaxed`) into `step` and onto Δ, then the
+    /// friction force re-solved on that J; `step` is left holding the increment the friction solve
+    /// left. Returns the friction force and whether the contact holds.
+    fn increment(
+        &mut self,
+        factor: &Factor,
+        c: &Coefficients,
+        friction: Option<Friction>,
+        st: &DynState,
+        relaxed: bool,
+        (force, held): (f64, bool),
+    ) -> (f64, bool) {
+        self.step.iter_mut().for_each(|x| *x = 0.0);
+        factor.solver.add_solution(&self.r, &mut self.step);
+        if relaxed {
+            self.step.iter_mut().for_each(|x| *x *= 0.5);
+        }
+        // r is free until the next residual: it keeps the iterate this increment starts from
+        self.r.copy_from_slice(&self.delta);
+        for (d, s) in self.delta.iter_mut().zip(&self.step) {
+            *d += s;
+        }
+        match (friction, &factor.friction_response) {
+            (Some(fr), Some((f, resp))) => {
+                let solved =
+                    c.resolve_friction(&fr, st.locked, (*f, resp), &mut self.delta, (st.v[*f], st.a[*f]), force);
+                // the increment that counts for convergence is the one the friction solve left
+                for ((s, d), r) in self.step.iter_mut().zip(&self.delta).zip(&self.r) {
+                    *s = d - r;
+                }
+                solved
+            }
+            _ => (force, held),
+        }
+    }
+
+    /// Whether the pattern at the iterate Δ is the last iterate's; the key in the work becomes the
+    /// new iterate's.
+    fn same_pattern<S: SecondOrderSystem>(&mut self, sys: &S, st: &DynState, t1: f64) -> bool {
+        for ((q1, q), d) in self.q1.iter_mut().zip(&st.q).zip(&self.delta) {
+            *q1 = q + d;
+        }
+        sys.factor_key(t1, &self.q1, &mut self.key_new);
+        let same = same_key(&self.key_new, &self.key);
+        std::mem::swap(&mut self.key, &mut self.key_new);
+        same
     }
 }
 

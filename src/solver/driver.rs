@@ -4,7 +4,7 @@
 //! method's stability limit, friction lock and release reported as events, and a final check that
 //! the state is finite. FMU faces call [`Driver::advance`] and nothing below it.
 
-use super::alpha::{Alpha, AlphaIntegrator, Span};
+use super::alpha::{Alpha, AlphaIntegrator, Newton, Span};
 use super::rk4::{MassSolver, Rk4};
 use super::state::{DynState, SolverError, Statistics};
 use super::system::{Friction, Linearity, Mass, SecondOrderSystem, external_forces};
@@ -95,6 +95,11 @@ impl Driver {
             iteration_start: 0,
             iteration_budget: u64::MAX,
         }
+    }
+
+    /// The Newton iteration of the nearly piecewise-linear class ([`Newton`]; default: as every class).
+    pub fn set_newton(&mut self, newton: Newton) {
+        self.alpha.newton = newton;
     }
 
     /// Advances `st` from `t` by `h` in sub-steps of at most `max_step`; `inputs(τ, u)` writes the

@@ -213,6 +213,11 @@ impl Cache {
         self.last
     }
 
+    /// Whether `i` names an entry (the cache is emptied when full).
+    pub fn holds(&self, i: usize) -> bool {
+        i < self.entries.len()
+    }
+
     pub fn get(&self, i: usize) -> &Factor {
         &self.entries[i]
     }

@@ -86,6 +86,10 @@ pub struct Statistics {
     /// system with its friction contact open), counted in `steps` as well.
     #[serde(default)]
     pub plain_steps: u64,
+    /// Steps whose modified Newton iteration on a kept factorisation ([`crate::solver::alpha::Newton`]'s
+    /// `keep`) stalled even on a fresh tangent and were taken again from Δ = 0 the default way.
+    #[serde(default)]
+    pub newton_restarts: u64,
 }
 
 /// Why a step could not be taken. Times are the start of the failing (sub)step, s.

@@ -595,8 +595,9 @@ fn every_string_parameter_is_checked_in_every_mode() {
             checked += 1;
         }
     }
-    // the rotor's wind_sampling and wind_file in both modes: 4 more than before them
-    assert_eq!(checked, 39);
+    // the rotor's wind_sampling and wind_file in both modes: 4 more than before them; the gearbox's
+    // newton: 1 more
+    assert_eq!(checked, 40);
 }
 
 /// A finite torque thousands of times rated (found by fuzzing: 1e9 N·m into the GRC, a 2 s step)

@@ -18,6 +18,7 @@ mod gearbox_model;
 mod gearbox_scene;
 mod import_hostile;
 mod isolate;
+mod newton_kept;
 mod non_smooth;
 mod paper_turbine;
 mod physics_modes;

@@ -202,6 +202,7 @@ fn undamped_two_inertia_chain_conserves_energy() {
             halvings: 0,
             // all but the first, whose accelerations are not yet consistent with any inputs
             plain_steps: 9_999,
+            newton_restarts: 0,
         }
     );
 }
