@@ -29,6 +29,22 @@ class Bearings:
 
     gearbox: str = DEFAULT_GEARBOX
     component: str = DEFAULT_COMPONENT
+    # the oil ISO 281's a_ISO is taken with (windrive bearings --oil-viscosity, --oil-temperature,
+    # --contamination); None: windrive's estimate
+    oil_viscosity: tuple[float, float] | None = None
+    oil_temperature: float | None = None
+    contamination: float | None = None
+
+    def oil(self) -> dict:
+        """The oil settings given, as the analysis spec and `windrive bearings` take them."""
+        given = {"oil_viscosity": self.oil_viscosity, "oil_temperature": self.oil_temperature,
+                 "contamination": self.contamination}  # fmt: skip
+        return {k: (list(v) if isinstance(v, tuple) else v) for k, v in given.items() if v is not None}
+
+    def spec(self) -> dict:
+        """[bearings] as `windrive run --analyse` reads it (unset oil keys left out: the digest of a campaign
+        that sets none stays as it was)."""
+        return {"gearbox": self.gearbox, "component": self.component, **self.oil()}
 
     def channels(self, windrive: str) -> tuple[str, ...]:
         """What `windrive bearings` reads: every roller set's loads, the rotor and generator speeds
@@ -52,7 +68,11 @@ COLUMNS = {
 
 def command(windrive: str, series: str, bearings: Bearings, transient: float) -> list[str]:
     """`windrive bearings` on a series: the scene's probe is rated with it before any case runs."""
+    oil = []
+    for key, value in bearings.oil().items():
+        flag = "--" + key.replace("_", "-")
+        oil += [flag, ",".join(repr(float(x)) for x in value)] if isinstance(value, list) else [flag, repr(value)]
     return [
         windrive, "bearings", series, "--gearbox", bearings.gearbox, "--component", bearings.component,
-        "--transient", repr(transient), "--json",
+        "--transient", repr(transient), *oil, "--json",
     ]  # fmt: skip

@@ -31,8 +31,8 @@ GEAR_KINDS = ("flank", "root")  # a tooth's rows in this order (windrive life --
 GEAR_KIND_TITLES = {"flank": "flank (pitting)", "root": "root (bending)"}
 # the bearing section's (docs/CAMPAIGNS.md, Lifetime report)
 BEARING_METHOD = ("ISO 281 basic rating life L10 (C_r from the roller geometry, P = X·F_r + Y·F_a, Miner over "
-                  "revolutions). modified_damage: the same over ISO 281's modified life a_ISO·L10 (ISO VG 320 "
-                  "oil at 65 °C, e_C 0.5: estimates, windrive bearings). thesis_damage: the thesis's count for "
+                  "revolutions). modified_damage: the same over ISO 281's modified life a_ISO·L10 with the oil of "
+                  "[bearings] (by default ISO VG 320 at 65 °C, e_C 0.5: estimates, windrive bearings). thesis_damage: the thesis's count for "
                   "comparison (rainflow cycles of P as load cycles over the same law, its ch. 5.4)")  # fmt: skip
 # the bearing figures written after the life in lifetime_bearings.csv
 BEARING_EXTRA = ("events_share", "modified_damage", "modified_events_share", "thesis_damage", "thesis_events_share")

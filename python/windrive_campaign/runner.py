@@ -53,7 +53,7 @@ class RunSpec:
         if self.gears is not None:
             spec["gears"] = dataclasses.asdict(self.gears)
         if self.bearings is not None:
-            spec["bearings"] = dataclasses.asdict(self.bearings)
+            spec["bearings"] = self.bearings.spec()
         return spec
 
 

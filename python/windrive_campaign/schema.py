@@ -122,7 +122,7 @@ class Campaign:
             g = self.gears
             spec["gears"] = g.table if g == gears_mod.Gears(g.table) else asdict(g)
         if self.bearings is not None:  # likewise: campaigns without [bearings] keep their digests
-            spec["bearings"] = asdict(self.bearings)
+            spec["bearings"] = self.bearings.spec()
         return spec
 
     def analysis_digest(self) -> str:
@@ -416,9 +416,29 @@ class _Reader:
         if t is None:
             return None
         key = ("bearings",)
-        self.check_keys(t, key, ("gearbox", "component"))
+        self.check_keys(t, key, ("gearbox", "component", "oil_viscosity", "oil_temperature", "contamination"))
         gearbox = self.description(t, key, "gearbox", default=bearings_mod.DEFAULT_GEARBOX)
-        return bearings_mod.Bearings(gearbox, self.component(t, key, "component", bearings_mod.DEFAULT_COMPONENT))
+        viscosity = t.get("oil_viscosity")
+        if viscosity is not None:
+            def positive(x) -> bool:
+                return isinstance(x, int | float) and not isinstance(x, bool) and math.isfinite(x) and x > 0
+
+            if not (isinstance(viscosity, list) and len(viscosity) == 2 and all(map(positive, viscosity))):
+                self.fail(key + ("oil_viscosity",), f"must be [ν at 40 °C, ν at 100 °C] in mm²/s, not {viscosity!r}")
+            if viscosity[0] <= viscosity[1]:
+                self.fail(key + ("oil_viscosity",), f"the viscosity at 40 °C is the larger: {viscosity!r}")
+        contamination = t.get("contamination")
+        if contamination is not None:
+            contamination = self.number(t, key, "contamination", minimum=0.0)
+            if contamination > 1.0:
+                self.fail(key + ("contamination",), f"ISO 281's e_C lies in 0 to 1, not {contamination!r}")
+        return bearings_mod.Bearings(
+            gearbox,
+            self.component(t, key, "component", bearings_mod.DEFAULT_COMPONENT),
+            oil_viscosity=None if viscosity is None else (float(viscosity[0]), float(viscosity[1])),
+            oil_temperature=None if t.get("oil_temperature") is None else self.number(t, key, "oil_temperature"),
+            contamination=contamination,
+        )
 
     def description(self, doc: dict, key: tuple, name: str, default: str | None = None) -> str | None:
         """A gearbox as windrive's --gearbox takes it: a name (a preset, or [gears]' P) as it is, or a

@@ -22,6 +22,7 @@ use crate::analysis::fatigue::matrix::Bins;
 use crate::analysis::fatigue::rainflow::Counter;
 use crate::analysis::rating::bearing_set::{BearingSetError, BearingTable};
 use crate::analysis::rating::gear_set::{GearSetError, fmu_mesh_force, gear_table, rate_columns};
+use crate::analysis::rating::life_modification::Lubrication;
 use serde::Deserialize;
 use serde::ser::{Serialize, SerializeMap, Serializer};
 
@@ -93,6 +94,32 @@ pub struct BearingsSpec {
     /// The gearbox6dof FMU's name in the scene.
     #[serde(default = "gearbox")]
     pub component: String,
+    /// The oil a_ISO is taken with (`windrive bearings --oil-viscosity`, `--oil-temperature`,
+    /// `--contamination`); each left out is [`Lubrication::default`]'s.
+    #[serde(default)]
+    pub oil_viscosity: Option<[f64; 2]>,
+    #[serde(default)]
+    pub oil_temperature: Option<f64>,
+    #[serde(default)]
+    pub contamination: Option<f64>,
+}
+
+impl BearingsSpec {
+    /// The oil these settings give, checked.
+    fn lubrication(&self) -> Result<Lubrication, CaseError> {
+        let default = Lubrication::default();
+        let [viscosity_40, viscosity_100] = self
+            .oil_viscosity
+            .unwrap_or([default.viscosity_40, default.viscosity_100]);
+        let oil = Lubrication {
+            viscosity_40,
+            viscosity_100,
+            temperature_c: self.oil_temperature.unwrap_or(default.temperature_c),
+            contamination: self.contamination.unwrap_or(default.contamination),
+        };
+        oil.check().map_err(|e| CaseError::Spec(format!("bearings: {e}")))?;
+        Ok(oil)
+    }
 }
 
 fn gearbox() -> String {
@@ -221,7 +248,11 @@ pub fn analyse(time: &[f64], names: &[String], columns: &[Vec<f64>], spec: &Case
     let bearings = spec
         .bearings
         .as_ref()
-        .map(|b| BearingTable::load(&b.gearbox, &b.component))
+        .map(|b| -> Result<BearingTable, CaseError> {
+            let mut table = BearingTable::load(&b.gearbox, &b.component)?;
+            table.lubrication = b.lubrication()?;
+            Ok(table)
+        })
         .transpose()?;
 
     let first = time.partition_point(|&t| t < spec.transient);
@@ -460,5 +491,24 @@ mod tests {
         )
         .unwrap();
         assert_eq!(number(&row, "analysed_s"), 1.0);
+    }
+
+    /// [bearings]' oil: unset keys take windrive's estimate, set ones replace it, and a value the
+    /// formulas do not hold for is a spec error naming it.
+    #[test]
+    fn the_bearings_oil_is_the_estimate_unless_set() {
+        let parse = |json: &str| serde_json::from_str::<BearingsSpec>(json).unwrap();
+        let plain = parse(r#"{"gearbox": "grc750"}"#).lubrication().unwrap();
+        assert_eq!(plain, Lubrication::default());
+        let warm = parse(r#"{"gearbox": "grc750", "oil_temperature": 80, "oil_viscosity": [220, 19]}"#)
+            .lubrication()
+            .unwrap();
+        assert_eq!(
+            (warm.temperature_c, warm.viscosity_40, warm.viscosity_100),
+            (80.0, 220.0, 19.0)
+        );
+        assert_eq!(warm.contamination, Lubrication::default().contamination);
+        let dirty = parse(r#"{"gearbox": "grc750", "contamination": 2}"#).lubrication();
+        assert!(matches!(dirty, Err(CaseError::Spec(m)) if m.contains("contamination factor e_C 2")));
     }
 }

@@ -54,7 +54,11 @@ per_year = 1
 @pytest.mark.parametrize(
     "section, top, message, line",
     [
-        ('[bearings]\ngerbox = "grc750"', "", "bearings.gerbox: unknown key (known here: gearbox, component)", 12),
+        ('[bearings]\ngerbox = "grc750"', "", "bearings.gerbox: unknown key (known here: gearbox, component, oil_", 12),
+        ("[bearings]\noil_viscosity = [24, 320]", "", "bearings.oil_viscosity: the viscosity at 40 °C is the larger", 12),
+        ("[bearings]\noil_viscosity = 320", "", "bearings.oil_viscosity: must be [ν at 40 °C, ν at 100 °C]", 12),
+        ("[bearings]\ncontamination = 1.5", "", "bearings.contamination: ISO 281's e_C lies in 0 to 1", 12),
+        ('[bearings]\noil_temperature = "hot"', "", "bearings.oil_temperature: must be a finite number", 12),
         ('[bearings]\ngearbox = ""', "", "bearings.gearbox: must be a non-empty string, not ''", 12),
         ("[bearings]\ngearbox = 750", "", "bearings.gearbox: must be a non-empty string, not 750", 12),
         ('[bearings]\ncomponent = "gear box"', "", "bearings.component: 'gear box': a scene component's name", 12),
@@ -168,6 +172,7 @@ params = {{ "gearbox.slices" = 5 }}     # 5 slices per bearing and mesh instead 
 
 [bearings]
 gearbox = "grc750"
+oil_temperature = 75.0  # a warmer oil than windrive's estimate: the a_ISO columns must follow it
 
 [[channel]]
 name = "{TORQUE}"
@@ -204,8 +209,14 @@ def test_bearing_columns_are_windrive_bearings_on_the_kept_series(real_run, wind
         header = pq.read_schema(series).names
         assert header == ["time", TORQUE, *bearings.Bearings().channels(windrive)]  # recorded: no more
         command = [windrive, "bearings", series, "--gearbox", "grc750", "--component", "gearbox",
-                   "--transient", repr(row.transient), "--json"]  # fmt: skip
+                   "--transient", repr(row.transient), "--oil-temperature", "75", "--json"]  # fmt: skip
         theirs = json.loads(subprocess.run(command, capture_output=True, text=True, check=True).stdout)
+        # the oil reached the analysis: at windrive's default 65 °C a slow planet bearing's modified damage
+        # differs (a fast bearing's a_ISO may sit at its cap of 50 at both temperatures)
+        default = json.loads(subprocess.run(command[:-3] + ["--json"], capture_output=True, text=True,
+                                            check=True).stdout)  # fmt: skip
+        planet = GRC.index("planet_1_uw")
+        assert default[planet]["modified_damage"] < theirs[planet]["modified_damage"], "a warmer oil is thinner"
         assert [b["name"] for b in theirs] == GRC
         for b in theirs:
             for column, field in bearings.COLUMNS.items():
@@ -268,3 +279,17 @@ def test_the_lifetime_report_is_the_weighted_sum_of_the_table(real_run, tmp_path
             f"{hss_c.life_years:>13.4g} {100 * hss_c.events_share:>11.2f}   {hss_c.modified_damage:>13.4e} "
             f"{100 * hss_c.modified_events_share:>11.2f}   {hss_c.thesis_damage:>15.4e}") in r.stdout  # fmt: skip
     assert r.stdout.rstrip().endswith("lifetime_bearings.csv, lifetime_bearings.png")
+
+
+def test_the_oil_is_left_out_of_the_spec_unless_set():
+    """A [bearings] without oil keys gives the analysis the spec it always had (its digest unchanged); set
+    keys reach the spec and the probe's `windrive bearings` command as windrive's own flags."""
+    plain = bearings.Bearings()
+    assert plain.spec() == {"gearbox": "grc750", "component": "gearbox"}
+    assert "--oil-temperature" not in bearings.command("w", "s.csv", plain, 0.0)
+    oil = bearings.Bearings(oil_viscosity=(220.0, 19.0), oil_temperature=70.0, contamination=0.3)
+    assert oil.spec() == {"gearbox": "grc750", "component": "gearbox", "oil_viscosity": [220.0, 19.0],
+                          "oil_temperature": 70.0, "contamination": 0.3}  # fmt: skip
+    cmd = bearings.command("w", "s.csv", oil, 0.0)
+    for flag, value in [("--oil-viscosity", "220.0,19.0"), ("--oil-temperature", "70.0"), ("--contamination", "0.3")]:
+        assert cmd[cmd.index(flag) + 1] == value
