@@ -107,18 +107,8 @@ pub struct BearingsSpec {
 impl BearingsSpec {
     /// The oil these settings give, checked.
     fn lubrication(&self) -> Result<Lubrication, CaseError> {
-        let default = Lubrication::default();
-        let [viscosity_40, viscosity_100] = self
-            .oil_viscosity
-            .unwrap_or([default.viscosity_40, default.viscosity_100]);
-        let oil = Lubrication {
-            viscosity_40,
-            viscosity_100,
-            temperature_c: self.oil_temperature.unwrap_or(default.temperature_c),
-            contamination: self.contamination.unwrap_or(default.contamination),
-        };
-        oil.check().map_err(|e| CaseError::Spec(format!("bearings: {e}")))?;
-        Ok(oil)
+        Lubrication::given(self.oil_viscosity, self.oil_temperature, self.contamination)
+            .map_err(|e| CaseError::Spec(format!("bearings: {e}")))
     }
 }
 

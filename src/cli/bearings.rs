@@ -21,17 +21,18 @@ pub struct BearingsArgs {
     /// The scene's name of the gearbox6dof FMU, the channels' prefix
     #[arg(long, default_value = "gearbox")]
     pub component: String,
-    /// The oil's kinematic viscosity at 40 °C and 100 °C, mm²/s, for a_ISO (default: an ISO VG 320
-    /// mineral gear oil; an estimate, no source gives the gearbox's oil)
-    #[arg(long, value_name = "NU40,NU100", value_delimiter = ',', num_args = 2, default_values_t = [320.0, 24.0])]
-    pub oil_viscosity: Vec<f64>,
-    /// The bearings' operating temperature, °C, for a_ISO (an estimate; 50–80 °C is the range to try)
-    #[arg(long, default_value_t = 65.0)]
-    pub oil_temperature: f64,
-    /// ISO 281's contamination factor e_C, for a_ISO (an estimate: 0.8–0.6 normal cleanliness, 0.6–0.4
-    /// slight contamination for bearings of 100 mm pitch diameter and more)
-    #[arg(long, default_value_t = 0.5)]
-    pub contamination: f64,
+    /// The oil's kinematic viscosity at 40 °C and 100 °C, mm²/s, for a_ISO (default: 320,24, an ISO
+    /// VG 320 mineral gear oil; an estimate, no source gives the gearbox's oil)
+    #[arg(long, value_name = "NU40,NU100", value_delimiter = ',')]
+    pub oil_viscosity: Option<Vec<f64>>,
+    /// The bearings' operating temperature, °C, for a_ISO (default: 65, an estimate; 50–80 °C is the
+    /// range to try)
+    #[arg(long)]
+    pub oil_temperature: Option<f64>,
+    /// ISO 281's contamination factor e_C, for a_ISO (default: 0.5, an estimate: 0.8–0.6 normal
+    /// cleanliness, 0.6–0.4 slight contamination for bearings of 100 mm pitch diameter and more)
+    #[arg(long)]
+    pub contamination: Option<f64>,
     #[command(flatten)]
     pub rating: super::rating::RatingOptions,
 }
@@ -39,15 +40,13 @@ pub struct BearingsArgs {
 impl BearingsArgs {
     /// The lubrication the options give, checked.
     fn lubrication(&self) -> anyhow::Result<Lubrication> {
-        let oil = Lubrication {
-            viscosity_40: self.oil_viscosity[0],
-            viscosity_100: self.oil_viscosity[1],
-            temperature_c: self.oil_temperature,
-            contamination: self.contamination,
+        let viscosity = match self.oil_viscosity.as_deref() {
+            None => None,
+            Some(&[v40, v100]) => Some([v40, v100]),
+            Some(v) => anyhow::bail!("--oil-viscosity {v:?}: two values, ν at 40 °C and at 100 °C, e.g. 320,24"),
         };
-        oil.check()
-            .map_err(|e| anyhow::anyhow!("--oil-viscosity, --oil-temperature, --contamination: {e}"))?;
-        Ok(oil)
+        Lubrication::given(viscosity, self.oil_temperature, self.contamination)
+            .map_err(|e| anyhow::anyhow!("--oil-viscosity, --oil-temperature, --contamination: {e}"))
     }
 }
 

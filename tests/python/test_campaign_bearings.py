@@ -217,6 +217,10 @@ def test_bearing_columns_are_windrive_bearings_on_the_kept_series(real_run, wind
                                             check=True).stdout)  # fmt: skip
         planet = GRC.index("planet_1_uw")
         assert default[planet]["modified_damage"] < theirs[planet]["modified_damage"], "a warmer oil is thinner"
+        # the default spelled out in windrive bearings' own flags is the default
+        spelled = command[:-3] + ["--oil-viscosity", "320,24", "--oil-temperature", "65", "--contamination", "0.5",
+                                  "--json"]  # fmt: skip
+        assert json.loads(subprocess.run(spelled, capture_output=True, text=True, check=True).stdout) == default
         assert [b["name"] for b in theirs] == GRC
         for b in theirs:
             for column, field in bearings.COLUMNS.items():

@@ -231,6 +231,7 @@ impl RatedBearing {
         let (mut revolutions, mut damage, mut weighted, mut max_load) = (0.0, 0.0, 0.0, 0.0f64);
         let mut modified = 0.0;
         let pitch = self.rollers.pitch_diameter_mm;
+        let oil = oil.in_service();
         let loads: Vec<f64> = radial
             .iter()
             .zip(axial)
@@ -573,9 +574,10 @@ pub(crate) mod tests {
         assert_eq!(d.thesis_damage, 0.0, "a constant load has no load cycles");
         // L_nm at one speed and load: the damage over a_ISO at the rings' 66.8 r/min, κ at that speed
         let rpm = 2.0 * 3.5 * 60.0 / std::f64::consts::TAU;
-        let a = oil.factor(rpm, 225.0, b.fatigue_limit, 150e3);
+        let film = oil.in_service();
+        let a = film.factor(rpm, 225.0, b.fatigue_limit, 150e3);
         assert!((d.modified_damage / (d.damage / a) - 1.0).abs() < 1e-9);
-        assert!((d.viscosity_ratio / oil.viscosity_ratio(rpm, 225.0) - 1.0).abs() < 1e-9);
+        assert!((d.viscosity_ratio / film.viscosity_ratio(rpm, 225.0) - 1.0).abs() < 1e-9);
         assert!((d.modified_damage_per_day / (d.modified_damage * 8640.0) - 1.0).abs() < 1e-12);
         // the thesis's count: 500 full cycles between 0 and 150 kN (rainflow: 499.5 + the residue's
         // half cycles), each over (C/150 kN)^(10/3) million cycles

@@ -41,6 +41,25 @@ impl Default for Lubrication {
 }
 
 impl Lubrication {
+    /// The oil as given, each setting left out taking [`Lubrication::default`]'s, checked: what
+    /// `windrive bearings`' flags and a campaign's `[bearings]` both give.
+    pub fn given(
+        viscosity: Option<[f64; 2]>,
+        temperature_c: Option<f64>,
+        contamination: Option<f64>,
+    ) -> Result<Self, String> {
+        let d = Self::default();
+        let [viscosity_40, viscosity_100] = viscosity.unwrap_or([d.viscosity_40, d.viscosity_100]);
+        let oil = Self {
+            viscosity_40,
+            viscosity_100,
+            temperature_c: temperature_c.unwrap_or(d.temperature_c),
+            contamination: contamination.unwrap_or(d.contamination),
+        };
+        oil.check()?;
+        Ok(oil)
+    }
+
     /// Refuses conditions the formulas do not hold for, naming the value.
     pub fn check(&self) -> Result<(), String> {
         let Self {
@@ -75,9 +94,28 @@ impl Lubrication {
         10f64.powf(10f64.powf(y)) - 0.7
     }
 
+    /// The oil at its operating temperature, its viscosity computed once for a rating's every sample.
+    pub fn in_service(&self) -> InService {
+        InService {
+            viscosity: self.operating_viscosity(),
+            contamination: self.contamination,
+        }
+    }
+}
+
+/// An oil at its operating temperature: what a_ISO reads at each sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InService {
+    /// Kinematic viscosity, mm²/s.
+    pub viscosity: f64,
+    /// e_C.
+    pub contamination: f64,
+}
+
+impl InService {
     /// The viscosity ratio κ = ν/ν₁ of a bearing of pitch diameter `pitch_mm` turning at `rpm`.
     pub fn viscosity_ratio(&self, rpm: f64, pitch_mm: f64) -> f64 {
-        self.operating_viscosity() / reference_viscosity(rpm, pitch_mm)
+        self.viscosity / reference_viscosity(rpm, pitch_mm)
     }
 
     /// The life modification factor a_ISO of a roller bearing of fatigue load limit `fatigue_limit`
@@ -220,7 +258,7 @@ mod tests {
         let (below, above) = (reference_viscosity(999.999, 150.0), reference_viscosity(1000.0, 150.0));
         assert!(close(below, above, 0.024), "{below} against {above}");
         assert!(reference_viscosity(0.0, 150.0).is_infinite());
-        let oil = Lubrication::default();
+        let oil = Lubrication::default().in_service();
         assert!(oil.viscosity_ratio(50.0, 225.0) < oil.viscosity_ratio(500.0, 225.0));
     }
 
