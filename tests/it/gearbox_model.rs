@@ -291,6 +291,49 @@ fn misalignment_loads_one_end_of_the_face() {
     }
 }
 
+/// Without backlash a misalignment larger than the drive flank's compression brings the back flank
+/// into contact at the other end of the face. K_Hβ and the largest slice are then the drive flank's
+/// alone (ISO 6336's ratio on the flank carrying the torque): the back flank's slices neither add
+/// to its mean nor cancel its slices. With backlash the back flank stays clear.
+#[test]
+fn the_face_load_factor_is_the_loaded_flanks_when_both_flanks_touch() {
+    let mut d = stage_only(3);
+    planetary_mut(&mut d).toothing.lead_slope_um = 60.0;
+    for backlash in [0.0, 200.0] {
+        planetary_mut(&mut d).toothing.backlash_um = backlash;
+        let g = Gearbox::new(&d).unwrap();
+        let (q, v) = loaded(&g, 2e4, 0.0);
+        let loads = g.loads(&q, &v);
+        let mut at = 0;
+        for (m, r) in g.meshes.iter().zip(&loads.meshes) {
+            let s = &loads.slices[at..at + m.slices()];
+            at += m.slices();
+            let drive: Vec<f64> = s.iter().copied().filter(|&f| f > 0.0).collect();
+            let back: f64 = s.iter().filter(|&&f| f < 0.0).map(|f| -f).sum();
+            let largest = drive.iter().fold(0.0f64, |a, &f| a.max(f));
+            let mean = drive.iter().sum::<f64>() / s.len() as f64;
+            eprintln!(
+                "backlash {backlash} µm, {}: K_Hβ {:.3}, back flank {:.0} N of {:.0} N",
+                m.name,
+                r.face_load_factor,
+                back,
+                r.force + back
+            );
+            if backlash > 0.0 {
+                assert_eq!(back, 0.0, "{}", m.name);
+            } else {
+                assert!(back > 0.0, "{}: the back flank should touch", m.name);
+            }
+            assert!((r.max_slice - largest).abs() <= 1e-9 * largest, "{}", m.name);
+            assert!(
+                (r.face_load_factor - largest / mean).abs() <= 1e-9 * largest / mean,
+                "{}",
+                m.name
+            );
+        }
+    }
+}
+
 /// Spur gears with centred supports and no errors load the face symmetrically.
 #[test]
 fn spur_slices_are_symmetric_across_the_face() {

@@ -35,16 +35,14 @@ impl Gearbox {
     pub fn loads(&self, q: &[f64], v: &[f64]) -> Loads {
         let mut slices = vec![0.0; self.slice_count()];
         let flank = self.mesh_loads(q, v, &mut slices);
-        let mut at = 0;
         let meshes = self
             .meshes
             .iter()
             .zip(&flank)
             .zip(&self.contacts)
             .map(|((m, l), contact)| {
-                let mut r = m.report(q, l, &slices[at..at + m.slices()]);
+                let mut r = m.report(q, v, l);
                 r.contact = contact.at(r.max_slice);
-                at += m.slices();
                 r
             })
             .collect();

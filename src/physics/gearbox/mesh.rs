@@ -65,10 +65,12 @@ pub struct FlankLoad {
 pub struct MeshReport {
     /// Drive-flank minus back-flank total normal force, N.
     pub force: f64,
-    /// Largest slice load (N) and its position across the face (m from the centre).
+    /// Largest slice load of the loaded flank (N, negative on the back flank) and its position
+    /// across the face (m from the centre).
     pub max_slice: f64,
     pub max_position: f64,
-    /// Face load factor K_Hβ: largest over mean slice load (1 when unloaded).
+    /// Face load factor K_Hβ of the loaded flank: its largest over its mean slice load (1 when
+    /// unloaded).
     pub face_load_factor: f64,
     /// Mean compression at the face centre along the line of action (transmission error), m.
     pub transmission_error: f64,
@@ -126,34 +128,44 @@ impl Mesh {
         (rows[0].dot(q), rows[1].dot(q), rows[0].dot(v), rows[1].dot(v))
     }
 
+    /// Calls `each(j, force)` for every slice of one flank (0 drive, 1 back) in contact.
+    fn each_slice(&self, flank: usize, roll: Option<f64>, q: &[f64], v: &[f64], mut each: impl FnMut(usize, f64)) {
+        let (rows, errors, gap) = if flank == 0 {
+            (&self.drive, &self.error, 0.0)
+        } else {
+            (&self.back, &self.error_back, self.backlash)
+        };
+        let (d0, d1, r0, r1) = self.flank(rows, q, v);
+        for j in 0..self.slices() {
+            let z = self.zeta[j];
+            let d = d0 + z * d1 + errors[j] - gap;
+            if d > 0.0 {
+                each(j, self.slice_force(self.slice_stiffness(roll, j), d, r0 + z * r1));
+            }
+        }
+    }
+
     /// Adds the mesh's forces to f_int; per-slice loads into `slice` when given (drive positive,
-    /// back negative).
+    /// back negative; a slice whose flanks both touch, possible only without backlash, nets them).
     pub fn add_forces(&self, q: &[f64], v: &[f64], f_int: &mut [f64], mut slice: Option<&mut [f64]>) -> [FlankLoad; 2] {
         let roll = self.roll(q);
         if let Some(out) = slice.as_deref_mut() {
             out.iter_mut().for_each(|x| *x = 0.0);
         }
         let mut loads = [FlankLoad::default(); 2];
-        for (flank, (rows, errors)) in [(&self.drive, &self.error), (&self.back, &self.error_back)]
-            .into_iter()
-            .enumerate()
-        {
-            let (d0, d1, r0, r1) = self.flank(rows, q, v);
-            let gap = if flank == 0 { 0.0 } else { self.backlash };
-            for j in 0..self.slices() {
-                let z = self.zeta[j];
-                let d = d0 + z * d1 + errors[j] - gap;
-                if d > 0.0 {
-                    let f = self.slice_force(self.slice_stiffness(roll, j), d, r0 + z * r1);
-                    loads[flank].force += f;
-                    loads[flank].moment += z * f;
-                    if let Some(out) = slice.as_deref_mut() {
-                        out[j] += if flank == 0 { f } else { -f };
-                    }
+        for flank in 0..2 {
+            let sign = if flank == 0 { 1.0 } else { -1.0 };
+            let load = &mut loads[flank];
+            self.each_slice(flank, roll, q, v, |j, f| {
+                load.force += f;
+                load.moment += self.zeta[j] * f;
+                if let Some(out) = slice.as_deref_mut() {
+                    out[j] += sign * f;
                 }
-            }
-            rows[0].axpy(loads[flank].force, f_int);
-            rows[1].axpy(loads[flank].moment, f_int);
+            });
+            let rows = if flank == 0 { &self.drive } else { &self.back };
+            rows[0].axpy(load.force, f_int);
+            rows[1].axpy(load.moment, f_int);
         }
         loads
     }
@@ -207,22 +219,26 @@ impl Mesh {
         }
     }
 
-    /// The loads a user sees, from the per-slice loads `add_forces` wrote.
-    pub fn report(&self, q: &[f64], loads: &[FlankLoad; 2], slice: &[f64]) -> MeshReport {
+    /// The loads a user sees. The face load factor and the largest slice are the loaded flank's
+    /// (the one carrying more load): ISO 6336's K_Hβ is the ratio on the flank that transmits the
+    /// torque, and a slice of the other flank touching at the face's end (misalignment larger than
+    /// the backlash) neither adds to that flank's mean nor cancels its slices.
+    pub fn report(&self, q: &[f64], v: &[f64], loads: &[FlankLoad; 2]) -> MeshReport {
+        let flank = usize::from(loads[1].force > loads[0].force);
+        let sign = if flank == 0 { 1.0 } else { -1.0 };
         let (mut max, mut at) = (0.0f64, 0.0);
-        for (j, &f) in slice.iter().enumerate() {
-            if f.abs() > max.abs() {
+        self.each_slice(flank, self.roll(q), q, v, |j, f| {
+            if f > max {
                 max = f;
                 at = self.zeta[j];
             }
-        }
-        let total = loads[0].force + loads[1].force;
-        let mean = total / self.slices() as f64;
+        });
+        let mean = loads[flank].force / self.slices() as f64;
         MeshReport {
             force: loads[0].force - loads[1].force,
-            max_slice: max,
+            max_slice: sign * max,
             max_position: at,
-            face_load_factor: if mean > 0.0 { max.abs() / mean } else { 1.0 },
+            face_load_factor: if mean > 0.0 { max / mean } else { 1.0 },
             transmission_error: self.drive[0].dot(q),
             contact: ContactStress::default(),
         }
