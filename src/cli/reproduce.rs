@@ -58,7 +58,7 @@ pub fn run(args: &ReproduceArgs) -> anyhow::Result<()> {
     // a folder that cannot be made fails now, not after the scenes' minute of runs
     make_parent(&out)?;
     let report = report(&open_scene)?;
-    let text = report.markdown(&bands()?);
+    let text = report.markdown(&bands()?)?;
     let rows = &report.rows;
     print!("{text}");
     write(&out, &text)?;

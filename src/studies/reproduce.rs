@@ -344,18 +344,23 @@ pub struct Report {
 
 impl Report {
     /// docs/REPRODUCTION.md: the table ([`markdown`]), then the damage behind the 20-year rows. A row
-    /// the sensitivity campaign has no band for takes its oil band, if it has one.
-    pub fn markdown(&self, bands: &HashMap<String, Band>) -> String {
+    /// with an oil band takes the union of it and the sensitivity campaign's band (its verdict rests on
+    /// both the scenes' estimates and the oil), or the oil band alone before the campaign has varied it.
+    pub fn markdown(&self, bands: &HashMap<String, Band>) -> anyhow::Result<String> {
         let mut all = bands.clone();
-        for (quantity, band) in &self.oil_bands {
-            all.entry(quantity.clone()).or_insert_with(|| band.clone());
+        for (quantity, oil) in &self.oil_bands {
+            let band = match all.remove(quantity) {
+                Some(campaign) => campaign.union(oil.clone())?,
+                None => oil.clone(),
+            };
+            all.insert(quantity.clone(), band);
         }
         let mut s = markdown(&self.rows, &all);
         for ((normal, shutdown), life) in &self.lives {
             s.push('\n');
             s.push_str(&life.markdown(normal, shutdown));
         }
-        s
+        Ok(s)
     }
 }
 
