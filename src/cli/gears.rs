@@ -1,7 +1,9 @@
 //! `windrive gears`: every gear tooth of a gearbox rated from one series (ISO 6336 stresses, load
 //! cycles from the speeds, two-slope S-N, Miner) through [`crate::analysis::rating::gear_set`].
 
-use crate::analysis::rating::gear_set::{channels, fmu_mesh_force, gear_table, rate_series, table};
+use crate::analysis::rating::gear_set::{
+    channels, fmu_mesh_force, gear_table, rate_series, table, with_model_face_load,
+};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -24,6 +26,12 @@ pub struct GearsArgs {
     /// gearbox for --fmu gearbox6dof, as the repository's scenes name them]
     #[arg(long)]
     pub component: Option<String>,
+    /// The face load factor K_Hβ (K_Fβ = K_Hβ^N_F): `one` rates the nominal stresses, as the paper
+    /// does; `model` takes each sample's K_Hβ from gearbox6dof's face_load_factor_<mesh> outputs (its
+    /// sliced meshes' largest over mean slice load: misalignment from the shafts, bearings and carrier,
+    /// lead errors), with --fmu gearbox6dof
+    #[arg(long, default_value = "one", value_parser = ["one", "model"])]
+    pub face_load: String,
     #[command(flatten)]
     pub rating: super::rating::RatingOptions,
 }
@@ -37,6 +45,15 @@ pub fn run(args: &GearsArgs) -> anyhow::Result<()> {
             args.gearbox
         )
     })?;
+    let teeth = if args.face_load == "model" {
+        with_model_face_load(teeth).ok_or_else(|| {
+            anyhow::anyhow!(
+                "--face-load model reads gearbox6dof's face_load_factor_<mesh> outputs: use it with --fmu gearbox6dof"
+            )
+        })?
+    } else {
+        teeth
+    };
     args.rating.check()?;
     if args.rating.channels {
         println!("{}", channels(&teeth).join("\n"));

@@ -118,7 +118,8 @@ pub enum Command {
     /// Every gear tooth of a gearbox rated from one series, as the paper does it (its §1.3; docs/SOURCES.md §Paper).
     ///
     /// Per tooth: ISO 6336-2 contact and ISO 6336-3 root stress from the mesh force (nominal, no load
-    /// factors, as the paper's Eqs. 2–3), load cycles from the speeds (its Eq. 1), a two-slope S-N curve
+    /// factors, as the paper's Eqs. 2–3; with --face-load model each sample's K_Hβ from gearbox6dof's
+    /// sliced meshes), load cycles from the speeds (its Eq. 1), a two-slope S-N curve
     /// per material (ISO 6336-5 MQ; second slope 2m − 1), Miner's sum in the window and per day (the
     /// window's damage repeated over 86 400 s). Sun and ring teeth see every planet; planets bend both
     /// ways (Y_M = 0.7) and have a flank against the sun (ps) and one against the ring (pr).
@@ -128,6 +129,7 @@ pub enum Command {
     ///   windrive gears p.csv --transient 20
     ///   windrive gears p.csv --transient 20 --json
     ///   windrive gears g.csv --fmu gearbox6dof --transient 20
+    ///   windrive gears g.csv --fmu gearbox6dof --face-load model --transient 20
     ///   windrive gears --channels
     #[command(verbatim_doc_comment)]
     Gears(gears::GearsArgs),

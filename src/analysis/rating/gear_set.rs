@@ -118,6 +118,10 @@ pub struct RatedTooth {
     /// Rate the flank (pitting) and/or the root (bending) of this tooth in this mesh.
     pub flank: bool,
     pub root: bool,
+    /// The channel of the mesh's face load factor K_Hβ sample by sample (gearbox6dof's
+    /// `face_load_factor_<mesh>`, [`with_model_face_load`]); None rates with K_Hβ = K_Fβ = 1, the
+    /// nominal stresses.
+    pub face_load: Option<String>,
 }
 
 /// A tooth's result over one series.
@@ -177,8 +181,28 @@ impl RatedTooth {
         Ok((r.form_factor, r.stress_correction))
     }
 
-    /// Rates the tooth over time `t` with its mesh force and speed channels.
+    /// Rates the tooth over time `t` with its mesh force and speed channels (K_Hβ = 1).
     pub fn rate(&self, t: &[f64], force: &[f64], speed: &[f64]) -> Result<ToothDamage, GearSetError> {
+        self.rate_with(t, force, speed, None)
+    }
+
+    /// ISO 6336-3's exponent N_F of K_Fβ = K_Hβ^N_F: (b/h)² / (1 + b/h + (b/h)²), h the tooth depth
+    /// (2.25 m_n for the standard basic rack) and b/h not below 3.
+    pub fn root_face_exponent(&self) -> f64 {
+        let bh = (self.pair.face_width / (2.25 * self.pair.module)).max(3.0);
+        bh * bh / (1.0 + bh + bh * bh)
+    }
+
+    /// [`rate`](Self::rate) with the face load factor K_Hβ of each sample when given (`face_load`):
+    /// σ_H ∝ √(F·K_Hβ), σ_F ∝ F·K_Hβ^N_F. A sample's K_Hβ below 1 or not finite is taken as 1 (the model
+    /// writes 1 for an unloaded mesh; max over mean slice load is never below 1).
+    pub fn rate_with(
+        &self,
+        t: &[f64],
+        force: &[f64],
+        speed: &[f64],
+        face_load: Option<&[f64]>,
+    ) -> Result<ToothDamage, GearSetError> {
         // the form factors only matter to the root; a flank-only rating of the planet against the
         // ring would otherwise ask for the root form of an internal pair's pinion
         let (y_f, y_s) = if self.root {
@@ -201,20 +225,22 @@ impl RatedTooth {
         // the pair's geometry (an involute-function inversion) three times a sample
         let unit = stress.tangential(1.0, self.force_kind);
         let (c_h, c_f) = (stress.contact(unit), stress.bending(unit));
+        let n_f = self.root_face_exponent();
         let (mut cycles, mut dh, mut df, mut max_h, mut max_f) = (0.0, 0.0, 0.0, 0.0f64, 0.0f64);
         for (j, (_dt, revs)) in sample_revolutions(t, speed).enumerate() {
             let n = revs * self.cycles.factor;
             cycles += n;
+            let k_h_beta = face_load.map_or(1.0, |k| if k[j].is_finite() { k[j].max(1.0) } else { 1.0 });
             let f = force[j].abs();
             if self.flank {
-                let s = c_h * f.sqrt();
+                let s = c_h * (f * k_h_beta).sqrt();
                 max_h = max_h.max(s);
                 if s > 0.0 {
                     dh += n / self.material.contact.cycles_to_failure(s / limit_h);
                 }
             }
             if self.root {
-                let s = c_f * f;
+                let s = c_f * f * if k_h_beta > 1.0 { k_h_beta.powf(n_f) } else { 1.0 };
                 max_f = max_f.max(s);
                 if s > 0.0 {
                     df += n / self.material.bending.cycles_to_failure(s / limit_f);
@@ -247,7 +273,14 @@ impl RatedTooth {
 pub fn channels(teeth: &[RatedTooth]) -> Vec<&str> {
     let mut names: Vec<&str> = Vec::new();
     for tooth in teeth {
-        for c in [tooth.force.as_str(), tooth.cycles.speed.as_str()] {
+        for c in [
+            Some(tooth.force.as_str()),
+            Some(tooth.cycles.speed.as_str()),
+            tooth.face_load.as_deref(),
+        ]
+        .into_iter()
+        .flatten()
+        {
             if !names.contains(&c) {
                 names.push(c);
             }
@@ -274,8 +307,30 @@ pub fn rate_columns<'a>(
 ) -> Result<Vec<ToothDamage>, GearSetError> {
     teeth
         .iter()
-        .map(|tooth| tooth.rate(t, column(&tooth.force), column(&tooth.cycles.speed)))
+        .map(|tooth| {
+            tooth.rate_with(
+                t,
+                column(&tooth.force),
+                column(&tooth.cycles.speed),
+                tooth.face_load.as_deref().map(&column),
+            )
+        })
         .collect()
+}
+
+/// `teeth` rated with each sample's face load factor K_Hβ from the gearbox6dof FMU: the channel
+/// `face_load_factor_<mesh>` beside each tooth's `mesh_force_<mesh>` (the most loaded slice over the
+/// mean of the flank carrying the load, which the sliced mesh computes from the shafts' and bearings'
+/// deflections, the lead errors and the misalignment). None when a tooth's force is no gearbox6dof
+/// mesh force.
+pub fn with_model_face_load(mut teeth: Vec<RatedTooth>) -> Option<Vec<RatedTooth>> {
+    for tooth in &mut teeth {
+        if tooth.force_kind != MeshForce::Normal || !tooth.force.contains("mesh_force_") {
+            return None;
+        }
+        tooth.face_load = Some(tooth.force.replacen("mesh_force_", "face_load_factor_", 1));
+    }
+    Some(teeth)
 }
 
 /// Which FMU's mesh forces a series holds: the kind of force and the name the repository's scenes give
@@ -374,6 +429,7 @@ pub fn description_table(d: &Description, component: &str, force_kind: MeshForce
                 },
                 flank: true,
                 root: true,
+                face_load: None,
             }
         };
         match stage {
@@ -702,6 +758,53 @@ mod tests {
             let helical = a.pair.helix_angle > 0.0;
             assert_eq!(helical, (cos_beta_b - 1.0).abs() > 1e-3, "{}", a.name);
         }
+    }
+
+    /// With the model's face load factor a tooth is rated as under a force larger by K_Hβ on the flank
+    /// (σ_H ∝ √(F·K_Hβ)) and by K_Hβ^N_F at the root (ISO 6336-3's K_Fβ), to rounding; N_F follows
+    /// ISO 6336-3's (b/h)²/(1 + b/h + (b/h)²). A K_Hβ below 1 or not finite counts as 1.
+    #[test]
+    fn the_models_face_load_factor_rates_as_a_larger_force() {
+        let (w, t_end, f, k) = (1.8, 60.0, 1.1e5, 1.37);
+        let teeth = with_model_face_load(paper_1p5mw("gearbox", MeshForce::Normal)).unwrap();
+        let n = 601;
+        let t: Vec<f64> = (0..n).map(|i| t_end * i as f64 / (n - 1) as f64).collect();
+        let speed = vec![w; n];
+        for tooth in &teeth {
+            let channel = tooth.face_load.as_deref().unwrap();
+            assert_eq!(channel, tooth.force.replace("mesh_force_", "face_load_factor_"));
+            let bh = (tooth.pair.face_width / (2.25 * tooth.pair.module)).max(3.0);
+            let n_f = tooth.root_face_exponent();
+            assert!((n_f - bh * bh / (1.0 + bh + bh * bh)).abs() < 1e-15 && n_f > 0.7 && n_f < 1.0);
+            let with = tooth.rate_with(&t, &vec![f; n], &speed, Some(&vec![k; n])).unwrap();
+            let flank = tooth.rate(&t, &vec![f * k; n], &speed).unwrap();
+            let root = tooth.rate(&t, &vec![f * k.powf(n_f); n], &speed).unwrap();
+            let close = |x: f64, y: f64| (x - y).abs() <= 1e-12 * x.abs().max(1e-300);
+            if tooth.flank {
+                assert!(
+                    close(with.max_contact_stress, flank.max_contact_stress),
+                    "{}",
+                    tooth.name
+                );
+                assert!(close(with.flank_damage, flank.flank_damage), "{}", tooth.name);
+            }
+            if tooth.root {
+                assert!(close(with.max_root_stress, root.max_root_stress), "{}", tooth.name);
+                assert!(close(with.root_damage, root.root_damage), "{}", tooth.name);
+            }
+            let plain = tooth.rate(&t, &vec![f; n], &speed).unwrap();
+            let odd: Vec<f64> = (0..n).map(|i| [0.5, f64::NAN, 1.0, f64::INFINITY][i % 4]).collect();
+            let ones = tooth.rate_with(&t, &vec![f; n], &speed, Some(&odd)).unwrap();
+            assert_eq!(
+                (ones.max_contact_stress, ones.max_root_stress),
+                (plain.max_contact_stress, plain.max_root_stress),
+                "{}",
+                tooth.name
+            );
+        }
+        assert!(with_model_face_load(paper_1p5mw("torsional", MeshForce::Transverse)).is_none());
+        let names = channels(&teeth);
+        assert!(names.contains(&"gearbox.face_load_factor_sun_planet_1"), "{names:?}");
     }
 
     /// Y_F and Y_S land in ISO 6336-3's usual band (Y_F 1.1–1.4, Y_S 1.9–2.6 at the outer point of
