@@ -17,6 +17,8 @@ import pytest
     (["aero", "--preset", "Z"], ["Z", "A, B, C, D or P"]),
     (["step-response", "--fmu", "/nonexistent/x.fmu", "--out", "/tmp/windrive-x.csv"], ["/nonexistent/x.fmu"]),
     (["gearbox", "--bearings", "balls"], ["balls", "linear or lamina"]),
+    (["gears", "s.csv", "--face-load", "model"], ["--face-load model", "--fmu gearbox6dof"]),
+    (["gears", "s.csv", "--face-load", "iso"], ["iso", "one", "model"]),
     (["bearings", "s.csv", "--contamination", "2"], ["--contamination", "e_C 2", "0 to 1"]),
     (["bearings", "s.csv", "--oil-viscosity", "24,320"], ["--oil-viscosity", "24 mm²/s at 40 °C"]),
     (["bearings", "s.csv", "--oil-viscosity", "320"], ["--oil-viscosity [320.0]", "two values"]),

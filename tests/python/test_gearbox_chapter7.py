@@ -60,3 +60,34 @@ def test_the_page_holds_the_table_the_commands_give(chapter7):
                       re.DOTALL)
     assert block, "docs/GEARBOX.md lost the GRC chapter-7 table's markers"
     assert block.group(1) == out, "rerun the commands above the table in docs/GEARBOX.md and paste their output"
+
+
+def test_the_face_load_table_is_what_windrive_gears_gives(windrive, chapter7):
+    """docs/GEARBOX.md's `--face-load model` table: each tooth's largest contact stress with K_Hβ = 1 and
+    with the model's, and the ratio of their flank damage, from `windrive gears` on the chapter-7 series;
+    and the rated point's K_Hβ of the sun and intermediate meshes that the page names."""
+    series = chapter7[0]
+
+    def rated(face_load):
+        out = subprocess.run([windrive, "gears", str(series), "--gearbox", "grc750", "--fmu", "gearbox6dof",
+                              "--face-load", face_load, "--json"], check=True, capture_output=True, text=True).stdout
+        return {t["name"]: t for t in json.loads(out)}
+
+    one, model = rated("one"), rated("model")
+    page = (ROOT / "docs" / "GEARBOX.md").read_text()
+    block = re.search(r"<!-- GRC face load: [^\n]*-->\n(.*?)<!-- end of GRC face load -->", page, re.DOTALL)
+    assert block, "docs/GEARBOX.md lost the face-load table's markers"
+    rows = [[c.strip() for c in line.strip("|").split("|")] for line in block.group(1).splitlines()[2:]]
+    assert len(rows) == 4
+    for tooth, plain, with_model, ratio in rows:
+        name = tooth.split()[0]
+        assert plain == f"{one[name]['max_contact_stress'] / 1e6:.0f}", tooth
+        assert with_model == f"{model[name]['max_contact_stress'] / 1e6:.0f}", tooth
+        times = model[name]["flank_damage"] / one[name]["flank_damage"]
+        assert ratio == f"{float(f'{times:.2g}'):g}×", tooth
+        assert model[name]["max_contact_stress"] >= one[name]["max_contact_stress"], tooth
+
+    meshes = {m["name"]: m["face_load_factor"] for m in json.loads(chapter7[1].read_text())["meshes"]}
+    suns = [meshes[f"sun_planet_{p}"] for p in (1, 2, 3)]
+    text = " ".join(page.split())
+    assert f"K_Hβ as {min(suns):.2f}–{max(suns):.2f} and {meshes['gear_pinion_1']:.2f}" in text
