@@ -35,10 +35,22 @@ class Gears:
     table: str
     fmu: str = DEFAULT_FMU
     component: str = FMUS[DEFAULT_FMU]
+    # the face load factor K_Hβ: "one" (nominal stresses, as the paper) or "model" (each sample's from
+    # gearbox6dof's face_load_factor_<mesh>, `windrive gears --face-load model`)
+    face_load: str = "one"
 
     def options(self) -> list[str]:
-        """The table, FMU and component as `windrive gears` takes them."""
-        return ["--gearbox", self.table, "--fmu", self.fmu, "--component", self.component]
+        """The table, FMU, component and face load as `windrive gears` takes them."""
+        face_load = ["--face-load", self.face_load] if self.face_load != "one" else []
+        return ["--gearbox", self.table, "--fmu", self.fmu, "--component", self.component, *face_load]
+
+    def spec(self) -> dict:
+        """As the analysis spec holds it: the face load only when set, so campaigns without it keep their
+        digests."""
+        spec = {"table": self.table, "fmu": self.fmu, "component": self.component}
+        if self.face_load != "one":
+            spec["face_load"] = self.face_load
+        return spec
 
     def channels(self, windrive: str) -> tuple[str, ...]:
         """What `windrive gears` reads: the mesh forces and the rotor speed (rating.channels)."""

@@ -51,7 +51,7 @@ class RunSpec:
         """The `--analyse` spec of a case (src/analysis/case.rs reads it)."""
         spec: dict = {"transient": transient, "feq": self.feq, "channels": [dataclasses.asdict(c) for c in self.channels]}
         if self.gears is not None:
-            spec["gears"] = dataclasses.asdict(self.gears)
+            spec["gears"] = self.gears.spec()
         if self.bearings is not None:
             spec["bearings"] = self.bearings.spec()
         return spec

@@ -120,7 +120,7 @@ class Campaign:
         spec = {"channels": [asdict(c) for c in self.channels], "feq": self.feq}
         if self.gears is not None:  # only when rated: the digests of campaigns without [gears] stay as they were
             g = self.gears
-            spec["gears"] = g.table if g == gears_mod.Gears(g.table) else asdict(g)
+            spec["gears"] = g.table if g == gears_mod.Gears(g.table) else g.spec()
         if self.bearings is not None:  # likewise: campaigns without [bearings] keep their digests
             spec["bearings"] = self.bearings.spec()
         return spec
@@ -404,12 +404,16 @@ class _Reader:
         if t is None:
             return None
         key = ("gears",)
-        self.check_keys(t, key, ("table", "fmu", "component"))
+        self.check_keys(t, key, ("table", "fmu", "component", "face_load"))
         table = self.description(t, key, "table")
         if table is None:
             self.fail(key + ("table",), "missing (the gear table: P, a gearbox6dof preset or a description file)")
         fmu = self.string(t, key, "fmu", choices=tuple(gears_mod.FMUS)) or gears_mod.DEFAULT_FMU
-        return gears_mod.Gears(table, fmu, self.component(t, key, "component", gears_mod.FMUS[fmu]))
+        face_load = self.string(t, key, "face_load", choices=("one", "model")) or "one"
+        if face_load == "model" and fmu != "gearbox6dof":
+            self.fail(key + ("face_load",), "model reads gearbox6dof's face_load_factor_<mesh> outputs: "
+                                             'set fmu = "gearbox6dof"')  # fmt: skip
+        return gears_mod.Gears(table, fmu, self.component(t, key, "component", gears_mod.FMUS[fmu]), face_load)
 
     def bearings(self, doc: dict) -> bearings_mod.Bearings | None:
         t = self.table(doc, (), "bearings")

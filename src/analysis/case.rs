@@ -21,7 +21,7 @@ use crate::analysis::fatigue::ldd::sample_revolutions;
 use crate::analysis::fatigue::matrix::Bins;
 use crate::analysis::fatigue::rainflow::Counter;
 use crate::analysis::rating::bearing_set::{BearingSetError, BearingTable};
-use crate::analysis::rating::gear_set::{GearSetError, fmu_mesh_force, gear_table, rate_columns};
+use crate::analysis::rating::gear_set::{GearSetError, fmu_mesh_force, gear_table, rate_columns, with_model_face_load};
 use crate::analysis::rating::life_modification::Lubrication;
 use serde::Deserialize;
 use serde::ser::{Serialize, SerializeMap, Serializer};
@@ -79,6 +79,9 @@ pub struct GearsSpec {
     pub fmu: String,
     /// That FMU's name in the scene [default: as the repository's scenes name it].
     pub component: Option<String>,
+    /// The face load factor K_Hβ: `one` (nominal stresses) or `model` (each sample's from gearbox6dof,
+    /// `windrive gears --face-load model`) [default: one].
+    pub face_load: Option<String>,
 }
 
 fn torsional() -> String {
@@ -213,10 +216,16 @@ impl CaseSpec {
                 ));
             }
         }
-        if let Some(g) = &self.gears
-            && fmu_mesh_force(&g.fmu).is_none()
-        {
-            return bad(format!("gears.fmu {:?}: use torsional or gearbox6dof", g.fmu));
+        if let Some(g) = &self.gears {
+            if fmu_mesh_force(&g.fmu).is_none() {
+                return bad(format!("gears.fmu {:?}: use torsional or gearbox6dof", g.fmu));
+            }
+            match g.face_load.as_deref() {
+                None | Some("one") => {}
+                Some("model") if g.fmu == "gearbox6dof" => {}
+                Some("model") => return bad("gears.face_load \"model\" needs gears.fmu \"gearbox6dof\"".into()),
+                Some(other) => return bad(format!("gears.face_load {other:?}: use one or model")),
+            }
         }
         Ok(())
     }
@@ -231,8 +240,14 @@ pub fn analyse(time: &[f64], names: &[String], columns: &[Vec<f64>], spec: &Case
         .map(|g| {
             let (kind, default_component) = fmu_mesh_force(&g.fmu).expect("checked");
             let component = g.component.as_deref().unwrap_or(default_component);
-            gear_table(&g.table, component, kind)
-                .map_err(|e| CaseError::Spec(format!("gears.table {:?}: {e}", g.table)))
+            let teeth = gear_table(&g.table, component, kind)
+                .map_err(|e| CaseError::Spec(format!("gears.table {:?}: {e}", g.table)))?;
+            if g.face_load.as_deref() == Some("model") {
+                with_model_face_load(teeth)
+                    .ok_or_else(|| CaseError::Spec(format!("gears.table {:?}: no gearbox6dof mesh forces", g.table)))
+            } else {
+                Ok(teeth)
+            }
         })
         .transpose()?;
     let bearings = spec
@@ -378,6 +393,8 @@ fn short(m: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::analysis::rating::gear::MeshForce;
+    use crate::analysis::rating::gear_set::channels;
 
     fn spec(json_channels: Vec<ChannelSpec>, transient: f64, feq: f64) -> CaseSpec {
         CaseSpec {
@@ -481,6 +498,61 @@ mod tests {
         )
         .unwrap();
         assert_eq!(number(&row, "analysed_s"), 1.0);
+    }
+
+    /// [gears]' face load: `model` rates every tooth with its mesh's face_load_factor channel, as
+    /// `windrive gears --face-load model` (the same rate_columns on the same columns); `one` or unset
+    /// rates the nominal stresses; `model` on the torsional FMU's forces, or another word, is named.
+    #[test]
+    fn the_gears_face_load_is_the_models_when_asked() {
+        let parse = |json: &str| serde_json::from_str::<GearsSpec>(json).unwrap();
+        let t: Vec<f64> = (0..=2000).map(|i| i as f64 * 5e-3).collect();
+        let teeth = with_model_face_load(gear_table("grc750", "gearbox", MeshForce::Normal).unwrap()).unwrap();
+        let names: Vec<String> = channels(&teeth).iter().map(|c| c.to_string()).collect();
+        let columns: Vec<Vec<f64>> = names
+            .iter()
+            .map(|n| {
+                t.iter()
+                    .map(|&x| {
+                        if n.contains("face_load_factor_") {
+                            1.3 + 0.2 * (3.0 * x).sin()
+                        } else if n.contains("mesh_force_") {
+                            2e5 * (1.0 + 0.3 * (2.0 * x).cos())
+                        } else {
+                            2.3
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        let run = |gears: &str| {
+            let mut s = spec(vec![], 1.0, 1.0);
+            s.gears = Some(parse(gears));
+            analyse(&t, &names, &columns, &s)
+        };
+        let model = run(r#"{"table": "grc750", "fmu": "gearbox6dof", "face_load": "model"}"#).unwrap();
+        let nominal = run(r#"{"table": "grc750", "fmu": "gearbox6dof"}"#).unwrap();
+        assert_eq!(
+            format!(
+                "{:?}",
+                run(r#"{"table": "grc750", "fmu": "gearbox6dof", "face_load": "one"}"#).unwrap()
+            ),
+            format!("{nominal:?}")
+        );
+        let from = t.iter().position(|&x| x >= 1.0).unwrap();
+        let column = |n: &str| &columns[names.iter().position(|c| c == n).unwrap()][from..];
+        for r in rate_columns(&teeth, &t[from..], column).unwrap() {
+            let key = format!("gear.{}.flank_day", r.name);
+            if r.flank_damage_per_day.is_nan() {
+                continue;
+            }
+            assert_eq!(number(&model, &key), r.flank_damage_per_day, "{key}");
+            assert!(number(&model, &key) > number(&nominal, &key), "{key}");
+        }
+        let torsional = run(r#"{"table": "P", "face_load": "model"}"#);
+        assert!(matches!(torsional, Err(CaseError::Spec(m)) if m.contains("gearbox6dof")));
+        let other = run(r#"{"table": "grc750", "fmu": "gearbox6dof", "face_load": "iso"}"#);
+        assert!(matches!(other, Err(CaseError::Spec(m)) if m.contains("\"iso\"")));
     }
 
     /// [bearings]' oil: unset keys take windrive's estimate, set ones replace it, and a value the

@@ -56,7 +56,7 @@ rotor.wind_speed = [11.5, 18.0]
     "text, message, line",
     [
         (campaign(tables=TWO_GRIDS + '[gears]\ntable = "no/such.toml"'), "gears.table: ", 14),
-        (campaign(tables=TWO_GRIDS + '[gears]\ntabel = "P"'), "gears.tabel: unknown key (known here: table, fmu, component)", 14),
+        (campaign(tables=TWO_GRIDS + '[gears]\ntabel = "P"'), "gears.tabel: unknown key (known here: table, fmu, component, face_load)", 14),
         (campaign(tables=TWO_GRIDS + "[gears]\ntable = 1"), "gears.table: must be a non-empty string", 14),
         (campaign(tables=TWO_GRIDS + "[gears]"),
          "gears.table: missing (the gear table: P, a gearbox6dof preset or a description file)", 13),
@@ -65,6 +65,10 @@ rotor.wind_speed = [11.5, 18.0]
         (campaign(tables=TWO_GRIDS + '[gears]\ntable = "P"\nfmu = "simpack"'),
          "gears.fmu: must be one of torsional, gearbox6dof, not 'simpack'", 15),
         (campaign(top='gears = "P"'), "gears: must be a table, not a string", 3),
+        (campaign(tables=TWO_GRIDS + '[gears]\ntable = "P"\nface_load = "iso"'),
+         "gears.face_load: must be one of one, model, not 'iso'", 15),
+        (campaign(tables=TWO_GRIDS + '[gears]\ntable = "P"\nface_load = "model"'),
+         "gears.face_load: model reads gearbox6dof's face_load_factor_<mesh> outputs", 15),
         (campaign(tables=TWO_GRIDS + "[[grid]]\n"), "grid[3]: no axis", 13),
         (campaign(tables=TWO_GRIDS.replace('["none"]', '"none"')), "grid[2].rotor.turbulence: a grid axis is a", 11),
         (campaign(tables=TWO_GRIDS.replace("[0.09, 0.14]\n[[grid]]", "[0.09, 0.14]\nspeed = [1]\n[[grid]]")),
@@ -119,6 +123,26 @@ def test_a_gearbox6dof_preset_is_a_gear_table(tmp_path, windrive):
     assert "gearbox.mesh_force_gear_pinion_2" in channels and "gearbox.mesh_force_sun_planet2_1" not in channels
     assert c.gears.channels(windrive) == tuple(channels)
     assert driver.recorded(c, windrive) == ["torsional.lss_torque", *channels]
+
+
+def test_the_models_face_load_is_asked_for_and_read(tmp_path, windrive):
+    """face_load = "model" rates with each sample's K_Hβ from gearbox6dof (`windrive gears --face-load
+    model`): the spec says so, the cases record the face_load_factor channels windrive says it reads, and
+    "one" is the unset default, which leaves the spec and digest as they were."""
+    section = '[grid]\nrotor.wind_speed = [11.5]\n[gears]\ntable = "grc750"\nfmu = "gearbox6dof"\n'
+    plain = schema.load(write_campaign(tmp_path, campaign(tables=section), "a.toml"))
+    one = schema.load(write_campaign(tmp_path, campaign(tables=section + 'face_load = "one"'), "b.toml"))
+    model = schema.load(write_campaign(tmp_path, campaign(tables=section + 'face_load = "model"'), "c.toml"))
+    assert plain.gears == one.gears and plain.analysis_digest() == one.analysis_digest()
+    assert model.gears == gears.Gears("grc750", "gearbox6dof", "gearbox", "model")
+    assert model.analysis_spec()["gears"] == {"table": "grc750", "fmu": "gearbox6dof", "component": "gearbox",
+                                              "face_load": "model"}
+    assert model.analysis_digest() != plain.analysis_digest()
+    channels = listed(windrive, "--gearbox", "grc750", "--fmu", "gearbox6dof", "--component", "gearbox",
+                      "--face-load", "model")
+    assert "gearbox.face_load_factor_sun_planet_1" in channels
+    assert model.gears.channels(windrive) == tuple(channels)
+    assert set(plain.gears.channels(windrive)) < set(channels)
 
 
 def test_a_description_file_is_relative_to_the_campaign_file(tmp_path, windrive):
