@@ -128,13 +128,18 @@ impl Mesh {
         (rows[0].dot(q), rows[1].dot(q), rows[0].dot(v), rows[1].dot(v))
     }
 
-    /// Calls `each(j, force)` for every slice of one flank (0 drive, 1 back) in contact.
-    fn each_slice(&self, flank: usize, roll: Option<f64>, q: &[f64], v: &[f64], mut each: impl FnMut(usize, f64)) {
-        let (rows, errors, gap) = if flank == 0 {
+    /// Flank 0 (drive) or 1 (back): its rows, its lead errors and the gap it closes before contact.
+    fn flank_parts(&self, flank: usize) -> (&[Row; 2], &[f64], f64) {
+        if flank == 0 {
             (&self.drive, &self.error, 0.0)
         } else {
             (&self.back, &self.error_back, self.backlash)
-        };
+        }
+    }
+
+    /// Calls `each(j, force)` for every slice of one flank (0 drive, 1 back) in contact.
+    fn each_slice(&self, flank: usize, roll: Option<f64>, q: &[f64], v: &[f64], mut each: impl FnMut(usize, f64)) {
+        let (rows, errors, gap) = self.flank_parts(flank);
         let (d0, d1, r0, r1) = self.flank(rows, q, v);
         for j in 0..self.slices() {
             let z = self.zeta[j];
@@ -163,7 +168,7 @@ impl Mesh {
                     out[j] += sign * f;
                 }
             });
-            let rows = if flank == 0 { &self.drive } else { &self.back };
+            let rows = self.flank_parts(flank).0;
             rows[0].axpy(load.force, f_int);
             rows[1].axpy(load.moment, f_int);
         }
@@ -173,12 +178,9 @@ impl Mesh {
     /// j += c_c·C_t + c_k·K_t of this mesh at (q, v).
     pub fn add_tangent(&self, q: &[f64], v: &[f64], c_c: f64, c_k: f64, jac: &mut DMatrix<f64>) {
         let roll = self.roll(q);
-        for (flank, (rows, errors)) in [(&self.drive, &self.error), (&self.back, &self.error_back)]
-            .into_iter()
-            .enumerate()
-        {
+        for flank in 0..2 {
+            let (rows, errors, gap) = self.flank_parts(flank);
             let (d0, d1, r0, r1) = self.flank(rows, q, v);
-            let gap = if flank == 0 { 0.0 } else { self.backlash };
             let mut s = [0.0; 3];
             for j in 0..self.slices() {
                 let z = self.zeta[j];
@@ -201,12 +203,9 @@ impl Mesh {
     /// has the larger of its two possible pair counts.
     pub fn key(&self, q: &[f64], bits: &mut KeyBits) {
         let roll = self.roll(q);
-        for (flank, (rows, errors)) in [(&self.drive, &self.error), (&self.back, &self.error_back)]
-            .into_iter()
-            .enumerate()
-        {
+        for flank in 0..2 {
+            let (rows, errors, gap) = self.flank_parts(flank);
             let (d0, d1) = (rows[0].dot(q), rows[1].dot(q));
-            let gap = if flank == 0 { 0.0 } else { self.backlash };
             for j in 0..self.slices() {
                 let d = d0 + self.zeta[j] * d1 + errors[j] - gap;
                 bits.push(d > 0.0);
