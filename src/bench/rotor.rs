@@ -12,7 +12,7 @@ use super::best_of;
 use crate::physics::aero::AIR_DENSITY;
 use crate::physics::bem::BemRotor;
 use crate::physics::blade::Blade;
-use crate::physics::blades::BladeSampling;
+use crate::physics::blades::{BladeSampling, DiscMotion};
 use crate::physics::drivetrain::Drivetrain;
 use crate::physics::turbulence::Variance;
 use crate::physics::wind_field::{FieldSpec, Grid, generate};
@@ -54,7 +54,7 @@ pub fn setup(blade_dir: &std::path::Path) -> anyhow::Result<Setup> {
     let omega = Drivetrain::preset("C").expect("preset C").rated_rotor_speed;
     // the load table's columns at the loops' pitch are solved on first read (in the FMU as well): here,
     // so the loops time the reads a step costs, not that one-off
-    sampling.loads(&bem, 0.0, 0.0, omega, PITCH);
+    sampling.loads(&bem, 0.0, 0.0, omega, PITCH, DiscMotion::default());
     Ok(Setup { bem, sampling, omega })
 }
 
@@ -76,7 +76,9 @@ pub fn blades_steps(s: &Setup, n: usize) -> f64 {
     (0..n)
         .map(|k| {
             let t = k as f64 * DT;
-            s.sampling.loads(&s.bem, t, s.omega * t, s.omega, PITCH).torque
+            s.sampling
+                .loads(&s.bem, t, s.omega * t, s.omega, PITCH, DiscMotion::default())
+                .torque
         })
         .sum()
 }
@@ -87,7 +89,9 @@ pub fn solved_steps(s: &Setup, n: usize) -> f64 {
     (0..n)
         .map(|k| {
             let t = k as f64 * DT;
-            s.sampling.loads_solved(&s.bem, t, s.omega * t, s.omega, PITCH).torque
+            s.sampling
+                .loads_solved(&s.bem, t, s.omega * t, s.omega, PITCH, DiscMotion::default())
+                .torque
         })
         .sum()
 }

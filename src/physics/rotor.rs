@@ -4,7 +4,7 @@
 
 use super::aero::{AIR_DENSITY, PitchController, PitchState, Rotor, power_coefficient};
 use super::bem::BemRotor;
-use super::blades::BladeSampling;
+use super::blades::{BladeSampling, DiscMotion};
 use super::drivetrain::Drivetrain;
 use super::turbulence::TurbulenceSeries;
 use serde::{Deserialize, Serialize};
@@ -321,11 +321,13 @@ impl RotorModel {
         }
     }
 
-    pub fn outputs(&self, rotor_speed: f64) -> RotorOutputs {
+    /// Outputs at the model's time with the rotor turning at `rotor_speed` (rad/s) and its disc moving
+    /// as `disc` (read by the sampling blades only: a rotor-averaged wind has no elements to move).
+    pub fn outputs(&self, rotor_speed: f64, disc: DiscMotion) -> RotorOutputs {
         let t = self.time;
         let pitch = self.state.pitch;
         if let (Some((blades, bem)), Source::Aero { tilt, .. }) = (self.sampled(), &*self.source) {
-            let l = blades.loads(bem, t, self.azimuth, rotor_speed, pitch);
+            let l = blades.loads(bem, t, self.azimuth, rotor_speed, pitch, disc);
             return RotorOutputs {
                 torque: l.torque,
                 pitching_moment: l.tilt + tilt.weight_moment,
@@ -391,7 +393,11 @@ impl RotorModel {
                         let torque = match self.sampled() {
                             Some((blades, bem)) => {
                                 let azimuth = self.azimuth + rotor_speed * (t - self.time);
-                                blades.loads(bem, t, azimuth, rotor_speed, self.state.pitch).torque
+                                // a fixed disc: in uniform wind the first-order parts of the tilt and yaw rates
+                                // cancel in the torque over three or more blades
+                                blades
+                                    .loads(bem, t, azimuth, rotor_speed, self.state.pitch, DiscMotion::default())
+                                    .torque
                             }
                             None => rotor.torque(rotor_speed, self.wind(t), self.state.pitch),
                         };

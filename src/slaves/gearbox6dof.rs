@@ -358,6 +358,8 @@ impl Slave for Gearbox6dofSlave {
             vr::RATED_GENERATOR_TORQUE => return Ok(rated / m.gear_ratio),
             vr::ROTOR_SPEED => return Ok(m.speed(m.input_body, &st.v)),
             vr::GENERATOR_SPEED => return Ok(m.speed(m.output_body, &st.v)),
+            vr::MAIN_SHAFT_TILT_RATE => return Ok(m.input_tilt_rates(&st.q, &st.v)[0]),
+            vr::MAIN_SHAFT_YAW_RATE => return Ok(m.input_tilt_rates(&st.q, &st.v)[1]),
             vr::BRAKE_TORQUE => return Ok(-st.friction_force * m.output_sign),
             _ => {}
         }

@@ -8,7 +8,7 @@ use crate::models::rotor::vr;
 use crate::physics::aero::{AIR_DENSITY, PitchController, PitchState, Rotor};
 use crate::physics::bem::BemRotor;
 use crate::physics::blade::Blade;
-use crate::physics::blades::BladeSampling;
+use crate::physics::blades::{BladeSampling, DiscMotion};
 use crate::physics::drivetrain::Drivetrain;
 use crate::physics::rotor::{
     Aerodynamics, CONTROL_STEP, PitchTarget, RotorModel, RotorOutputs, SequenceState, Shutdown, Source, Startup,
@@ -557,9 +557,9 @@ pub struct RotorSlave {
     start_time: f64,
     /// The model's pitch state, clock and blade azimuth after the last step (None: at the start time).
     motion: Option<(PitchState, SequenceState, f64, f64)>,
-    /// Outputs at (time, rotor speed) last computed: a master reads several per step.
+    /// Outputs at (time, rotor speed, disc motion) last computed: a master reads several per step.
     #[serde(skip)]
-    cache: Option<(f64, f64, RotorOutputs)>,
+    cache: Option<(f64, f64, DiscMotion, RotorOutputs)>,
 }
 
 impl RotorSlave {
@@ -625,11 +625,15 @@ impl Slave for RotorSlave {
             return Ok(v);
         }
         let omega = self.inputs.rotor_speed.value();
+        let disc = DiscMotion {
+            tilt_rate: self.inputs.tilt_rate.value(),
+            yaw_rate: self.inputs.yaw_rate.value(),
+        };
         let cache = self.cache;
         let b = self.ensure()?;
         let out = match cache {
-            Some((t, w, out)) if t == b.model.time && w == omega => out,
-            _ => b.model.outputs(omega),
+            Some((t, w, d, out)) if t == b.model.time && w == omega && d == disc => out,
+            _ => b.model.outputs(omega, disc),
         };
         let time = b.model.time;
         let value = match r {
@@ -649,7 +653,7 @@ impl Slave for RotorSlave {
             vr::YAW_MOMENT => out.yaw_moment,
             _ => return Err(xml::no_getter(VarType::Real, r)),
         };
-        self.cache = Some((time, omega, out));
+        self.cache = Some((time, omega, disc, out));
         Ok(value)
     }
 

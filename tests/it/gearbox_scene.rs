@@ -94,7 +94,8 @@ fn the_6dof_gearbox_carries_the_torsional_models_shaft_loads_and_reverses_after_
 /// Every scene that drives gearbox6dof from a rotor hands it both out-of-plane moments: the pitching
 /// moment to the tilt input and the yaw moment to the yaw input (with `wind_sampling = blades` the rotor
 /// computes both from the sampled thrust; with the rotor-averaged wind the yaw moment is 0, so the runs
-/// are the same as without the connection, bit for bit).
+/// are the same as without the connection, bit for bit), and the main shaft's tilt and yaw rates back
+/// to the rotor (its blades' aerodynamic damping of that motion; unused with the rotor-averaged wind).
 #[test]
 fn every_rotor_driven_6dof_scene_feeds_both_rotor_moments() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
@@ -119,6 +120,19 @@ fn every_rotor_driven_6dof_scene_feeds_both_rotor_moments() {
         assert!(
             feeds("pitching_moment", "main_shaft_tilt_moment") && feeds("yaw_moment", "main_shaft_yaw_moment"),
             "{}: the rotor's pitching and yaw moments are not both connected to the gearbox",
+            dir.display()
+        );
+        let fed_back = |from: &str, to: &str| {
+            scene.connections.iter().any(|c| {
+                c.start_element == "gearbox"
+                    && c.start_connector == from
+                    && c.end_element == "rotor"
+                    && c.end_connector == to
+            })
+        };
+        assert!(
+            fed_back("main_shaft_tilt_rate", "tilt_rate") && fed_back("main_shaft_yaw_rate", "yaw_rate"),
+            "{}: the main shaft's tilt and yaw rates are not both fed back to the rotor (its aerodynamic damping)",
             dir.display()
         );
         checked += 1;

@@ -15,6 +15,7 @@ here with numpy alone.
 import json
 import math
 import os
+import re
 import subprocess
 
 import numpy as np
@@ -73,6 +74,35 @@ def station_loads(omega, speeds):
     return doc["hub_radius_m"], doc["radius_m"], radii, np.array(normal), np.array(tangential)
 
 
+def summed_rotor(omega, azimuths, speeds, radius, wind):
+    """Torque, thrust, tilt and yaw moment of C's rotor at omega summed here for each azimuth of blade 1:
+    blade b at psi + 2πb/3 (0 = up), an element at radius r at height HUB + r·cos, lateral -r·sin,
+    seeing the longitudinal wind wind(r, sin, cos); its loads per unit span interpolated in wind speed
+    (over `speeds`) from windrive aero's elements, integrated over the span by the trapezoidal rule."""
+    hub_r, tip_r, radii, normal, tangential = station_loads(omega, speeds)
+    assert tip_r == radius == 40.0
+    span = np.concatenate([[hub_r], radii, [tip_r]])
+
+    def integral(values):
+        return np.trapezoid(np.concatenate([[0.0], values, [0.0]]), span)
+
+    expected = []
+    for psi in azimuths:
+        q = f = m_tilt = m_yaw = 0.0
+        for b in range(3):
+            s, c = math.sin(psi + 2 * math.pi * b / 3), math.cos(psi + 2 * math.pi * b / 3)
+            v = wind(radii, s, c)
+            assert speeds[0] <= v.min() and v.max() <= speeds[-1]
+            n = np.array([np.interp(v[i], speeds, normal[:, i]) for i in range(len(radii))])
+            tt = np.array([np.interp(v[i], speeds, tangential[:, i]) for i in range(len(radii))])
+            q += integral(tt * radii)
+            f += integral(n)
+            m_tilt += integral(n * radii * c)
+            m_yaw += integral(n * radii * s)
+        expected.append((q, f, m_tilt, m_yaw))
+    return np.array(expected).T
+
+
 def three_harmonic(psi, x):
     """Mean and amplitude of the 3P harmonic of x(psi), by least squares."""
     basis = np.column_stack([np.ones_like(psi), np.cos(3 * psi), np.sin(3 * psi)])
@@ -94,30 +124,9 @@ def test_shear_gives_the_3p_torque_summed_here():
     t, torque, thrust, tilt, yaw, pitch = series.T
     assert np.all(pitch == 0.0)
 
-    # the summation here: blade b at azimuth psi + 2πb/3 (0 = up), an element at radius r at height
-    # HUB + r·cos, lateral -r·sin; the wind at its height from the power law
-    speeds = np.arange(9.25, 12.26, 0.125)
-    hub_r, tip_r, radii, normal, tangential = station_loads(omega, speeds)
-    assert tip_r == radius == 40.0
-    span = np.concatenate([[hub_r], radii, [tip_r]])
-
-    def integral(values):
-        return np.trapezoid(np.concatenate([[0.0], values, [0.0]]), span)
-
-    expected = []
-    for psi in omega * t:
-        q = f = m_tilt = m_yaw = 0.0
-        for b in range(3):
-            s, c = math.sin(psi + 2 * math.pi * b / 3), math.cos(psi + 2 * math.pi * b / 3)
-            v = V_HUB * ((HUB + radii * c) / HUB) ** ALPHA
-            n = np.array([np.interp(v[i], speeds, normal[:, i]) for i in range(len(radii))])
-            tt = np.array([np.interp(v[i], speeds, tangential[:, i]) for i in range(len(radii))])
-            q += integral(tt * radii)
-            f += integral(n)
-            m_tilt += integral(n * radii * c)
-            m_yaw += integral(n * radii * s)
-        expected.append((q, f, m_tilt, m_yaw))
-    q, f, m_tilt, m_yaw = np.array(expected).T
+    # the summation here, each element in the wind at its own height from the power law
+    q, f, m_tilt, m_yaw = summed_rotor(omega, omega * t, np.arange(9.25, 12.26, 0.125), radius,
+                                       lambda r, s, c: V_HUB * ((HUB + r * c) / HUB) ** ALPHA)
     psi = omega * t
 
     # point by point: the table's interpolation error, 0.25 % of the torque, 0.1 % of the thrust
@@ -139,6 +148,42 @@ def test_shear_gives_the_3p_torque_summed_here():
     # shear puts the thrust above the hub
     assert np.mean(m_tilt) > 0 and abs(np.mean(tilt) / np.mean(m_tilt) - 1) < 1e-2
     print(f"3P torque amplitude: {amp_fmu:.1f} N·m (summed here {q_3p:.1f}) of mean {mean_fmu:.0f} N·m")
+
+
+def test_a_tilting_and_yawing_disc_is_damped_as_summed_here():
+    """Uniform wind, the disc tilting and yawing at set rates (the inputs gearbox6dof's main-shaft rates
+    feed): every element sees the wind less its own speed downwind, Ω_tilt·r·cos + Ω_yaw·r·sin, so the
+    rotor's tilt and yaw moments oppose the motion (its aerodynamic damping). Summed here as in the shear
+    test, point by point to the table's interpolation error; and the damping coefficients, the mean moment
+    over the rate, equal for tilt and yaw on three blades."""
+    tilt_rate, yaw_rate = 0.05, -0.03
+    fmu, vr = rotor({"preset": "C", "turbulence": "none", "wind_sampling": "blades"},
+                    {"wind_speed": V_HUB, "shear_exponent": 0.0, "initial_pitch": 0.0, "pitch_kp": 0.0,
+                     "pitch_ki": 0.0, "tilt_rate": tilt_rate, "yaw_rate": yaw_rate})
+    radius = fmu.getReal([vr["radius_used"]])[0]
+    omega = fmu.getReal([vr["rated_tip_speed_ratio"]])[0] * fmu.getReal([vr["rated_wind_speed"]])[0] / radius
+    h = 0.01
+    steps = int(math.ceil(2 * math.pi / omega / h)) + 1
+    series = run(fmu, vr, omega, h, steps, ["rotor_torque", "thrust", "tilt_moment", "yaw_moment"])
+    fmu.terminate()
+    fmu.freeInstance()
+    t, torque, thrust, tilt, yaw = series.T
+    q, f, m_tilt, m_yaw = summed_rotor(omega, omega * t, np.arange(7.25, 14.76, 0.125), radius,
+                                       lambda r, s, c: V_HUB - tilt_rate * r * c - yaw_rate * r * s)
+    assert np.max(np.abs(torque - q)) < 2.5e-3 * np.mean(q)
+    assert np.max(np.abs(thrust - f)) < 1e-3 * np.mean(f)
+    assert np.max(np.abs(tilt - m_tilt)) < 1e-3 * np.mean(f) * radius
+    assert np.max(np.abs(yaw - m_yaw)) < 1e-3 * np.mean(f) * radius
+    # damping: the moments oppose the rates, with one coefficient for both axes (to the rates' second order)
+    c_tilt, c_yaw = -np.mean(m_tilt) / tilt_rate, -np.mean(m_yaw) / yaw_rate
+    assert c_tilt > 0 and c_yaw > 0 and abs(c_tilt / c_yaw - 1) < 0.05, (c_tilt, c_yaw)
+    assert abs(np.mean(tilt) / np.mean(m_tilt) - 1) < 1e-2 and abs(np.mean(yaw) / np.mean(m_yaw) - 1) < 1e-2
+    print(f"aerodynamic damping of C's rotor at 11 m/s, rated speed: tilt {c_tilt:.4g}, yaw {c_yaw:.4g} N·m·s/rad "
+          f"(FMU: {-np.mean(tilt) / tilt_rate:.4g}, {-np.mean(yaw) / yaw_rate:.4g})")
+    # the FMU's documentation states the coefficient to the digits it prints
+    page = (ROOT / "fmus" / "rotor" / "documentation.html").read_text()
+    stated = re.search(r"C's rotor at 11 m/s and rated\s+speed: ([0-9.e+]+) N·m·s/rad", page)
+    assert stated and abs(float(stated.group(1)) / c_tilt - 1) < 5e-3, (stated and stated.group(1), c_tilt)
 
 
 def holds_c_disc(path):

@@ -12,6 +12,12 @@
 //! that inflow ([`BemRotor::element_in`], read from [`table::LoadTable`]): no dynamic inflow or wake
 //! skew, the induction of each element its own annulus's (as AeroDyn's BEM per blade node).
 //!
+//! The disc may move out of its plane ([`DiscMotion`]: the main shaft's tilt and yaw rates, from the
+//! gearbox that carries the rotor): an element then moves downwind at Ω_tilt·(z − z_hub) + Ω_yaw·r·sin ψ_b
+//! and sees that much less V_x. That is the rotor's aerodynamic damping of its tilt and yaw motion (a
+//! disc tilting its top downwind loses thrust above the hub); FAST gets the same from the structural
+//! velocities ElastoDyn hands to AeroDyn.
+//!
 //! Totals with the BEM's trapezoidal span weights w_i: torque Σ w_i·r·T', thrust Σ w_i·N', and the
 //! moments of the thrust about the hub, tilt Σ w_i·N'·(z − z_hub) (positive when the thrust acts above
 //! the hub, the sign of the rotor's `pitching_moment`) and yaw Σ w_i·N'·r·sin ψ_b (right-handed about
@@ -40,6 +46,16 @@ pub struct BladeLoads {
     pub yaw: f64,
     /// Longitudinal wind at the hub point, m/s.
     pub hub_wind: f64,
+}
+
+/// The disc's angular velocity out of its plane, rad/s, in the hub's non-rotating frame (x to the left
+/// looking downwind, y up, z downwind: gearbox6dof's housing frame): `tilt_rate` about x, positive when
+/// the top of the disc moves downwind (the sense of a positive tilt moment), `yaw_rate` about y, positive
+/// when its right half moves downwind (the sense of a positive yaw moment).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct DiscMotion {
+    pub tilt_rate: f64,
+    pub yaw_rate: f64,
 }
 
 /// A full field and what the blades need to read it.
@@ -95,23 +111,40 @@ impl BladeSampling {
         })
     }
 
-    /// Loads at time `t` (s) with blade 1 at azimuth `azimuth` (rad), rotor speed `omega` (rad/s) and
-    /// pitch (rad), the stations read from the table.
-    pub fn loads(&self, bem: &BemRotor, t: f64, azimuth: f64, omega: f64, pitch: f64) -> BladeLoads {
+    /// Loads at time `t` (s) with blade 1 at azimuth `azimuth` (rad), rotor speed `omega` (rad/s),
+    /// pitch (rad) and the disc moving out of its plane as `disc`, the stations read from the table.
+    pub fn loads(&self, bem: &BemRotor, t: f64, azimuth: f64, omega: f64, pitch: f64, disc: DiscMotion) -> BladeLoads {
         let columns = self.table.columns(pitch);
-        self.sum(t, azimuth, omega, |i, vx, vy| self.table.loads(bem, i, vx, vy, columns))
+        self.sum(t, azimuth, omega, disc, |i, vx, vy| {
+            self.table.loads(bem, i, vx, vy, columns)
+        })
     }
 
     /// The same with every station solved (the reference the table is checked against; 3 × stations
     /// momentum balances a call).
-    pub fn loads_solved(&self, bem: &BemRotor, t: f64, azimuth: f64, omega: f64, pitch: f64) -> BladeLoads {
-        self.sum(t, azimuth, omega, |i, vx, vy| {
+    pub fn loads_solved(
+        &self,
+        bem: &BemRotor,
+        t: f64,
+        azimuth: f64,
+        omega: f64,
+        pitch: f64,
+        disc: DiscMotion,
+    ) -> BladeLoads {
+        self.sum(t, azimuth, omega, disc, |i, vx, vy| {
             let e = bem.element_in(i, vx, vy, pitch);
             (e.normal_n_per_m, e.tangential_n_per_m)
         })
     }
 
-    fn sum(&self, t: f64, azimuth: f64, omega: f64, element: impl Fn(usize, f64, f64) -> (f64, f64)) -> BladeLoads {
+    fn sum(
+        &self,
+        t: f64,
+        azimuth: f64,
+        omega: f64,
+        disc: DiscMotion,
+        element: impl Fn(usize, f64, f64) -> (f64, f64),
+    ) -> BladeLoads {
         let field = &self.field;
         let frame = field.frame(t);
         let mut out = BladeLoads {
@@ -124,7 +157,9 @@ impl BladeSampling {
             for (i, (&r, &w)) in self.radii.iter().zip(&self.weights).enumerate() {
                 let (y, dz) = (-r * sin, r * cos);
                 let [u, v, wz] = field.at(frame, field.cell(y, self.hub_height + dz));
-                let (normal, tangential) = element(i, u, omega * r + v * cos + wz * sin);
+                // the element's own speed downwind as the disc tilts and yaws (0 on a fixed disc)
+                let downwind = disc.tilt_rate * dz + disc.yaw_rate * r * sin;
+                let (normal, tangential) = element(i, u - downwind, omega * r + v * cos + wz * sin);
                 out.torque += w * r * tangential;
                 out.thrust += w * normal;
                 out.tilt += w * normal * dz;

@@ -60,7 +60,7 @@ fn uniform_wind_gives_the_rotor_averaged_loads() {
         let sampling = BladeSampling::new(&bem, steady(&spec(v, 0.0, 0.0)).unwrap(), 80.0, 0.0, 1.5).unwrap();
         let (q, t) = bem.torque_thrust(v, omega, pitch);
         for azimuth in [0.0, 0.3, 2.0] {
-            let solved = sampling.loads_solved(&bem, 1.0, azimuth, omega, pitch);
+            let solved = sampling.loads_solved(&bem, 1.0, azimuth, omega, pitch, DiscMotion::default());
             assert!(
                 (solved.torque - q).abs() <= 1e-12 * q.abs().max(q_rated),
                 "{v} {omega} {pitch}: {solved:?} vs {q}"
@@ -68,7 +68,7 @@ fn uniform_wind_gives_the_rotor_averaged_loads() {
             assert!((solved.thrust - t).abs() <= 1e-12 * t.abs().max(t_rated));
             assert!(solved.tilt.abs() <= 1e-12 * t_rated * 40.0 && solved.yaw.abs() <= 1e-12 * t_rated * 40.0);
             assert_eq!(solved.hub_wind, v);
-            let read = sampling.loads(&bem, 1.0, azimuth, omega, pitch);
+            let read = sampling.loads(&bem, 1.0, azimuth, omega, pitch, DiscMotion::default());
             let dq = (read.torque - q).abs() / q.abs().max(q_rated);
             let dt = (read.thrust - t).abs() / t.abs().max(t_rated);
             assert!(
@@ -150,8 +150,8 @@ fn table_follows_the_solved_stations_in_turbulence() {
     let mut worst: f64 = 0.0;
     for n in 0..40 {
         let (t, azimuth, pitch) = (1.37 * n as f64, 0.61 * n as f64, [0.0, 0.05, 0.2][n % 3]);
-        let solved = sampling.loads_solved(&bem, t, azimuth, rated, pitch);
-        let read = sampling.loads(&bem, t, azimuth, rated, pitch);
+        let solved = sampling.loads_solved(&bem, t, azimuth, rated, pitch, DiscMotion::default());
+        let read = sampling.loads(&bem, t, azimuth, rated, pitch, DiscMotion::default());
         for (a, b, scale) in [
             (read.torque, solved.torque, q_rated),
             (read.thrust, solved.thrust, t_rated),
@@ -197,7 +197,7 @@ fn columns_solved_on_demand_do_not_depend_on_the_order() {
         .map(|n| (0.91 * n as f64, 0.37 * n as f64, 0.045 * n as f64))
         .collect();
     let read = |s: &BladeSampling, &(t, azimuth, pitch): &(f64, f64, f64)| {
-        let l = s.loads(&bem, t, azimuth, rated, pitch);
+        let l = s.loads(&bem, t, azimuth, rated, pitch, DiscMotion::default());
         [l.torque, l.thrust, l.tilt, l.yaw].map(f64::to_bits)
     };
     let a: Vec<_> = points.iter().map(|p| read(&forward, p)).collect();
@@ -206,4 +206,83 @@ fn columns_solved_on_demand_do_not_depend_on_the_order() {
     let c: Vec<_> = points.iter().map(|p| read(&restored, p)).collect();
     assert_eq!(a, b);
     assert_eq!(a, c);
+}
+
+/// A disc tilting and yawing in uniform wind is, element by element, a fixed disc in a field whose u
+/// falls by Ω_tilt·(z − z_hub) and rises by Ω_yaw·y (y to the left: the right half moves downwind): the two
+/// give the same loads to rounding, from the solved stations and from the table. And the motion is
+/// damped: a positive tilt (yaw) rate gives a negative tilt (yaw) moment, as large for either on the
+/// three-bladed disc.
+#[test]
+fn a_moving_disc_sees_the_wind_less_its_own_speed() {
+    let bem = rotor_c();
+    let c = Drivetrain::preset("C").unwrap();
+    let (v, omega) = (11.0, c.rated_rotor_speed);
+    let disc = DiscMotion {
+        tilt_rate: 0.03,
+        yaw_rate: -0.02,
+    };
+    let uniform = steady(&spec(v, 0.0, 0.0)).unwrap();
+    let mut equivalent = uniform.clone();
+    let (ny, nz, nt) = (uniform.ny, uniform.nz, uniform.nt);
+    for t in 0..nt {
+        for k in 0..nz {
+            for j in 0..ny {
+                let i = uniform.index(t, k, j);
+                equivalent.velocity[0][i] += -disc.tilt_rate * (uniform.z(k) - 80.0) + disc.yaw_rate * uniform.y(j);
+            }
+        }
+    }
+    let moving = BladeSampling::new(&bem, uniform, 80.0, 0.0, 0.2).unwrap();
+    let fixed = BladeSampling::new(&bem, equivalent, 80.0, 0.0, 0.2).unwrap();
+    let close = |a: BladeLoads, b: BladeLoads, scale: f64| {
+        let d = [a.torque - b.torque, a.thrust - b.thrust, a.tilt - b.tilt, a.yaw - b.yaw];
+        d.iter().all(|x| x.abs() < 1e-9 * scale)
+    };
+    for azimuth in [0.0, 0.4, 1.3, 2.9] {
+        let solved = moving.loads_solved(&bem, 1.0, azimuth, omega, 0.0, disc);
+        let scale = solved.thrust * 40.0;
+        assert!(close(
+            solved,
+            fixed.loads_solved(&bem, 1.0, azimuth, omega, 0.0, DiscMotion::default()),
+            scale
+        ));
+        let read = moving.loads(&bem, 1.0, azimuth, omega, 0.0, disc);
+        assert!(close(
+            read,
+            fixed.loads(&bem, 1.0, azimuth, omega, 0.0, DiscMotion::default()),
+            scale
+        ));
+    }
+    // damping: each rate alone against the fixed disc, averaged over a third of a turn
+    let mean = |d: DiscMotion| {
+        let n = 24;
+        (0..n).fold([0.0; 2], |acc, k| {
+            let l = moving.loads(
+                &bem,
+                1.0,
+                k as f64 * std::f64::consts::TAU / (3 * n) as f64,
+                omega,
+                0.0,
+                d,
+            );
+            [acc[0] + l.tilt / n as f64, acc[1] + l.yaw / n as f64]
+        })
+    };
+    let still = mean(DiscMotion::default());
+    let tilting = mean(DiscMotion {
+        tilt_rate: 0.01,
+        yaw_rate: 0.0,
+    });
+    let yawing = mean(DiscMotion {
+        tilt_rate: 0.0,
+        yaw_rate: 0.01,
+    });
+    let (c_tilt, c_yaw) = ((still[0] - tilting[0]) / 0.01, (still[1] - yawing[1]) / 0.01);
+    assert!(c_tilt > 0.0 && c_yaw > 0.0, "{c_tilt} {c_yaw}");
+    assert!(
+        (c_tilt / c_yaw - 1.0).abs() < 1e-3,
+        "tilt {c_tilt:e}, yaw {c_yaw:e} N·m·s"
+    );
+    assert!(tilting[1].abs() < 1e-3 * c_tilt * 0.01 && yawing[0].abs() < 1e-3 * c_yaw * 0.01);
 }

@@ -2,7 +2,7 @@
 
 use super::bearing::RaceStresses;
 use super::mesh::MeshReport;
-use super::model::{Gearbox, SPIN};
+use super::model::{Gearbox, SPIN, TX, TY};
 
 /// Loads of one bearing, in the frame it sits in.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -112,6 +112,20 @@ impl Gearbox {
     }
 
     /// Speed of a body's spin, signed so the input turns positive (rad/s).
+    /// The input body's (the rotor's) angular velocity about the housing's x and y axes, rad/s: the
+    /// rates its disc tilts and yaws with (the rotor FMU's tilt_rate and yaw_rate), turned out of the
+    /// body's frame as the external moment is turned into it.
+    pub fn input_tilt_rates(&self, q: &[f64], v: &[f64]) -> [f64; 2] {
+        let body = self.input_body;
+        let Some(f) = self.bodies[body].first else {
+            return [0.0; 2];
+        };
+        let angle = self.frame_spin(body).map_or(0.0, |fs| q[fs]);
+        let (s, c) = angle.sin_cos();
+        let (x, y) = (v[f + TX], v[f + TY]);
+        [c * x - s * y, s * x + c * y]
+    }
+
     pub fn speed(&self, body: usize, v: &[f64]) -> f64 {
         let sign = match (&self.rigid, self.bodies[body].first) {
             (Some(r), Some(f)) => r[f + SPIN].signum(),
