@@ -153,8 +153,11 @@ def paper_cells() -> list[tuple[float, float]]:
 
 
 def table6(c: Cells) -> pd.DataFrame:
-    """The paper's Table 6 beside ours: damage per day (absolute, not ×1e-6), ours/paper, and each gear's
-    rank within its stage and kind of damage (1 = most damaged; the paper's "-" ranks last)."""
+    """The paper's Table 6 beside ours: damage per day (absolute, not ×1e-6), ours/paper, each gear's
+    rank within its stage and kind of damage (1 = most damaged; the paper's "-" ranks last), and the
+    factor on our stresses that would give the paper's damage: (paper/ours)^(1/k), k the rating's exponent
+    below the S-N knee (paper_data.damage_exponent). Exact while the raised stresses stay below the knee;
+    above it the curve is flatter, so the factor is then a lower bound."""
     rows = []
     for stage, gear, damage, tooth, values in data.TABLE6:
         col = damage_column(damage, tooth)
@@ -166,6 +169,8 @@ def table6(c: Cells) -> pd.DataFrame:
             row[f"paper_{speed:g}"] = theirs
             row[f"ours_{speed:g}"] = ours
             row[f"ratio_{speed:g}"] = ours / theirs if theirs == theirs else math.nan
+            exponent = data.damage_exponent(damage, gear)
+            row[f"factor_{speed:g}"] = (theirs / ours) ** (1.0 / exponent) if ours > 0 and theirs > 0 else math.nan
         rows.append(row)
     t = pd.DataFrame(rows)
     by = t.groupby(["stage", "damage"], sort=False)

@@ -11,6 +11,8 @@ gear damages both give, to the tables' rounding.
 
 from __future__ import annotations
 
+import math
+
 # -- Table 6: 1-day tooth bending (Db) and flank pitting (Dp) damage at 11.5 m/s (rated) and 18 m/s,
 # turbulence intensity 14 %, in units of 1e-6. Columns per gear as printed: Db, Dp at 11.5 m/s, then Db,
 # Dp at 18 m/s. A planet's bending is one value for both flanks (R ≈ −1, §1); its pitting is split into
@@ -47,6 +49,22 @@ TABLE6 = (
     ("3rd", "pinion", "bending", "p3", (9.20, 14.7)),
     ("3rd", "pinion", "pitting", "p3", (0.035, 0.048)),
 )
+
+# -- The rating's S-N exponents (windrive gears; not the paper's): below the knee a tooth's damage under its
+# stresses scaled by f grows as f^(2m − 1), the paper's second slope, with m from ISO 6336's life-factor
+# knots: contact Z_NT 1.6 at 1e5 → 1 at 5e7 (both steels), bending Y_NT 2.5 at 1e3 (case carburised) or at
+# 1e4 (the through-hardened rings) → 1 at 3e6. tests/python/test_campaign_paper.py checks them against
+# windrive gears on a series whose forces it doubles.
+CONTACT_SLOPE = math.log(5e7 / 1e5) / math.log(1.6)
+BENDING_SLOPE = math.log(3e6 / 1e3) / math.log(2.5)
+RING_BENDING_SLOPE = math.log(3e6 / 1e4) / math.log(2.5)
+
+
+def damage_exponent(kind: str, gear: str) -> float:
+    """k of D ∝ f^k below the knee for `kind` (bending or pitting) of the paper's `gear` (a ring or not)."""
+    m = CONTACT_SLOPE if kind != "bending" else RING_BENDING_SLOPE if gear == "ring" else BENDING_SLOPE
+    return 2.0 * m - 1.0
+
 
 # our table's column for each kind of damage: bending is the tooth root, pitting (the paper's Table 7
 # says "contacting") the flank

@@ -52,13 +52,15 @@ def write_table6(t6: pd.DataFrame, csv_path: Path, md_path: Path):
     speeds = [f"{s:g}" for s in data.TABLE6_SPEEDS]
     head = ["stage", "gear", "damage", "tooth"]
     for s in speeds:
-        head += [f"{s} m/s paper", f"{s} m/s ours", "ours/paper", "rank paper", "rank ours"]
+        head += [f"{s} m/s paper", f"{s} m/s ours", "ours/paper", "stress factor", "rank paper", "rank ours"]
     lines = [
         f"# Table 6: 1-day damage at TI {data.TABLE6_TI_PCT:g} % (×1e-6): the paper's and ours",
         "",
         "Ours is the mean over the seeds of `gear.<tooth>.root_day` (bending) or `.flank_day` (pitting); the "
         "rank is within the stage and kind of damage, 1 the most damaged; the paper's \"-\" is too small to "
-        "display (ranked last).",
+        "display (ranked last). The stress factor is what our stresses would have to be multiplied by to give "
+        "the paper's damage: (paper/ours)^(1/k), k = 2m − 1 the rating's S-N exponent below the knee (a lower "
+        "bound if the raised stresses crossed the knee).",
         "",
         "| " + " | ".join(head) + " |",
         "|" + "---|" * len(head),
@@ -67,7 +69,8 @@ def write_table6(t6: pd.DataFrame, csv_path: Path, md_path: Path):
         cells = [r.stage, r.gear, r.damage, r.tooth]
         for s in speeds:
             cells += [_num(r[f"paper_{s}"] / data.TABLE6_UNIT), _num(r[f"ours_{s}"] / data.TABLE6_UNIT),
-                      _num(r[f"ratio_{s}"], 3), _rank(r[f"rank_paper_{s}"]), _rank(r[f"rank_ours_{s}"])]  # fmt: skip
+                      _num(r[f"ratio_{s}"], 3), _num(r[f"factor_{s}"], 3), _rank(r[f"rank_paper_{s}"]),
+                      _rank(r[f"rank_ours_{s}"])]  # fmt: skip
         lines.append("| " + " | ".join(cells) + " |")
     md_path.write_text("\n".join(lines) + "\n")
 
