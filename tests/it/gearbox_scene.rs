@@ -106,14 +106,16 @@ fn every_rotor_driven_6dof_scene_feeds_both_rotor_moments() {
             continue;
         }
         let scene = windrive::cosim::ssp::Scene::open(&dir).unwrap();
-        let feeds = |from: &str, to: &str| {
+        let connected = |(from_element, from): (&str, &str), (to_element, to): (&str, &str)| {
             scene.connections.iter().any(|c| {
-                c.start_element == "rotor"
+                c.start_element == from_element
                     && c.start_connector == from
-                    && c.end_element == "gearbox"
+                    && c.end_element == to_element
                     && c.end_connector == to
             })
         };
+        let feeds = |from: &str, to: &str| connected(("rotor", from), ("gearbox", to));
+        let fed_back = |from: &str, to: &str| connected(("gearbox", from), ("rotor", to));
         if !feeds("rotor_torque", "rotor_torque") {
             continue;
         }
@@ -122,14 +124,6 @@ fn every_rotor_driven_6dof_scene_feeds_both_rotor_moments() {
             "{}: the rotor's pitching and yaw moments are not both connected to the gearbox",
             dir.display()
         );
-        let fed_back = |from: &str, to: &str| {
-            scene.connections.iter().any(|c| {
-                c.start_element == "gearbox"
-                    && c.start_connector == from
-                    && c.end_element == "rotor"
-                    && c.end_connector == to
-            })
-        };
         assert!(
             fed_back("main_shaft_tilt_rate", "tilt_rate") && fed_back("main_shaft_yaw_rate", "yaw_rate"),
             "{}: the main shaft's tilt and yaw rates are not both fed back to the rotor (its aerodynamic damping)",
