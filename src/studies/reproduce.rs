@@ -841,7 +841,7 @@ pub fn markdown(rows: &[Row], bands: &HashMap<String, Band>) -> String {
          outside its bound.\n\n\
          {} rows: {} reproduced, {} hold, {} contradict the thesis, {} differ.\n\n\
          Across the estimates: the inputs no source gives (brakes, trip and pitch sequence, damping, bearing \
-         clearances and roller sets, carrier stiffness; each with its range and reason in \
+         clearances and roller sets, carrier stiffness, backlash, face widths; each with its range and reason in \
          src/studies/data/estimates.toml, `windrive reproduce --estimates`) were varied over their ranges by \
          `scripts/campaign sensitivity` (docs/SENSITIVITY.md). Of the {} rows varied so far, {} keep their \
          verdict across the whole band and {} flip: a verdict that flips rests on an estimate, not on the \
