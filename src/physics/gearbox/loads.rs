@@ -111,7 +111,6 @@ impl Gearbox {
         )
     }
 
-    /// Speed of a body's spin, signed so the input turns positive (rad/s).
     /// The input body's (the rotor's) angular velocity about the housing's x and y axes, rad/s: the
     /// rates its disc tilts and yaws with (the rotor FMU's tilt_rate and yaw_rate), turned out of the
     /// body's frame as the external moment is turned into it.
@@ -126,6 +125,7 @@ impl Gearbox {
         [c * x - s * y, s * x + c * y]
     }
 
+    /// Speed of a body's spin, signed so the input turns positive (rad/s).
     pub fn speed(&self, body: usize, v: &[f64]) -> f64 {
         let sign = match (&self.rigid, self.bodies[body].first) {
             (Some(r), Some(f)) => r[f + SPIN].signum(),
