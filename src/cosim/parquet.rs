@@ -1,40 +1,41 @@
 //! Results as Parquet: the same columns as the CSV (`time`, then `<component>.<variable>`), each a
-//! Float64 column, Snappy-compressed, readable as is by pandas, polars and pyarrow. Numbers are stored
-//! as their bits, so nothing is spent on float text and nothing is lost to it.
+//! required DOUBLE column (Float64 to pandas, polars and pyarrow, which read the file as it is),
+//! Snappy-compressed. Numbers are stored as their bits, so nothing is spent on float text and nothing
+//! is lost to it.
 //!
-//! Rows are kept as they come, one after the other in one buffer, and handed to the Parquet encoder
-//! as columns every [`BATCH_ROWS`] rows (a row costs one copy, not a push per column; the buffer is
-//! reused and stays in the cache); the encoder cuts a row group every [`ROW_GROUP_ROWS`] rows. Parquet
-//! places its index (the footer) at the end of the file: the file is complete once the run ends,
-//! fails or is stopped and the recorder is finished, flushed or dropped. A process killed outright
-//! (SIGKILL, a crashing FMU without `--isolate`) leaves a file no reader opens; CSV keeps the rows
-//! up to its last quarter-second flush there.
+//! Written through the parquet crate's column writers, not its Arrow layer: a row group is a column
+//! of f64 after another, which is all a results file is, and the Arrow layer with the arrow-* crates
+//! it pulls in was the longest compilation of the build (parquet's `arrow` feature: 250 s of CPU of a
+//! 470 s release build on 2 cores, measured 2026-11-29 with `cargo build --timings`).
+//!
+//! Rows are kept as they come, one after the other in one buffer (a row costs one copy, not a push
+//! per column; the buffer is reused), and written as a row group of columns every
+//! [`ROW_GROUP_ROWS`] rows. Parquet places its index (the footer) at the end of the file: the file is
+//! complete once the run ends, fails or is stopped and the recorder is finished, flushed or dropped.
+//! A process killed outright (SIGKILL, a crashing FMU without `--isolate`) leaves a file no reader
+//! opens; CSV keeps the rows up to its last quarter-second flush there.
 
-use arrow_array::{ArrayRef, Float64Array, RecordBatch};
-use arrow_schema::{DataType, Field, Schema};
-use parquet::arrow::ArrowWriter;
-use parquet::basic::Compression;
+use parquet::basic::{Compression, Repetition, Type as PhysicalType};
+use parquet::data_type::DoubleType;
 use parquet::file::properties::{EnabledStatistics, WriterProperties};
-use parquet::schema::types::ColumnPath;
+use parquet::file::writer::SerializedFileWriter;
+use parquet::schema::types::{ColumnPath, Type};
+use std::io::{BufWriter, Write};
 use std::path::Path;
 use std::sync::Arc;
 
-/// Rows per row group: a reader that needs a time range skips whole groups. The encoder holds a
-/// group's pages until it is complete: 8192 rows of 67 channels are 4.4 MB, which the allocator
-/// largely hands back for the next group (c-shutdown-spring, every row: 4 900 page faults against
-/// 6 400 with 65 536-row groups and 1 550 without recording).
+/// Rows per row group: a reader that needs a time range skips whole groups. 8192 rows of 67
+/// channels are 4.4 MB of buffered rows, reused for the next group.
 pub const ROW_GROUP_ROWS: usize = 1 << 13;
 
-/// Rows buffered before they are encoded: 4096 rows of 67 channels are 2.2 MB, reused for the next.
-pub const BATCH_ROWS: usize = 1 << 12;
-
-/// Writes a Parquet file with a `time` column and one Float64 column per name.
+/// Writes a Parquet file with a `time` column and one DOUBLE column per name.
 pub struct ParquetWriter {
     /// None once closed.
-    writer: Option<ArrowWriter<std::fs::File>>,
-    schema: Arc<Schema>,
+    writer: Option<SerializedFileWriter<BufWriter<std::fs::File>>>,
     /// The rows not yet written, row after row: the time, then each named column's value.
     rows: Vec<f64>,
+    /// The buffered rows as columns, reused group after group.
+    columns: Vec<Vec<f64>>,
     /// Values per row: the time and the named columns.
     width: usize,
     path: String,
@@ -48,7 +49,14 @@ impl ParquetWriter {
     /// Creates the file (and its folder) for `time`, then `columns`.
     pub fn create<'a>(path: &Path, columns: impl IntoIterator<Item = &'a str>) -> std::io::Result<Self> {
         let shown = path.display().to_string();
-        let mut fields = vec![Field::new("time", DataType::Float64, false)];
+        let double = |name: &str| {
+            Type::primitive_type_builder(name, PhysicalType::DOUBLE)
+                .with_repetition(Repetition::REQUIRED)
+                .build()
+                .map(Arc::new)
+                .map_err(|e| io_error(&shown, e))
+        };
+        let mut fields = vec![double("time")?];
         for name in columns {
             if name == "time" {
                 return Err(io_error(
@@ -56,9 +64,13 @@ impl ParquetWriter {
                     "a recorded variable is named \"time\", the time column's name",
                 ));
             }
-            fields.push(Field::new(name, DataType::Float64, false));
+            fields.push(double(name)?);
         }
-        let schema = Arc::new(Schema::new(fields));
+        let width = fields.len();
+        let schema = Type::group_type_builder("schema")
+            .with_fields(fields)
+            .build()
+            .map_err(|e| io_error(&shown, e))?;
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir)
                 .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", dir.display())))?;
@@ -73,15 +85,14 @@ impl ParquetWriter {
             .set_dictionary_enabled(false)
             .set_statistics_enabled(EnabledStatistics::None)
             .set_column_statistics_enabled(ColumnPath::from("time"), EnabledStatistics::Page)
-            .set_max_row_group_row_count(Some(ROW_GROUP_ROWS))
             .build();
-        let writer = ArrowWriter::try_new(file, schema.clone(), Some(properties)).map_err(|e| io_error(&shown, e))?;
-        let width = schema.fields().len();
+        let writer = SerializedFileWriter::new(BufWriter::new(file), Arc::new(schema), Arc::new(properties))
+            .map_err(|e| io_error(&shown, e))?;
         Ok(Self {
             writer: Some(writer),
             rows: Vec::new(),
+            columns: vec![Vec::new(); width],
             width,
-            schema,
             path: shown,
         })
     }
@@ -90,8 +101,8 @@ impl ParquetWriter {
     pub fn row(&mut self, time: f64, values: impl IntoIterator<Item = f64>) -> std::io::Result<()> {
         let start = self.rows.len();
         if start == 0 {
-            // the whole batch at once: growing it would copy every row kept so far, repeatedly
-            self.rows.reserve_exact(BATCH_ROWS * self.width);
+            // the whole group at once: growing it would copy every row kept so far, repeatedly
+            self.rows.reserve_exact(ROW_GROUP_ROWS * self.width);
         }
         self.rows.push(time);
         self.rows.extend(values.into_iter().take(self.width - 1));
@@ -103,14 +114,13 @@ impl ParquetWriter {
                 format!("a row of {count} values for {} columns", self.width - 1),
             ));
         }
-        if self.rows.len() >= BATCH_ROWS * self.width {
+        if self.rows.len() >= ROW_GROUP_ROWS * self.width {
             self.write_buffered()?;
         }
         Ok(())
     }
 
-    /// Hands the buffered rows to the encoder, which writes a row group each time it has
-    /// [`ROW_GROUP_ROWS`].
+    /// Writes the buffered rows as one row group, column after column.
     fn write_buffered(&mut self) -> std::io::Result<()> {
         let Some(writer) = &mut self.writer else {
             return Err(io_error(&self.path, "written after it was closed"));
@@ -118,14 +128,23 @@ impl ParquetWriter {
         if self.rows.is_empty() {
             return Ok(());
         }
-        let columns = transpose(&self.rows, self.width);
+        transpose(&self.rows, &mut self.columns);
+        let path = &self.path;
+        let mut group = writer.next_row_group().map_err(|e| io_error(path, e))?;
+        for values in &self.columns {
+            let mut column = group
+                .next_column()
+                .map_err(|e| io_error(path, e))?
+                .ok_or_else(|| io_error(path, "the schema has fewer columns than a row"))?;
+            column
+                .typed::<DoubleType>()
+                .write_batch(values, None, None)
+                .map_err(|e| io_error(path, e))?;
+            column.close().map_err(|e| io_error(path, e))?;
+        }
+        group.close().map_err(|e| io_error(path, e))?;
         self.rows.clear();
-        let arrays: Vec<ArrayRef> = columns
-            .into_iter()
-            .map(|c| Arc::new(Float64Array::from(c)) as ArrayRef)
-            .collect();
-        let batch = RecordBatch::try_new(self.schema.clone(), arrays).map_err(|e| io_error(&self.path, e))?;
-        writer.write(&batch).map_err(|e| io_error(&self.path, e))
+        Ok(())
     }
 
     /// Writes the buffered rows and the footer: the file is complete. Closing twice does nothing.
@@ -135,7 +154,10 @@ impl ParquetWriter {
         }
         let written = self.write_buffered();
         let writer = self.writer.take().expect("checked above");
-        let closed = writer.close().map(|_| ()).map_err(|e| io_error(&self.path, e));
+        let closed = writer
+            .into_inner()
+            .map_err(|e| io_error(&self.path, e))
+            .and_then(|mut file| file.flush().map_err(|e| io_error(&self.path, e)));
         written.and(closed)
     }
 }
@@ -147,19 +169,18 @@ impl Drop for ParquetWriter {
     }
 }
 
-/// Rows of `width` values, one after the other, as `width` columns. By blocks of rows that stay in
-/// the cache while every column takes its share: a column at a time over the whole buffer would read
-/// it from memory once per column.
-fn transpose(rows: &[f64], width: usize) -> Vec<Vec<f64>> {
+/// Rows of `columns.len()` values, one after the other, into those columns (cleared first). By
+/// blocks of rows that stay in the cache while every column takes its share: a column at a time
+/// over the whole buffer would read it from memory once per column.
+fn transpose(rows: &[f64], columns: &mut [Vec<f64>]) {
     const BLOCK_ROWS: usize = 64;
-    let n = rows.len() / width;
-    let mut columns: Vec<Vec<f64>> = (0..width).map(|_| Vec::with_capacity(n)).collect();
+    let width = columns.len();
+    columns.iter_mut().for_each(Vec::clear);
     for block in rows.chunks(BLOCK_ROWS * width) {
         for (j, column) in columns.iter_mut().enumerate() {
             column.extend(block.iter().skip(j).step_by(width));
         }
     }
-    columns
 }
 
 /// Whether `path` names a Parquet file (by its extension).
@@ -175,10 +196,12 @@ mod tests {
 
     #[test]
     fn rows_become_columns_across_block_boundaries() {
-        for (n, width) in [(0, 3), (1, 1), (5, 3), (64, 2), (65, 2), (200, 7)] {
+        let mut columns = Vec::new();
+        for (n, width) in [(0, 3), (1, 1), (5, 3), (64, 2), (65, 2), (200, 7), (3, 7)] {
             let rows: Vec<f64> = (0..n * width).map(|k| k as f64).collect();
-            let columns = transpose(&rows, width);
-            assert_eq!(columns.len(), width);
+            // reused, as the writer reuses them: leftovers of the previous shape must go
+            columns.resize(width, vec![-1.0]);
+            transpose(&rows, &mut columns);
             for (j, c) in columns.iter().enumerate() {
                 let expected: Vec<f64> = (0..n).map(|i| (i * width + j) as f64).collect();
                 assert_eq!(c, &expected, "n {n}, width {width}, column {j}");

@@ -349,3 +349,41 @@ def test_parquet_results_read_as_is_by_pandas_and_pyarrow(tmp_path, windrive, ou
     assert (table.to_numpy() == csv.to_numpy()).all()
     schema = pq.read_schema(tmp_path / "r.parquet")
     assert schema.names[0] == "time" and all(str(t) == "double" for t in schema.types)
+
+
+def test_series_commands_read_parquet_as_pandas_and_pyarrow_write_it(tmp_path, windrive):
+    """A series written by pandas (pyarrow's defaults: dictionary pages, Snappy, nullable float columns)
+    or by pyarrow in many row groups reads as its CSV does: the same DELs to the last digit. A column
+    that is not float64 and a null value are refused in one line naming the column or the row."""
+    import pandas as pd
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    t = np.round(np.arange(0.0, 20.0, 0.001), 3)
+    torque = 1e3 * np.sin(2 * np.pi * t) + 5e2 * np.sin(2 * np.pi * 7.3 * t) + 2e2 * np.cos(2 * np.pi * 13.1 * t)
+    frame = pd.DataFrame({"time": t, "lss.torque": torque, "count": np.arange(len(t))})
+    frame.to_csv(tmp_path / "s.csv", index=False, float_format="%.17g")
+    frame.to_parquet(tmp_path / "pandas.parquet")
+    pq.write_table(pa.Table.from_pandas(frame, preserve_index=False), tmp_path / "groups.parquet",
+                   row_group_size=777, compression="none")
+    assert pq.ParquetFile(tmp_path / "groups.parquet").metadata.num_row_groups > 20
+
+    def dels(name):
+        proc = subprocess.run([str(windrive), "del", str(tmp_path / name), "--channel", "lss.torque", "--json"],
+                              capture_output=True, text=True)
+        assert proc.returncode == 0, proc.stderr
+        return proc.stdout
+
+    assert dels("s.csv") == dels("pandas.parquet") == dels("groups.parquet")
+
+    def refused(name, channel):
+        proc = subprocess.run([str(windrive), "del", str(tmp_path / name), "--channel", channel],
+                              capture_output=True, text=True)
+        assert proc.returncode != 0 and len(proc.stderr.strip().splitlines()) == 1, proc.stderr
+        return proc.stderr
+
+    assert "column count is INT64" in refused("pandas.parquet", "count")
+    holes = frame.drop(columns="count").astype({"lss.torque": "Float64"})
+    holes.loc[1234, "lss.torque"] = pd.NA
+    holes.to_parquet(tmp_path / "holes.parquet")
+    assert "row 1235" in refused("holes.parquet", "lss.torque")

@@ -1,11 +1,15 @@
 //! Series from Parquet files: `windrive run --out FILE.parquet`, or a table written by pandas, polars
-//! or pyarrow with a `time` column and Float64 channels. Only the columns asked for are decoded, one
-//! record batch at a time, and every row passes the checks a CSV row does ([`super::series`]).
+//! or pyarrow with a `time` column and Float64 (DOUBLE) channels, required or nullable (a null reads
+//! as NaN, which the row checks then reject with its row number). Only the columns asked for are
+//! decoded, one row group at a time, and every row passes the checks a CSV row does
+//! ([`super::series`]). Read through the parquet crate's column readers (see `cosim::parquet` for
+//! why not its Arrow layer); the codecs are Snappy's and uncompressed, which pandas and pyarrow
+//! write by default.
 
 use super::rows::{CheckedRows, Extent, SeriesError};
-use arrow_array::{Array, Float64Array};
-use parquet::arrow::ProjectionMask;
-use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+use parquet::basic::Type as PhysicalType;
+use parquet::column::reader::ColumnReader;
+use parquet::file::reader::{FileReader, RowGroupReader, SerializedFileReader};
 use std::path::Path;
 
 /// Whether `path` names a Parquet file (by its extension).
@@ -28,62 +32,99 @@ pub fn stream_channels(
         message: e.to_string(),
     };
     let file = std::fs::File::open(path).map_err(|e| read_error(&e))?;
-    let builder = ParquetRecordBatchReaderBuilder::try_new(file).map_err(|e| read_error(&e))?;
-    let schema = builder.schema().clone();
-    let header: Vec<&str> = schema.fields().iter().map(|f| f.name().as_str()).collect();
+    let reader = SerializedFileReader::new(file).map_err(|e| read_error(&e))?;
+    let schema = reader.metadata().file_metadata().schema_descr_ptr();
+    // the file's top-level columns (a nested column's leaves are not channels)
+    let header: Vec<(usize, &str)> = (0..schema.num_columns())
+        .map(|i| (i, schema.get_column_root(i)))
+        .filter(|(_, root)| root.is_primitive())
+        .map(|(i, root)| (i, root.name()))
+        .collect();
     let position = |name: &str| {
         header
             .iter()
-            .position(|h| *h == name)
+            .find(|(_, h)| *h == name)
+            .map(|&(i, _)| i)
             .ok_or_else(|| SeriesError::UnknownChannel {
                 path: p.clone(),
                 channel: name.to_string(),
-                available: header.join(", "),
+                available: header.iter().map(|(_, h)| *h).collect::<Vec<_>>().join(", "),
             })
     };
-    // the time first, then the channels: each slot's column in the file
+    // the time first, then the channels: each slot's leaf column in the file
     let mut names = vec!["time"];
     names.extend_from_slice(channels);
     let columns: Vec<usize> = names.iter().map(|n| position(n)).collect::<Result<_, _>>()?;
     for &c in &columns {
-        let field = schema.field(c);
-        if field.data_type() != &arrow_schema::DataType::Float64 {
+        let column = schema.column(c);
+        if column.physical_type() != PhysicalType::DOUBLE || column.max_rep_level() > 0 {
+            let logical = column.logical_type_ref().map_or(String::new(), |l| format!(" ({l:?})"));
             return Err(read_error(&format!(
-                "column {} is {}, not Float64 (double)",
-                field.name(),
-                field.data_type()
+                "column {} is {}{logical}{}, not Float64 (double)",
+                column.name(),
+                column.physical_type(),
+                if column.max_rep_level() > 0 { ", repeated" } else { "" },
             )));
         }
     }
-    // the projection keeps the file's column order: where each wanted column lands in a batch
+    // each wanted column decoded once, whichever slots ask for it
     let mut wanted = columns.clone();
     wanted.sort_unstable();
     wanted.dedup();
-    let in_batch: Vec<usize> = columns.iter().map(|c| wanted.binary_search(c).unwrap()).collect();
-    let mask = ProjectionMask::roots(builder.parquet_schema(), wanted.iter().copied());
-    let reader = builder.with_projection(mask).build().map_err(|e| read_error(&e))?;
+    let slot: Vec<usize> = columns.iter().map(|c| wanted.binary_search(c).unwrap()).collect();
     let mut rows = CheckedRows::new(p.clone(), &names);
+    let mut decoded: Vec<Vec<f64>> = vec![Vec::new(); wanted.len()];
     let mut values = vec![0.0; names.len()];
     let mut row = 0;
-    for batch in reader {
-        let batch = batch.map_err(|e| read_error(&e))?;
-        let arrays: Vec<&Float64Array> = in_batch
-            .iter()
-            .map(|&i| {
-                batch
-                    .column(i)
-                    .as_any()
-                    .downcast_ref::<Float64Array>()
-                    .expect("checked Float64")
-            })
-            .collect();
-        for r in 0..batch.num_rows() {
+    for g in 0..reader.num_row_groups() {
+        let group = reader.get_row_group(g).map_err(|e| read_error(&e))?;
+        let count = usize::try_from(group.metadata().num_rows()).map_err(|e| read_error(&e))?;
+        for (&c, out) in wanted.iter().zip(&mut decoded) {
+            read_doubles(group.as_ref(), c, count, out)
+                .map_err(|e| read_error(&format!("column {}, row group {g}: {e}", schema.column(c).name())))?;
+        }
+        for r in 0..count {
             row += 1;
-            for (v, a) in values.iter_mut().zip(&arrays) {
-                *v = if a.is_null(r) { f64::NAN } else { a.value(r) };
+            for (v, &s) in values.iter_mut().zip(&slot) {
+                *v = decoded[s][r];
             }
             rows.accept(row, &values, &mut sample)?;
         }
     }
     rows.finish()
+}
+
+/// The `count` values of DOUBLE column `c` in `group` into `out` (cleared first), a null as NaN.
+fn read_doubles(group: &dyn RowGroupReader, c: usize, count: usize, out: &mut Vec<f64>) -> Result<(), String> {
+    let ColumnReader::DoubleColumnReader(mut reader) = group.get_column_reader(c).map_err(|e| e.to_string())? else {
+        return Err("not a DOUBLE column".into());
+    };
+    let nullable = group.metadata().column(c).column_descr().max_def_level() > 0;
+    out.clear();
+    let (mut levels, mut present) = (Vec::new(), Vec::new());
+    while out.len() < count {
+        let (records, _, _) = reader
+            .read_records(
+                count - out.len(),
+                nullable.then_some(&mut levels),
+                None,
+                if nullable { &mut present } else { out },
+            )
+            .map_err(|e| e.to_string())?;
+        if records == 0 {
+            return Err(format!("{} of {count} values present", out.len()));
+        }
+        if nullable {
+            // a defined value takes the next of those present, in order
+            let mut next = present.drain(..);
+            out.extend(levels.drain(..).map(|l| {
+                if l > 0 {
+                    next.next().unwrap_or(f64::NAN)
+                } else {
+                    f64::NAN
+                }
+            }));
+        }
+    }
+    Ok(())
 }
