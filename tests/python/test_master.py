@@ -387,3 +387,5 @@ def test_series_commands_read_parquet_as_pandas_and_pyarrow_write_it(tmp_path, w
     holes.loc[1234, "lss.torque"] = pd.NA
     holes.to_parquet(tmp_path / "holes.parquet")
     assert "row 1235" in refused("holes.parquet", "lss.torque")
+    pq.write_table(pa.Table.from_pandas(frame, preserve_index=False), tmp_path / "zstd.parquet", compression="zstd")
+    assert 'compression="snappy"' in refused("zstd.parquet", "lss.torque")

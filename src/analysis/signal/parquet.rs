@@ -4,7 +4,7 @@
 //! decoded, one row group at a time, and every row passes the checks a CSV row does
 //! ([`super::series`]). Read through the parquet crate's column readers (see `cosim::parquet` for
 //! why not its Arrow layer); the codecs are Snappy's and uncompressed, which pandas and pyarrow
-//! write by default.
+//! write by default (another codec, polars' default zstd for one, is refused with a hint).
 
 use super::rows::{CheckedRows, Extent, SeriesError};
 use parquet::basic::Type as PhysicalType;
@@ -80,8 +80,21 @@ pub fn stream_channels(
         let group = reader.get_row_group(g).map_err(|e| read_error(&e))?;
         let count = usize::try_from(group.metadata().num_rows()).map_err(|e| read_error(&e))?;
         for (&c, out) in wanted.iter().zip(&mut decoded) {
-            read_doubles(group.as_ref(), c, count, out)
-                .map_err(|e| read_error(&format!("column {}, row group {g}: {e}", schema.column(c).name())))?;
+            read_doubles(group.as_ref(), c, count, out).map_err(|e| {
+                // the codec's name without its level ("ZSTD", not "ZSTD(ZstdLevel(1))")
+                let codec = group.metadata().column(c).compression().to_string();
+                let codec = codec.split('(').next().unwrap_or_default();
+                let hint = if e.contains("Disabled feature") {
+                    format!(
+                        " (the column is compressed with {codec}; windrive reads Snappy and uncompressed Parquet, \
+                         pandas' and pyarrow's default: write it with compression=\"snappy\", as polars' \
+                         write_parquet(path, compression=\"snappy\") does)"
+                    )
+                } else {
+                    String::new()
+                };
+                read_error(&format!("column {}, row group {g}: {e}{hint}", schema.column(c).name()))
+            })?;
         }
         for r in 0..count {
             row += 1;
