@@ -354,7 +354,8 @@ def test_parquet_results_read_as_is_by_pandas_and_pyarrow(tmp_path, windrive, ou
 def test_series_commands_read_parquet_as_pandas_and_pyarrow_write_it(tmp_path, windrive):
     """A series written by pandas (pyarrow's defaults: dictionary pages, Snappy, nullable float columns)
     or by pyarrow in many row groups reads as its CSV does: the same DELs to the last digit. A column
-    that is not float64 and a null value are refused in one line naming the column or the row."""
+    that is not float64, a null value, a codec windrive does not read and a file that is not Parquet are
+    refused in one line naming the column, the row, the codec or the file."""
     import pandas as pd
     import pyarrow as pa
     import pyarrow.parquet as pq
@@ -388,4 +389,7 @@ def test_series_commands_read_parquet_as_pandas_and_pyarrow_write_it(tmp_path, w
     holes.to_parquet(tmp_path / "holes.parquet")
     assert "row 1235" in refused("holes.parquet", "lss.torque")
     pq.write_table(pa.Table.from_pandas(frame, preserve_index=False), tmp_path / "zstd.parquet", compression="zstd")
+    assert 'compressed with ZSTD' in refused("zstd.parquet", "lss.torque")
     assert 'compression="snappy"' in refused("zstd.parquet", "lss.torque")
+    (tmp_path / "garbage.parquet").write_text("not parquet")
+    assert "garbage.parquet" in refused("garbage.parquet", "lss.torque")

@@ -7,7 +7,7 @@
 //! write by default (another codec, polars' default zstd for one, is refused with a hint).
 
 use super::rows::{CheckedRows, Extent, SeriesError};
-use parquet::basic::Type as PhysicalType;
+use parquet::basic::{Compression, Type as PhysicalType};
 use parquet::column::reader::ColumnReader;
 use parquet::file::reader::{FileReader, RowGroupReader, SerializedFileReader};
 use std::path::Path;
@@ -80,21 +80,19 @@ pub fn stream_channels(
         let group = reader.get_row_group(g).map_err(|e| read_error(&e))?;
         let count = usize::try_from(group.metadata().num_rows()).map_err(|e| read_error(&e))?;
         for (&c, out) in wanted.iter().zip(&mut decoded) {
-            read_doubles(group.as_ref(), c, count, out).map_err(|e| {
+            let at = format!("column {}, row group {g}", schema.column(c).name());
+            let codec = group.metadata().column(c).compression();
+            if !matches!(codec, Compression::UNCOMPRESSED | Compression::SNAPPY) {
                 // the codec's name without its level ("ZSTD", not "ZSTD(ZstdLevel(1))")
-                let codec = group.metadata().column(c).compression().to_string();
-                let codec = codec.split('(').next().unwrap_or_default();
-                let hint = if e.contains("Disabled feature") {
-                    format!(
-                        " (the column is compressed with {codec}; windrive reads Snappy and uncompressed Parquet, \
-                         pandas' and pyarrow's default: write it with compression=\"snappy\", as polars' \
-                         write_parquet(path, compression=\"snappy\") does)"
-                    )
-                } else {
-                    String::new()
-                };
-                read_error(&format!("column {}, row group {g}: {e}{hint}", schema.column(c).name()))
-            })?;
+                let codec = codec.to_string();
+                let codec = codec.split('(').next().unwrap_or_default().to_string();
+                return Err(read_error(&format!(
+                    "{at}: compressed with {codec}; windrive reads Snappy and uncompressed Parquet, pandas' and \
+                     pyarrow's default: write it with compression=\"snappy\", as polars' \
+                     write_parquet(path, compression=\"snappy\") does"
+                )));
+            }
+            read_doubles(group.as_ref(), c, count, out).map_err(|e| read_error(&format!("{at}: {e}")))?;
         }
         for r in 0..count {
             row += 1;
