@@ -34,6 +34,8 @@ examples (from the repository's root):
       the paper's Tables 6 and 7 beside ours, η heat maps, shape checks (a grid with [gears], after run)
   scripts/campaign sensitivity A --out docs/sensitivity
       drivetrain A's estimates over their ranges (Morris): which reproduction verdicts hold across them
+  scripts/campaign seeds campaigns/c-seeds.toml --windows 60,120,300 --out docs/seed-study
+      how many seeds and how long a window DLC 1.2 needs: the scatter of every DEL over the seeds
 
 The campaign file's keys: docs/CAMPAIGNS.md.
 """
@@ -67,6 +69,16 @@ examples (from the repository's root):
       the 2 MW gearbox's bearing and carrier estimates through the 6-DOF shutdown (a minute per evaluation)
   windrive reproduce --out docs/REPRODUCTION.md
       afterwards: the reproduction page with each row's verdict across the bands
+"""
+
+
+SEEDS_EPILOG = """\
+examples (from the repository's root):
+  scripts/campaign seeds campaigns/c-seeds.toml --windows 60,120,300 --out docs/seed-study --doc docs/CAMPAIGNS.md
+      drivetrain C's three wind bins x 20 seeds at 600 s (the file's window) and at 60, 120 and 300 s;
+      the cases run in results/seed-study/ (rerun to resume), the table and chart go to docs/seed-study/
+  scripts/campaign seeds docs/seed-study/c-seeds_seeds.csv --doc docs/CAMPAIGNS.md
+      the page's block and the chart beside the table again from the committed table, nothing run
 """
 
 
@@ -160,6 +172,26 @@ def main(argv=None) -> int:
     sen_where.add_argument("--workers", type=int, help="LocalCluster worker processes [default: all cores]")
     sen_where.add_argument("--scheduler", metavar="ADDRESS", help="join a running dask scheduler instead")
     sen.add_argument("--windrive", help=f"windrive binary [default: {WINDRIVE_DEFAULT}]")
+    see = sub.add_parser(
+        "seeds",
+        help="how many seeds and how long a window a DLC 1.2 campaign needs: its scatter over seeds, measured",
+        description="Runs a campaign's DLC 1.2 cases at its own window and at each of --windows (new seeds per "
+        "window), then gives per wind bin, window and DEL the seed-to-seed scatter, the 95 %% interval of the "
+        "bin's damage with 3 to 20 seeds, the seeds and simulated time a ±10 %% interval needs, and the "
+        "window's bias against the longest (docs/CAMPAIGNS.md, How many seeds, how long a window).",
+        epilog=SEEDS_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    see.add_argument("campaign", type=Path, help="campaign file with [dlc12] (or a seeds table written before)")
+    see.add_argument("--windows", default="", help="other analysed windows in s, comma-separated (e.g. 60,120,300)")
+    see.add_argument("--out", type=Path, help="folder for the table and chart [default: results/seed-study/<name>]")
+    see.add_argument("--runs", type=Path, help="folder of the cases' campaigns [default: results/seed-study/<name>/runs]")
+    see.add_argument("--doc", type=Path, help="also regenerate this page's block (between the markers "
+                     "python/windrive_campaign/seeds.py names, e.g. in docs/CAMPAIGNS.md)")  # fmt: skip
+    see_where = see.add_mutually_exclusive_group()
+    see_where.add_argument("--workers", type=int, help="LocalCluster worker processes [default: all cores]")
+    see_where.add_argument("--scheduler", metavar="ADDRESS", help="join a running dask scheduler instead")
+    see.add_argument("--windrive", help=f"windrive binary [default: {WINDRIVE_DEFAULT}]")
     args = p.parse_args(argv)
     try:
         if args.command == "run" and args.workers is not None and args.workers < 1:
@@ -183,6 +215,8 @@ def main(argv=None) -> int:
                 args.group, binary.windrive(args.windrive), args.out.resolve(), args.trajectories, args.levels,
                 args.seed, args.workers, args.scheduler, sobol_samples=args.sobol,
             )  # fmt: skip
+        if args.command == "seeds":
+            return _seeds(args)
         campaign = schema.load(args.campaign)
         if args.command == "job-script":
             # the job logs' folder of a `run` without --out
@@ -212,6 +246,47 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:  # before the cases started (the driver handles it while they run)
         print("interrupted", file=sys.stderr)
         return 130
+
+
+def _seeds(args) -> int:
+    import os
+
+    import pandas as pd
+
+    from . import seeds  # pandas, scipy and matplotlib: only this command pays their import
+
+    if args.campaign.suffix == ".csv":  # a table written before: the page's block only
+        if args.doc is None:
+            raise CampaignError(f"{args.campaign}: a seeds table is only read to regenerate a page: give --doc PAGE")
+        table = pd.read_csv(args.campaign)
+        name = args.campaign.name.removesuffix("_seeds.csv")
+        args.doc.write_text(seeds.replace(args.doc, name, table, os.path.relpath(args.campaign, args.doc.parent)))
+        seeds.chart(table, args.campaign.with_name(f"{name}_seeds.png"))
+        print(f"{args.doc}: {name}'s block and chart regenerated from {args.campaign}", file=sys.stderr)
+        return 0
+    if args.workers is not None and args.workers < 1:
+        raise CampaignError(f"--workers {args.workers}: at least 1")
+    try:
+        windows = [float(w) for w in args.windows.split(",") if w.strip()]
+    except ValueError:
+        raise CampaignError(f"--windows {args.windows}: seconds separated by commas, e.g. 60,120,300") from None
+    campaign = schema.load(args.campaign)
+    home = Path("results") / "seed-study" / campaign.name
+    out = args.out or home
+    opts = driver.Options(out=out, windrive=binary.windrive(args.windrive), workers=args.workers,
+                          scheduler=args.scheduler, slurm=False, retry_failed=False)  # fmt: skip
+    table, status = seeds.run(campaign, windows, args.runs or home / "runs", opts)
+    if status == 130:
+        return status
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / f"{campaign.name}_seeds.csv"
+    table.to_csv(path, index=False)
+    seeds.chart(table, out / f"{campaign.name}_seeds.png")
+    print(f"{path}: {len(table)} cases; chart {out / f'{campaign.name}_seeds.png'}", file=sys.stderr)
+    if args.doc is not None:
+        args.doc.write_text(seeds.replace(args.doc, campaign.name, table, os.path.relpath(path, args.doc.parent)))
+        print(f"{args.doc}: {campaign.name}'s block regenerated", file=sys.stderr)
+    return status
 
 
 def _list_cases(campaign, windrive: str) -> int:

@@ -33,7 +33,7 @@ from . import bearings as bearings_mod
 from . import climate as climate_mod
 from . import gears as gears_mod
 from .errors import CampaignError
-from .schema import Campaign, ParamValue
+from .schema import WIND_SAMPLINGS, Campaign, ParamValue
 
 
 @dataclass(frozen=True)
@@ -213,6 +213,9 @@ def expand(c: Campaign, scenes: dict[Path, tuple[str, str]], windrive_id: str, w
         cl = c.climate
         if windrive is None:
             raise ValueError("expand: a campaign with [dlc12] needs the windrive binary for its wind bins")
+        sampling = d.wind_sampling
+        if sampling is None and f"{d.rotor}.wind_sampling" not in {**c.params, **d.params}:
+            sampling = WIND_SAMPLINGS[0]
         for b in climate_mod.wind_bins(windrive, d, cl):
             ti = d.turbulence_intensity
             if ti is None:
@@ -223,6 +226,7 @@ def expand(c: Campaign, scenes: dict[Path, tuple[str, str]], windrive_id: str, w
                     f"{d.rotor}.wind_speed": b.speed,
                     f"{d.rotor}.seed": seed,
                     f"{d.rotor}.turbulence_intensity": ti,
+                    **({f"{d.rotor}.wind_sampling": sampling} if sampling is not None else {}),
                 }
                 cases.append(
                     make(

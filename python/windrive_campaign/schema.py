@@ -26,6 +26,10 @@ TURBULENCE_CLASSES = ("A", "B", "C")  # IEC 61400-1 ed. 3; I_ref: src/physics/tu
 # defaults, so the lifetime's seed-to-seed scatter is what the standard accepts
 IEC_WINDOW_S = 600.0
 IEC_SEEDS = 6
+# what the DLC 1.2 rotor blows unless the campaign says: IEC 61400-1's turbulence as a full field (u, v, w with
+# coherence and shear) sampled by each blade element as it turns, so 3P, shear and the rotor's tilt and yaw
+# moments are in the loads (docs/WIND.md); rotor_average is one longitudinal series, the cheaper option
+WIND_SAMPLINGS = ("blades", "rotor_average")
 
 ParamValue = str | int | float | bool
 
@@ -65,6 +69,8 @@ class Dlc12:
     turbulence_intensity: float | None
     rotor: str  # component carrying wind_speed, seed, turbulence, turbulence_intensity
     params: dict[str, ParamValue] = field(default_factory=dict)
+    # the rotor's wind_sampling; None: blades unless the campaign's params set it (cases.expand)
+    wind_sampling: str | None = None
 
 
 @dataclass(frozen=True)
@@ -493,8 +499,9 @@ class _Reader:
         self.check_keys(
             t,
             key,
-            ("cut_in", "cut_out", "bin_width", "seeds", "turbulence_class", "turbulence_intensity", "rotor", "params"),
-        )
+            ("cut_in", "cut_out", "bin_width", "seeds", "turbulence_class", "turbulence_intensity", "rotor",
+             "wind_sampling", "params"),
+        )  # fmt: skip
         cut_in = self.number(t, key, "cut_in", above=0.0)
         cut_out = self.number(t, key, "cut_out", above=0.0)
         if cut_out <= cut_in:
@@ -529,6 +536,7 @@ class _Reader:
             turbulence_intensity=ti,
             rotor=rotor,
             params=self.params(t, key, "params"),
+            wind_sampling=self.string(t, key, "wind_sampling", choices=WIND_SAMPLINGS),
         )
 
     def events(self, doc: dict, scene: Path, stop_time: float, transient: float) -> tuple[Event, ...]:

@@ -208,6 +208,29 @@ def test_a_turbulent_rotors_period_is_the_analysed_window_and_its_seed_its_own(t
     assert {k.params["rotor.turbulence_scaling"] for k in cases.expand(ten, {c.scene: ("s", "d")}, "w")} == {"ten_minute"}
 
 
+def test_dlc12_blows_a_full_field_on_the_blades_unless_the_campaign_says(tmp_path, windrive):
+    """[dlc12]'s rotor samples IEC turbulence as a full field on the blades by default (3P, shear, tilt and
+    yaw in the loads: docs/WIND.md); `wind_sampling` in [dlc12], or the rotor's parameter in params, chooses
+    the rotor-averaged series instead; both at once is the one parameter set twice."""
+    dlc = '[climate]\nrayleigh = { mean = 10.0 }\n[dlc12]\ncut_in = 10\ncut_out = 12\nseeds = 1\nturbulence_class = "A"\n'
+
+    def sampling(text, name):
+        c = schema.load(write_campaign(tmp_path, minimal(grid="", tables=text), name))
+        return {k.params.get("rotor.wind_sampling") for k in cases.expand(c, {c.scene: ("s", "d")}, "w", windrive)}
+
+    assert sampling(dlc, "a.toml") == {"blades"}
+    assert sampling(dlc + 'wind_sampling = "rotor_average"\n', "b.toml") == {"rotor_average"}
+    params = minimal(grid="", tables=dlc).replace("stop_time = 2.0", 'stop_time = 2.0\nparams = { "rotor.wind_sampling" = "rotor_average" }')
+    c = schema.load(write_campaign(tmp_path, params, "c.toml"))
+    assert {k.params["rotor.wind_sampling"] for k in cases.expand(c, {c.scene: ("s", "d")}, "w", windrive)} == {"rotor_average"}
+    both = params.replace('turbulence_class = "A"', 'turbulence_class = "A"\nwind_sampling = "blades"')
+    c = schema.load(write_campaign(tmp_path, both, "d.toml"))
+    with pytest.raises(CampaignError, match="rotor.wind_sampling is set twice"):
+        cases.expand(c, {c.scene: ("s", "d")}, "w", windrive)
+    with pytest.raises(CampaignError, match="wind_sampling.*must be one of blades, rotor_average, not 'bem'"):
+        schema.load(write_campaign(tmp_path, minimal(grid="", tables=dlc + 'wind_sampling = "bem"\n'), "e.toml"))
+
+
 def test_dlc12_defaults_are_iec_windows_and_six_seeds(tmp_path):
     """Without stop_time and seeds, [dlc12] runs IEC 61400-1's 10-minute series after the transient with
     six seeds per bin; given, they stay."""
