@@ -74,8 +74,9 @@ examples (from the repository's root):
 
 SEEDS_EPILOG = """\
 examples (from the repository's root):
-  scripts/campaign seeds campaigns/c-seeds.toml --windows 60,120,300 --out docs/seed-study --doc docs/CAMPAIGNS.md
-      drivetrain C's three wind bins x 20 seeds at 600 s (the file's window) and at 60, 120 and 300 s;
+  scripts/campaign seeds campaigns/c-seeds.toml --windows 60,120,300 --other-sampling --out docs/seed-study --doc docs/CAMPAIGNS.md
+      drivetrain C's three wind bins x 20 seeds at 600 s (the file's window) and at 60, 120 and 300 s,
+      and at 600 s with the rotor-averaged wind beside the blades' full field;
       the cases run in results/seed-study/ (rerun to resume), the table and chart go to docs/seed-study/
   scripts/campaign seeds docs/seed-study/c-seeds_seeds.csv --doc docs/CAMPAIGNS.md
       the page's block and the chart beside the table again from the committed table, nothing run
@@ -188,6 +189,8 @@ def main(argv=None) -> int:
     see.add_argument("--runs", type=Path, help="folder of the cases' campaigns [default: results/seed-study/<name>/runs]")
     see.add_argument("--doc", type=Path, help="also regenerate this page's block (between the markers "
                      "python/windrive_campaign/seeds.py names, e.g. in docs/CAMPAIGNS.md)")  # fmt: skip
+    see.add_argument("--other-sampling", action="store_true", help="also run the file's window with the other "
+                     "wind sampling (blades or rotor_average) and give each bin's DEL ratio between the two")  # fmt: skip
     see_where = see.add_mutually_exclusive_group()
     see_where.add_argument("--workers", type=int, help="LocalCluster worker processes [default: all cores]")
     see_where.add_argument("--scheduler", metavar="ADDRESS", help="join a running dask scheduler instead")
@@ -275,7 +278,7 @@ def _seeds(args) -> int:
     out = args.out or home
     opts = driver.Options(out=out, windrive=binary.windrive(args.windrive), workers=args.workers,
                           scheduler=args.scheduler, slurm=False, retry_failed=False)  # fmt: skip
-    table, status = seeds.run(campaign, windows, args.runs or home / "runs", opts)
+    table, status = seeds.run(campaign, windows, args.runs or home / "runs", opts, args.other_sampling)
     if status == 130:
         return status
     out.mkdir(parents=True, exist_ok=True)

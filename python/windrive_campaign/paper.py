@@ -449,6 +449,77 @@ def shapes(rel: pd.DataFrame) -> dict:
 
 
 # ---------------------------------------------------------------------------------------------------
+# Table 8 and the paper's own consistency
+
+
+@dataclass
+class Levels:
+    """Table 8's rule made explicit: each damage's mean |η| over the cells of Table 7 (the paper's own
+    numbers give its three levels in its order with it), each level the mean of its pair."""
+
+    paper: pd.Series  # mean |η| in % per Table 7 label, from the paper's Table 7
+    ours: pd.Series  # the same from our cell means, over the same cells
+    ours_lo: pd.Series  # its 95 % interval (bootstrap of every turbulent cell's seeds at once)
+    ours_hi: pd.Series
+    paper_levels: np.ndarray  # per level (1, 2, 3) the mean of its pair, the paper's
+    ours_levels: np.ndarray  # and ours
+    # ours: level 1 over level 2 and level 2 over level 3, each (ratio, interval low, high)
+    ratios: tuple[tuple[float, float, float], tuple[float, float, float]]
+
+
+def _pair_means(per_label: np.ndarray) -> np.ndarray:
+    """(…, 6) mean |η| per label -> (…, 3) per Table 8 level, in the levels' order."""
+    idx = [[TABLE7_LABELS.index(label(k, t)) for k, t in pair] for pair in data.TABLE8.values()]
+    return np.stack([per_label[..., i].mean(axis=-1) for i in idx], axis=-1)
+
+
+def levels(c: Cells, dc: pd.Series, rel: pd.DataFrame) -> Levels:
+    keys = [k for k in paper_relative().index if k in rel.index]
+    paper_abs = (paper_relative().loc[keys] - 1.0).abs().mean() * 100.0
+    ours_abs = (rel.loc[keys] - 1.0).abs().mean() * 100.0
+    # every cell with seeds resampled in the same draw; the steady cells (one case) fixed
+    draws = np.zeros((BOOTSTRAP_DRAWS, len(TABLE7_LABELS)))
+    for key in keys:
+        if c.count.get(key, 0) >= 2:
+            draws += np.abs(bootstrap_means(_relative_cases(c, dc, key), _rng(*key, 8.0)) - 1.0)
+        else:
+            draws += np.abs(rel.loc[key].to_numpy(dtype=float) - 1.0)
+    draws *= 100.0 / len(keys)
+    lo, hi = _percentiles(draws)
+    pairs = _pair_means(draws)
+    ours_levels = _pair_means(ours_abs.to_numpy(dtype=float))
+    ratios = []
+    for a in (0, 1):
+        r_lo, r_hi = _percentiles((pairs[:, a] / pairs[:, a + 1])[:, None])
+        ratios.append((float(ours_levels[a] / ours_levels[a + 1]), float(r_lo[0]), float(r_hi[0])))
+    return Levels(
+        paper=paper_abs,
+        ours=ours_abs,
+        ours_lo=pd.Series(lo, index=TABLE7_LABELS),
+        ours_hi=pd.Series(hi, index=TABLE7_LABELS),
+        paper_levels=_pair_means(paper_abs.to_numpy(dtype=float)),
+        ours_levels=ours_levels,
+        ratios=(ratios[0], ratios[1]),
+    )
+
+
+def steady_spread() -> pd.DataFrame:
+    """The paper's steady rows above rated, where the input torque is the rated torque at every speed and a
+    gear's damage should not depend on the speed: per Table 7 damage the lowest and highest η (%) over them."""
+    rows = {v: etas for v, by_ti in data.TABLE7.items() if v > data.RATED_SPEED for ti, etas in by_ti.items()
+            if ti == 0.0}  # fmt: skip
+    t = pd.DataFrame.from_dict(rows, orient="index", columns=TABLE7_LABELS)
+    return pd.DataFrame({"speeds": len(t), "min": t.min(), "max": t.max(), "spread": t.max() - t.min()})
+
+
+def text_grid_outside() -> tuple[list[float], list[float]]:
+    """Table 7's wind speeds and TIs that the grid its text describes does not hold."""
+    speeds = sorted({v for v in data.TABLE7})
+    tis = sorted({ti for by_ti in data.TABLE7.values() for ti in by_ti if ti > 0})
+    return ([v for v in speeds if v not in data.TEXT_SPEEDS], [ti for ti in tis if ti not in data.TEXT_TI_PCT])
+
+
+# ---------------------------------------------------------------------------------------------------
 # everything at once
 
 
@@ -465,6 +536,7 @@ class Comparison:
     missing: list[tuple[float, float]]
     intervals: pd.DataFrame  # eta_intervals: seeds and η's bootstrap interval per cell
     verdicts: dict  # verdicts(): the paper's values inside ours, the sign at rated, the TI trend
+    levels: Levels  # Table 8's rule on the paper's Table 7 and on ours
 
 
 def compare(t: pd.DataFrame) -> Comparison:
@@ -486,6 +558,7 @@ def compare(t: pd.DataFrame) -> Comparison:
         missing=missing_cells(c),
         intervals=ci,
         verdicts=verdicts(t7, c, dc),
+        levels=levels(c, dc, rel),
     )
 
 

@@ -149,3 +149,16 @@ TABLE7 = {
 }
 
 RATED_SPEED = 11.5  # m/s: D_const,rated is steady wind at this speed (Eq. 5)
+
+# -- Table 8: the gears' sensitivity to the wind in three levels, each a pair of damages of one stage,
+# "by comparing their fatigue damage comparison factors" (§2.2.2.2; the rule itself is not given)
+TABLE8 = {
+    1: (("bending", "p3"), ("contacting", "p3")),
+    2: (("bending", "r1"), ("contacting", "s1")),
+    3: (("bending", "r2"), ("contacting", "s2")),
+}
+
+# -- The grid its text describes (§2.1): mean wind speed 5 to 20 m/s by 2 m/s, turbulence intensity 9 to
+# 24 % by 2 % (the text's words; Table 7's rows are another grid)
+TEXT_SPEEDS = tuple(5.0 + 2.0 * k for k in range(8))  # 5, 7, ..., 19 (20 is not reached by steps of 2)
+TEXT_TI_PCT = tuple(9.0 + 2.0 * k for k in range(8))  # 9, 11, ..., 23

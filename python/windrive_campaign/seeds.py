@@ -40,6 +40,7 @@ from . import schema
 from .errors import CampaignError
 from .intervals import CONFIDENCE, half_width, seeds_needed
 
+OTHER_SAMPLING_SEEDS = 500  # the other wind sampling's seed numbers: s + this (no window's are)
 SEED_STRIDE = 1000  # a window of T whole seconds runs seed numbers s + SEED_STRIDE · T (the file's own keeps s)
 SEED_COUNTS = (3, 6, 10, 20)  # the interval's half-width shown for these numbers of seeds
 ACCURACY = 0.10  # the seeds (and simulated time) a ±10 % interval on a bin's damage needs
@@ -59,18 +60,31 @@ def end_marker(name: str) -> str:
 # running
 
 
-def window_campaigns(c: schema.Campaign, windows: list[float]) -> list[tuple[float, schema.Campaign]]:
-    """The campaign's DLC 1.2 cases for each analysed window: the file's own first, then `windows`."""
+def sampling_of(c: schema.Campaign) -> str:
+    """The wind sampling the campaign's DLC 1.2 cases run (cases.expand's rule)."""
+    d = c.dlc12
+    key = f"{d.rotor}.wind_sampling"
+    given = d.wind_sampling or {**c.params, **d.params}.get(key)
+    return str(given) if given is not None else schema.WIND_SAMPLINGS[0]
+
+
+def window_campaigns(
+    c: schema.Campaign, windows: list[float], other_sampling: bool = False
+) -> list[tuple[float, str, schema.Campaign]]:
+    """The campaign's DLC 1.2 cases for each analysed window (window, wind sampling, campaign): the file's
+    own first, then `windows`, then with `other_sampling` the file's window once more with the other wind
+    sampling (blades or rotor_average; seed numbers s + OTHER_SAMPLING_SEEDS)."""
     if c.dlc12 is None:
         raise CampaignError(f"{c.path}: seeds studies a campaign's DLC 1.2 cases: the file has no [dlc12]")
     if len(c.dlc12.seeds) < 3:
         raise CampaignError(f"{c.path}: [dlc12] seeds: {len(c.dlc12.seeds)}; the scatter over seeds needs at least 3")
     own = c.stop_time - c.transient
-    out = [(own, dataclasses.replace(c, name=f"{c.name}-{own:g}s", grids=(), events=()))]
+    sampling = sampling_of(c)
+    out = [(own, sampling, dataclasses.replace(c, name=f"{c.name}-{own:g}s", grids=(), events=()))]
     for w in windows:
         if not (math.isfinite(w) and w >= 1.0 and w == round(w) and SEED_STRIDE * w < 2**30):
             raise CampaignError(f"--windows: {w:g} s is not a window (whole seconds, 1 to {2**30 // SEED_STRIDE})")
-        if any(math.isclose(w, v) for v, _ in out):
+        if any(math.isclose(w, v) for v, _, _ in out):
             continue
         seeds = tuple(s + SEED_STRIDE * int(w) for s in c.dlc12.seeds)
         run = dataclasses.replace(
@@ -81,18 +95,32 @@ def window_campaigns(c: schema.Campaign, windows: list[float]) -> list[tuple[flo
             grids=(),
             events=(),
         )
-        out.append((w, run))
+        out.append((w, sampling, run))
+    if other_sampling:
+        other = next(x for x in schema.WIND_SAMPLINGS if x != sampling)
+        key = f"{c.dlc12.rotor}.wind_sampling"
+        d = dataclasses.replace(
+            c.dlc12,
+            wind_sampling=other,
+            seeds=tuple(s + OTHER_SAMPLING_SEEDS for s in c.dlc12.seeds),
+            params={k: v for k, v in c.dlc12.params.items() if k != key},
+        )
+        params = {k: v for k, v in c.params.items() if k != key}
+        run = dataclasses.replace(c, name=f"{c.name}-{own:g}s-{other}", dlc12=d, params=params, grids=(), events=())
+        out.append((own, other, run))
     return out
 
 
-def run(c: schema.Campaign, windows: list[float], runs: Path, opts) -> tuple[pd.DataFrame, int]:
+def run(
+    c: schema.Campaign, windows: list[float], runs: Path, opts, other_sampling: bool = False
+) -> tuple[pd.DataFrame, int]:
     """Runs (or resumes) each window's campaign in runs/<name>-<T>s (driver.Options `opts`, its `out`
     replaced) and gathers their DLC 1.2 results."""
     from . import driver  # dask: only a run pays its import
 
     frames = []
     status = 0
-    for window, wc in window_campaigns(c, windows):
+    for window, sampling, wc in window_campaigns(c, windows, other_sampling):
         rc = driver.run(wc, dataclasses.replace(opts, out=(runs / wc.name).resolve()))
         if rc == 130:
             return pd.DataFrame(), rc
@@ -101,10 +129,11 @@ def run(c: schema.Campaign, windows: list[float], runs: Path, opts) -> tuple[pd.
         t = t[(t["group"] == "dlc12") & (t["status"] == "ok")]
         keep = ["wind_speed", "seed", "turbulence_intensity", "analysed_s"]
         keep += [k for k in t.columns if DEL_COLUMN.match(k)]
-        frames.append(t[keep].assign(window=window))
+        frames.append(t[keep].assign(window=window, wind_sampling=sampling))
     table = pd.concat(frames, ignore_index=True)
-    cols = ["window", *[k for k in table.columns if k != "window"]]
-    return table[cols].sort_values(["window", "wind_speed", "seed"], kind="stable"), status
+    cols = ["window", "wind_sampling", *[k for k in table.columns if k not in ("window", "wind_sampling")]]
+    order = ["window", "wind_sampling", "wind_speed", "seed"]
+    return table[cols].sort_values(order, kind="stable").reset_index(drop=True), status
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -135,7 +164,27 @@ class Cell:
     bias: tuple[float, float, float]  # DEL over the longest window's: ratio, interval low, high
 
 
+def own_sampling(table: pd.DataFrame) -> str:
+    """The wind sampling every window ran (the campaign file's); the other one ran the longest only."""
+    return str(table.groupby("wind_sampling")["window"].nunique().idxmax())
+
+
+def del_ratio(x: np.ndarray, ref: np.ndarray, m: float, key: list[int]) -> tuple[float, float, float]:
+    """The DEL of damage rates x over that of ref ((x̄ / r̄)^(1/m)) with its 95 % percentile bootstrap
+    interval, resampling each on its own (BOOTSTRAP_DRAWS draws, the generator keyed by `key`)."""
+    if not len(x) or not len(ref):
+        return (math.nan, math.nan, math.nan)
+    rng = np.random.default_rng(key)
+    draws = rng.choice(x, (BOOTSTRAP_DRAWS, len(x))).mean(axis=1)
+    draws_ref = rng.choice(ref, (BOOTSTRAP_DRAWS, len(ref))).mean(axis=1)
+    tail = 50.0 * (1.0 - CONFIDENCE)
+    lo, hi = np.percentile((draws / draws_ref) ** (1.0 / m), [tail, 100.0 - tail])
+    return (float((x.mean() / ref.mean()) ** (1.0 / m)), float(lo), float(hi))
+
+
 def cells(table: pd.DataFrame) -> list[Cell]:
+    """The statistics of every wind bin, window and DEL of the file's own wind sampling."""
+    table = table[table["wind_sampling"] == own_sampling(table)]
     longest = table["window"].max()
     out = []
     for channel, m, column in dels(table):
@@ -143,12 +192,7 @@ def cells(table: pd.DataFrame) -> list[Cell]:
             ref = by_speed.loc[by_speed["window"] == longest, column].to_numpy(float) ** m
             for window, g in by_speed.groupby("window", sort=True):
                 x = g[column].to_numpy(float) ** m
-                ratio = (x.mean() / ref.mean()) ** (1.0 / m) if len(ref) else math.nan
-                rng = np.random.default_rng([int(window), int(round(10 * speed)), int(round(10 * m))])
-                draws = rng.choice(x, (BOOTSTRAP_DRAWS, len(x))).mean(axis=1)
-                draws_ref = rng.choice(ref, (BOOTSTRAP_DRAWS, len(ref))).mean(axis=1) if len(ref) else np.nan
-                tail = 50.0 * (1.0 - CONFIDENCE)
-                lo, hi = np.percentile((draws / draws_ref) ** (1.0 / m), [tail, 100.0 - tail])
+                key = [int(window), int(round(10 * speed)), int(round(10 * m))]
                 out.append(
                     Cell(
                         window=float(window),
@@ -160,9 +204,25 @@ def cells(table: pd.DataFrame) -> list[Cell]:
                         cv=float(np.std(x, ddof=1) / x.mean()),
                         widths=tuple(half_width(x, n) for n in SEED_COUNTS),
                         needed=seeds_needed(x, ACCURACY),
-                        bias=(float(ratio), float(lo), float(hi)),
+                        bias=del_ratio(x, ref, m, key),
                     )
                 )
+    return out
+
+
+def sampling_ratios(table: pd.DataFrame) -> dict[tuple[str, float, float], tuple[float, float, float]]:
+    """(channel, m, wind speed) -> a bin's DEL with the blades over the rotor-averaged wind's, at the window
+    both ran, with its interval (del_ratio); empty when the table holds one sampling."""
+    if table["wind_sampling"].nunique() < 2:
+        return {}
+    longest = table["window"].max()
+    t = table[table["window"] == longest]
+    out = {}
+    for channel, m, column in dels(table):
+        for speed, g in t.groupby("wind_speed", sort=True):
+            x = g.loc[g["wind_sampling"] == "blades", column].to_numpy(float) ** m
+            ref = g.loc[g["wind_sampling"] == "rotor_average", column].to_numpy(float) ** m
+            out[(channel, m, float(speed))] = del_ratio(x, ref, m, [7, int(round(10 * speed)), int(round(10 * m))])
     return out
 
 
@@ -186,9 +246,12 @@ def _del_pct(damage_width: float, m: float) -> str:
 def block(name: str, table: pd.DataFrame, link: str | None) -> str:
     """The page's generated block: what the seeds of `table` (seeds' CSV) say, as Markdown."""
     cs = cells(table)
-    windows = sorted(float(w) for w in table["window"].unique())
+    ratios = sampling_ratios(table)
+    sampling = own_sampling(table)
+    mine = table[table["wind_sampling"] == sampling]
+    windows = sorted(float(w) for w in mine["window"].unique())
     longest = windows[-1]
-    n_seeds = table.groupby(["window", "wind_speed"]).size()
+    n_seeds = mine.groupby(["window", "wind_speed"]).size()
     iec = SEED_COUNTS.index(6)
     by = {(c.channel, c.m, c.wind_speed, c.window): c for c in cs}
     rows = sorted({(c.channel, c.m, c.wind_speed) for c in cs}, key=lambda r: ([d[:2] for d in dels(table)].index(r[:2]), r[2]))
@@ -196,7 +259,10 @@ def block(name: str, table: pd.DataFrame, link: str | None) -> str:
     out = [begin_marker(name), ""]
     out.append(
         f"From {source}: {len(table)} cases, {n_seeds.min()} seeds per wind bin and window, windows of "
-        f"{', '.join(f'{w:g}' for w in windows)} s. Intervals are {100 * CONFIDENCE:.0f} % on a bin's damage (the "
+        f"{', '.join(f'{w:g}' for w in windows)} s, wind sampling `{sampling}`"
+        + (f" (and `rotor_average` at {longest:g} s)" if ratios and sampling == "blades" else "")
+        + (f" (and `blades` at {longest:g} s)" if ratios and sampling != "blades" else "")
+        + ". Intervals are {100 * CONFIDENCE:.0f} % on a bin's damage (the "
         "mean of DEL^m over its seeds) and, in brackets, on its DEL; Student's t with the scatter measured over "
         "all the seeds."
     )  # fmt: skip
@@ -223,6 +289,16 @@ def block(name: str, table: pd.DataFrame, link: str | None) -> str:
         cells_ = [by.get((ch, m, v, w)) for w in short]
         out.append(f"| {_short(ch)}, {m:g} | {v:g} | " + " | ".join(
             "–" if c is None else "{:.2f} [{:.2f}, {:.2f}]".format(*c.bias) for c in cells_) + " |")  # fmt: skip
+    if ratios:
+        out += ["", f"**What the turning blades change**: a bin's DEL with the blades sampling the full field over "
+                f"its DEL from the rotor-averaged series, {longest:g} s windows, each with its own seeds (95 % "
+                "bootstrap interval):", ""]  # fmt: skip
+        speeds = sorted({v for _, _, v in ratios})
+        out.append("| channel, m | " + " | ".join(f"{v:g} m/s" for v in speeds) + " |")
+        out.append("|---|" + "---|" * len(speeds))
+        for ch, m, _ in dels(table):
+            out.append(f"| {_short(ch)}, {m:g} | " + " | ".join(
+                "{:.2f} [{:.2f}, {:.2f}]".format(*ratios[(ch, m, v)]) for v in speeds) + " |")  # fmt: skip
     out += ["", *findings(cs, longest), "", end_marker(name)]
     return "\n".join(out)
 
@@ -277,6 +353,7 @@ def chart(table: pd.DataFrame, path: Path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    table = table[table["wind_sampling"] == own_sampling(table)]
     channel, m, column = next((d for d in dels(table) if d[1] == 6.0), dels(table)[0])
     speeds = sorted(table["wind_speed"].unique())
     fig, axes = plt.subplots(1, len(speeds), figsize=(4.2 * len(speeds), 3.6), sharey=True, squeeze=False)

@@ -471,3 +471,30 @@ def test_table6_stress_factors_invert_the_exponent():
         assert r["ours_11.5"] * r["factor_11.5"] ** k == pytest.approx(r["paper_11.5"], rel=1e-9)
     # what the page says of them: the same at both speeds to within 2 %
     assert ((rows["factor_18"] / rows["factor_11.5"] - 1).abs() < 0.02).all()
+
+
+def test_table8_rule_gives_the_papers_levels_from_its_own_table7_and_ours_cannot_split_two():
+    """paper.levels: each damage's mean |η| over Table 7's cells, a level the mean of its pair. On the paper's
+    own Table 7 it gives Table 8's order; on the committed run the third-stage pinion's level stands above
+    the others, and the two planetary stages' levels cannot be told apart (the same torque through both)."""
+    t = pd.read_csv(ROOT / "docs" / "paper" / "paper_cases.csv")
+    lv = paper.compare(t).levels
+    assert lv.paper_levels[0] > lv.paper_levels[1] > lv.paper_levels[2]
+    # by hand for one damage: the mean |η| of r1 bending over Table 7's 41 cells
+    r1 = [abs(etas[0]) for by_ti in data.TABLE7.values() for etas in by_ti.values()]
+    assert lv.paper["r1 bending"] == pytest.approx(sum(r1) / len(r1), rel=1e-12)
+    (r12, lo12, _), (r23, lo23, hi23) = lv.ratios
+    assert lo12 > 1.0 and lo23 <= 1.0 <= hi23 and abs(r23 - 1.0) < 0.01
+    # README: the later stages' steady η spread by tens of points under one input torque
+    spread = paper.steady_spread()["spread"]
+    assert spread.drop(["r1 bending", "s1 contacting"]).min() >= 10.0 > spread[["r1 bending", "s1 contacting"]].max()
+    assert "its gearbox model, not only the wind, moves them" in " ".join((ROOT / "README.md").read_text().split())
+
+
+def test_the_papers_own_inconsistencies_by_hand():
+    spread = paper.steady_spread()
+    # Table 7's steady rows at 14, 16, 18, 20 m/s: r1 bending 97.7, 97.1, 99.2, 100.0; p3 bending 102.2 ... 203.5
+    assert spread.loc["r1 bending", "spread"] == pytest.approx(100.0 - 97.1)
+    assert spread.loc["p3 bending", "spread"] == pytest.approx(203.5 - 102.2)
+    assert (spread["speeds"] == 4).all()
+    assert paper.text_grid_outside() == ([11.5, 14.0, 16.0, 18.0, 20.0], [12.0, 14.0, 16.0, 18.0, 24.0])
