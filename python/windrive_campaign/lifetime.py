@@ -2,7 +2,7 @@
 (src/analysis/fatigue/campaign.rs; docs/CAMPAIGNS.md, Lifetime report): each case weighted by what it
 stands for in the design life (a DLC 1.2 case its climate hours, an event its count), the lifetime damage
 sums and DELs per channel and Wöhler slope with each group's share and their 95 % intervals over seeds
-(`*_ci`: a bootstrap of each DLC 1.2 bin's seeds), the lifetime LDD, the teeth's and the
+(`*_ci`: over each DLC 1.2 bin's seeds, Student's t of the damage sums, a bootstrap of the shares), the lifetime LDD, the teeth's and the
 bearings' Miner damage, and the thesis's DEL ratios. This module only hands the table over and reads the
 answer; the convention is the binary's, one computation with `windrive life`.
 """

@@ -12,6 +12,9 @@
 //! - The lifetime LDD: Σ w_i · (seconds, revolutions) per load bin.
 //! - Miner damage of rated parts (gear teeth, bearings) from their damage per day: the window's damage
 //!   D_i = day_i · T_i / 86 400, summed with the same weights, the life years / D.
+//! - Intervals (95 %) over the seeds of each DLC 1.2 bin: of every damage sum, and so of the lifetime DEL and
+//!   life it gives, Student's t with Welch and Satterthwaite's degrees of freedom ([`t_interval`]); of a
+//!   share, a percentile bootstrap of the bins' seeds. Events and bins of one seed carry none.
 //! - The thesis's DEL ratios (§3.4.3, m = 6): a shutdown's DEL over normal operation's (DLC 1.2 pooled
 //!   over its hours, and the bin at the shutdown's wind speed) and over start-ups' and normal stops'.
 //!
@@ -21,6 +24,7 @@ use super::operating_hours::HOURS_PER_YEAR;
 use crate::physics::turbulence::SplitMix;
 use serde::ser::{SerializeMap, Serializer};
 use serde::{Deserialize, Serialize};
+use statrs::distribution::{ContinuousCDF, StudentsT};
 
 const SECONDS_PER_DAY: f64 = 86_400.0;
 /// The thesis's ratios are DELs at m = 6, the same for HSS and LSS torque (§3.4.3).
@@ -124,7 +128,8 @@ impl<T: Serialize> Serialize for Shares<T> {
     }
 }
 
-/// A 95 % confidence interval over seeds, [2.5 %, 97.5 %] of the bootstrap.
+/// A 95 % confidence interval over seeds: of a damage sum Student's t ([`t_interval`]), of a share the
+/// [2.5 %, 97.5 %] points of the bootstrap.
 pub type Interval = [f64; 2];
 
 /// A channel's lifetime damage sum and DEL at one slope.
@@ -332,9 +337,34 @@ fn sum_by_group(cases: &[Case], groups: &[String], boot: &Bootstrap, per_case: i
     Summed {
         total,
         share: Shares(share.collect()),
-        total_ci: percentiles(drawn.clone()),
+        total_ci: t_interval(&values, total, &boot.resampled),
         share_ci: Shares(share_ci.collect()),
     }
+}
+
+/// The 95 % interval of a sum of case values whose DLC 1.2 bins (`bins`, the cases of each bin with
+/// more than one seed) scatter over their seeds: Student's t with Welch and Satterthwaite's degrees of
+/// freedom, the bins' sums independent, each n·ȳ with variance n·s². Events and bins of one seed add
+/// no variance. Over few seeds a percentile bootstrap is far too narrow (two seeds give each bin three
+/// distinct means): tests/python/test_campaign_lifetime.py measures the coverage of both.
+/// The lower end is held at 0: a damage is not negative.
+fn t_interval(values: &[f64], total: f64, bins: &[Vec<usize>]) -> Interval {
+    let (mut variance, mut dof_terms) = (0.0, 0.0);
+    for bin in bins {
+        let n = bin.len() as f64;
+        let mean = bin.iter().map(|&i| values[i]).sum::<f64>() / n;
+        let s2 = bin.iter().map(|&i| (values[i] - mean).powi(2)).sum::<f64>() / (n - 1.0);
+        let v = n * s2;
+        variance += v;
+        dof_terms += v * v / (n - 1.0);
+    }
+    if !(variance > 0.0 && dof_terms > 0.0) || !total.is_finite() {
+        return [total, total];
+    }
+    let dof = variance * variance / dof_terms;
+    let t = StudentsT::new(0.0, 1.0, dof).map_or(f64::NAN, |d| d.inverse_cdf(0.975));
+    let half = t * variance.sqrt();
+    [(total - half).max(0.0), total + half]
 }
 
 /// Draws of the seed bootstrap and the seed of its own random stream (fixed: a report is reproducible).
@@ -347,6 +377,8 @@ const BOOTSTRAP_SEED: u64 = 61_400;
 struct Bootstrap {
     counts: Vec<Vec<f64>>,
     one_seed: Vec<String>,
+    /// the cases of each DLC 1.2 bin with more than one seed (what the draws resample)
+    resampled: Vec<Vec<usize>>,
 }
 
 impl Bootstrap {
@@ -356,10 +388,10 @@ impl Bootstrap {
             .iter()
             .map(|g| (g.clone(), (0..cases.len()).filter(|&i| &cases[i].label == g).collect()))
             .collect();
-        let resampled: Vec<&Vec<usize>> = members
+        let resampled: Vec<Vec<usize>> = members
             .iter()
             .filter(|(_, m)| m.len() > 1 && cases[m[0]].group == "dlc12")
-            .map(|(_, m)| m)
+            .map(|(_, m)| m.clone())
             .collect();
         let one_seed = members
             .iter()
@@ -379,7 +411,11 @@ impl Bootstrap {
                 counts
             })
             .collect();
-        Self { counts, one_seed }
+        Self {
+            counts,
+            one_seed,
+            resampled,
+        }
     }
 }
 
@@ -541,7 +577,8 @@ pub fn compute(table: &CampaignTable) -> Result<CampaignLife, CampaignLifeError>
         bearings,
         bootstrap: BootstrapInfo {
             draws: BOOTSTRAP_DRAWS,
-            resampled: "each DLC 1.2 bin's seeds, with replacement",
+            resampled: "each DLC 1.2 bin's seeds, with replacement (the shares' intervals; the damage sums' are \
+                        Student's t over the same seeds)",
             one_seed,
         },
     })
@@ -977,18 +1014,19 @@ mod tests {
         assert_eq!(life.ratios.len(), 3);
     }
 
-    /// The 10 m/s bin's two seeds drawn with replacement give three totals (both seeds the first, one of
-    /// each, both the second) with probabilities ¼, ½, ¼: the 2.5 and 97.5 % points are the extremes,
-    /// each seed counted twice. Bins of one seed and events are fixed and named.
+    /// The 10 m/s bin's two seeds x1, x2 are the only scatter: the sum's variance n·s² = (x1 − x2)² with
+    /// one degree of freedom, t(0.975, 1) = 12.7062, the lower end held at 0. A share's interval is the
+    /// bootstrap's. Bins of one seed and events are fixed and named.
     #[test]
     fn the_intervals_resample_each_bins_seeds() {
         let life = compute(&table()).unwrap();
         let (x1, x2) = (100.0 * 3600.0 * 0.5 * 64.0, 100.0 * 3600.0 * 0.5);
         let row = &life.rows[0];
-        let rest = row.damage_sum - x1 - x2;
-        assert!(close(row.damage_sum_ci[0], rest + 2.0 * x2) && close(row.damage_sum_ci[1], rest + 2.0 * x1));
+        let half = 12.706_204_736_174_7 * (x1 - x2);
+        assert!(close(row.damage_sum_ci[1], row.damage_sum + half));
+        assert_eq!(row.damage_sum_ci[0], (row.damage_sum - half).max(0.0));
         let del = |d: f64| (d / (0.5 * 2.0 * 8760.0 * 3600.0)).powf(1.0 / 6.0);
-        assert!(close(row.lifetime_del_ci[1], del(rest + 2.0 * x1)));
+        assert!(close(row.lifetime_del_ci[1], del(row.damage_sum + half)));
         assert_eq!(
             life.bootstrap.one_seed,
             ["DLC 1.2 12 m/s", "shutdown-rated", "startup-cut-in"]
