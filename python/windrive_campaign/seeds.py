@@ -262,33 +262,27 @@ def block(name: str, table: pd.DataFrame, link: str | None) -> str:
         f"{', '.join(f'{w:g}' for w in windows)} s, wind sampling `{sampling}`"
         + (f" (and `rotor_average` at {longest:g} s)" if ratios and sampling == "blades" else "")
         + (f" (and `blades` at {longest:g} s)" if ratios and sampling != "blades" else "")
-        + ". Intervals are {100 * CONFIDENCE:.0f} % on a bin's damage (the "
+        + f". Intervals are {100 * CONFIDENCE:.0f} % on a bin's damage (the "
         "mean of DEL^m over its seeds) and, in brackets, on its DEL; Student's t with the scatter measured over "
         "all the seeds."
     )  # fmt: skip
+    def table_of(columns: list[float], entry) -> list[str]:
+        """A row per channel, m and wind bin, a column per window: entry(cell, m) or – where none."""
+        lines = ["| channel, m | V [m/s] | " + " | ".join(f"{w:g} s" for w in columns) + " |",
+                 "|---|---|" + "---|" * len(columns)]  # fmt: skip
+        for ch, m, v in rows:
+            found = [by.get((ch, m, v, w)) for w in columns]
+            lines.append(f"| {_short(ch)}, {m:g} | {v:g} | "
+                         + " | ".join("–" if c is None else entry(c, m) for c in found) + " |")  # fmt: skip
+        return lines
+
     out += ["", f"**With IEC's {SEED_COUNTS[iec]} seeds** per bin, the interval on a bin's damage (on its DEL):", ""]
-    out.append("| channel, m | V [m/s] | " + " | ".join(f"{w:g} s" for w in windows) + " |")
-    out.append("|---|---|" + "---|" * len(windows))
-    for ch, m, v in rows:
-        cells_ = [by.get((ch, m, v, w)) for w in windows]
-        out.append(f"| {_short(ch)}, {m:g} | {v:g} | " + " | ".join(
-            "–" if c is None else f"{_pct(c.widths[iec])} ({_del_pct(c.widths[iec], m)})" for c in cells_) + " |")  # fmt: skip
+    out += table_of(windows, lambda c, m: f"{_pct(c.widths[iec])} ({_del_pct(c.widths[iec], m)})")
     out += ["", f"**Seeds for ±{100 * ACCURACY:.0f} % on a bin's damage** (and the simulated time they take):", ""]
-    out.append("| channel, m | V [m/s] | " + " | ".join(f"{w:g} s" for w in windows) + " |")
-    out.append("|---|---|" + "---|" * len(windows))
-    for ch, m, v in rows:
-        cells_ = [by.get((ch, m, v, w)) for w in windows]
-        out.append(f"| {_short(ch)}, {m:g} | {v:g} | " + " | ".join(
-            "–" if c is None else f"{c.needed} ({_minutes(c.needed * c.window)})" for c in cells_) + " |")  # fmt: skip
+    out += table_of(windows, lambda c, m: f"{c.needed} ({_minutes(c.needed * c.window)})")
     out += ["", f"**The window's bias**: a bin's DEL from windows of T s over the {longest:g} s windows' (95 % "
             "bootstrap interval; 1 inside it: no bias this many seeds can see):", ""]  # fmt: skip
-    short = windows[:-1]
-    out.append("| channel, m | V [m/s] | " + " | ".join(f"{w:g} s" for w in short) + " |")
-    out.append("|---|---|" + "---|" * len(short))
-    for ch, m, v in rows:
-        cells_ = [by.get((ch, m, v, w)) for w in short]
-        out.append(f"| {_short(ch)}, {m:g} | {v:g} | " + " | ".join(
-            "–" if c is None else "{:.2f} [{:.2f}, {:.2f}]".format(*c.bias) for c in cells_) + " |")  # fmt: skip
+    out += table_of(windows[:-1], lambda c, m: "{:.2f} [{:.2f}, {:.2f}]".format(*c.bias))
     if ratios:
         out += ["", f"**What the turning blades change**: a bin's DEL with the blades sampling the full field over "
                 f"its DEL from the rotor-averaged series, {longest:g} s windows, each with its own seeds (95 % "

@@ -192,6 +192,13 @@ def test_the_page_holds_what_the_committed_table_gives():
     six = [c for c in seeds.cells(table) if c.window == 600.0]
     k = seeds.SEED_COUNTS.index(6)
     assert all((1 + c.widths[k]) ** (1 / c.m) - 1 < 0.11 and c.widths[k] > 0.15 for c in six)
+    # the page: the blades' effect on a DEL grows as m falls and as the wind speed rises
+    ratios = seeds.sampling_ratios(table)
+    lss = "torsional.lss_torque"
+    for v in (6.0, 12.0, 18.0):
+        assert ratios[(lss, 3.0, v)][0] > ratios[(lss, 6.0, v)][0] > ratios[(lss, 9.0, v)][0]
+    for ch, m, _ in seeds.dels(table):
+        assert ratios[(ch, m, 6.0)][0] < ratios[(ch, m, 12.0)][0] < ratios[(ch, m, 18.0)][0]
     # and the generated sentences' counts are the cells'
     cs = seeds.cells(table)
     biased = [c for c in cs if c.window < 600.0 and not (c.bias[1] <= 1.0 <= c.bias[2])]
