@@ -358,7 +358,7 @@ fn t_interval(values: &[f64], total: f64, bins: &[Vec<usize>]) -> Interval {
         variance += v;
         dof_terms += v * v / (n - 1.0);
     }
-    if !(variance > 0.0 && dof_terms > 0.0) || !total.is_finite() {
+    if !(variance > 0.0 && dof_terms > 0.0 && total.is_finite()) {
         return [total, total];
     }
     let dof = variance * variance / dof_terms;
