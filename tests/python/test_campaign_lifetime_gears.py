@@ -12,6 +12,7 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
+import scipy.stats
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python"))
@@ -147,11 +148,11 @@ def test_report_writes_the_gear_files_and_table(tmp_path):
     table = pd.read_csv(folder / "lifetime_gears.csv")
     assert list(table.columns) == ["tooth", "kind", "damage", "damage_lo", "damage_hi", "life_years",
                                    *(f"share:{g}" for g in GROUPS)]  # fmt: skip
-    # the 95 % interval over seeds: the 10 m/s bin's two seeds drawn with replacement, its extremes each
-    # seed twice (the other groups have one case each and stay)
-    v10 = s1_flank["DLC 1.2 10 m/s"]
-    assert table.damage_lo[0] == pytest.approx(total - v10 + 2 * 100 / 24 * 1e-3, rel=1e-12)
-    assert table.damage_hi[0] == pytest.approx(total - v10 + 2 * 100 / 24 * 2e-3, rel=1e-12)
+    # the 95 % interval over seeds: Student's t of the 10 m/s bin's two seeds (its sum's variance n·s² =
+    # (y1 − y2)², one degree of freedom; the other groups have one case each and add none), held at 0
+    half = scipy.stats.t.ppf(0.975, 1) * 100 / 24 * (2e-3 - 1e-3)
+    assert table.damage_hi[0] == pytest.approx(total + half, rel=1e-9)
+    assert table.damage_lo[0] == pytest.approx(max(total - half, 0.0), rel=1e-9, abs=1e-15)
     assert list(zip(table.tooth, table.kind)) == [("s1", "flank"), ("s1", "root"), ("p1", "root"), ("g3", "root")]
     assert table.damage[0] == pytest.approx(total, rel=1e-12)
     assert table["share:shutdown-rated"][0] == pytest.approx(s1_flank["shutdown-rated"] / total, rel=1e-12)
