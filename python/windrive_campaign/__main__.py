@@ -258,9 +258,13 @@ def _seeds(args) -> int:
 
     from . import seeds  # pandas, scipy and matplotlib: only this command pays their import
 
+    if args.doc is not None and not args.doc.is_file():
+        raise CampaignError(f"--doc {args.doc}: no such page (it must hold the block's two marker lines)")
     if args.campaign.suffix == ".csv":  # a table written before: the page's block only
         if args.doc is None:
             raise CampaignError(f"{args.campaign}: a seeds table is only read to regenerate a page: give --doc PAGE")
+        if not args.campaign.is_file():
+            raise CampaignError(f"{args.campaign}: no such seeds table (written by a run of scripts/campaign seeds)")
         table = pd.read_csv(args.campaign)
         name = args.campaign.name.removesuffix("_seeds.csv")
         args.doc.write_text(seeds.replace(args.doc, name, table, os.path.relpath(args.campaign, args.doc.parent)))

@@ -5,8 +5,13 @@ the file gives them and once more for each other analysed window (stop_time = tr
 window with seeds of its own (the file's seed numbers plus 1000 × the window in seconds, so no window
 shares a phase with another). Events and grids are left out: they have no seeds. It writes
 
-    DIR/<name>_seeds.csv   one row per case: window, wind speed, seed, every DEL of the campaign's channels
+    DIR/<name>_seeds.csv   one row per case: window, wind sampling, wind speed, seed, every DEL of the
+                           campaign's channels
     DIR/<name>_seeds.png   the 95 % interval of a bin's damage against the simulated time spent on it
+
+With --other-sampling the file's window also runs with the other wind sampling (`rotor_average` beside
+`blades`, or the reverse; seed numbers s + 500), and the page compares each bin's DEL between the two.
+The file's seed numbers must stay below 500, so that no two runs share one.
 
 and with --doc PAGE the page's block between this module's markers (docs/CAMPAIGNS.md). The same block
 is regenerated from a committed table by `scripts/campaign seeds DIR/<name>_seeds.csv --doc PAGE`.
@@ -78,6 +83,9 @@ def window_campaigns(
         raise CampaignError(f"{c.path}: seeds studies a campaign's DLC 1.2 cases: the file has no [dlc12]")
     if len(c.dlc12.seeds) < 3:
         raise CampaignError(f"{c.path}: [dlc12] seeds: {len(c.dlc12.seeds)}; the scatter over seeds needs at least 3")
+    if max(c.dlc12.seeds) >= OTHER_SAMPLING_SEEDS or min(c.dlc12.seeds) < 0:
+        raise CampaignError(f"{c.path}: [dlc12] seeds: numbers from 0 to {OTHER_SAMPLING_SEEDS - 1} (the other windows "
+                            f"and sampling run the same numbers plus {OTHER_SAMPLING_SEEDS} or more)")  # fmt: skip
     own = c.stop_time - c.transient
     sampling = sampling_of(c)
     out = [(own, sampling, dataclasses.replace(c, name=f"{c.name}-{own:g}s", grids=(), events=()))]

@@ -122,6 +122,7 @@ def test_each_window_runs_the_dlc12_cases_with_seeds_of_its_own(tmp_path):
     [
         (small(dlc=False), [], "has no [dlc12]"),
         (small("seeds = 2"), [], "at least 3"),
+        (small("seeds = [1, 2, 500]"), [], "numbers from 0 to 499"),
         (small(), [-1.0], "-1 s is not a window"),
         (small(), [0.5], "0.5 s is not a window"),
         (small(), [math.inf], "inf s is not a window"),
@@ -248,3 +249,7 @@ def test_command_errors_are_one_line(tmp_path):
     path = write_campaign(tmp_path, small())
     r = campaign_cli("seeds", path, "--windows", "1,x")
     assert r.returncode == 2 and "--windows 1,x" in r.stderr and "Traceback" not in r.stderr
+    r = campaign_cli("seeds", tmp_path / "none_seeds.csv", "--doc", ROOT / "docs" / "CAMPAIGNS.md")
+    assert r.returncode == 2 and "no such seeds table" in r.stderr and "Traceback" not in r.stderr
+    r = campaign_cli("seeds", COMMITTED, "--doc", tmp_path / "missing.md")
+    assert r.returncode == 2 and "no such page" in r.stderr and "Traceback" not in r.stderr
