@@ -145,3 +145,8 @@ def test_what_gearbox_md_says_beside_the_thesis_for_c2mw():
     assert (b.thesis_events_share[b.index.str.startswith("planet_")] < 0.1).all()
     g = pd.read_csv(folder / "lifetime_gears.csv")
     assert (g[[c for c in g.columns if c.startswith("share:shutdown")]].sum(axis=1) < 0.015).all()
+    # README's first screen: under every count less than half of every bearing's damage, a few per cent at
+    # most of every tooth's
+    assert (b[["events_share", "modified_events_share", "thesis_events_share"]] < 0.5).all().all()
+    readme = " ".join((ROOT / "README.md").read_text().split())
+    assert "under every count less than half of every bearing's damage of the 2 MW gearbox" in readme
