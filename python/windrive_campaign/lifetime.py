@@ -2,7 +2,7 @@
 (src/analysis/fatigue/campaign.rs; docs/CAMPAIGNS.md, Lifetime report): each case weighted by what it
 stands for in the design life (a DLC 1.2 case its climate hours, an event its count), the lifetime damage
 sums and DELs per channel and Wöhler slope with each group's share and their 95 % intervals over seeds
-(`*_ci`: over each DLC 1.2 bin's seeds, Student's t of the damage sums, a bootstrap of the shares), the lifetime LDD, the teeth's and the
+(`*_ci`: Student's t over each DLC 1.2 bin's seeds), the lifetime LDD, the teeth's and the
 bearings' Miner damage, and the thesis's DEL ratios. This module only hands the table over and reads the
 answer; the convention is the binary's, one computation with `windrive life`.
 """
@@ -40,8 +40,8 @@ class Lifetime:
     left_out: dict[str, list[str]] = field(default_factory=dict)  # status -> case names not counted
     gears: list[dict] = field(default_factory=list)  # per tooth and flank/root: damage, life_years, share{group}
     bearings: list[dict] = field(default_factory=list)  # per bearing: C_r, damage, life_years, share{group}
-    # the 95 % intervals' bootstrap over each DLC 1.2 bin's seeds: draws, and the groups of one case
-    bootstrap: dict = field(default_factory=dict)
+    # how the 95 % intervals over each DLC 1.2 bin's seeds are taken, and the groups of one case
+    intervals: dict = field(default_factory=dict)
 
 
 def read_metadata(schema_metadata: dict | None) -> dict:
@@ -81,7 +81,7 @@ def compute(t: pd.DataFrame, meta: dict, windrive: str | None = None) -> Lifetim
         campaign=d["campaign"], years=d["years"], feq_hz=d["feq_hz"], life_s=d["life_s"], groups=d["groups"],
         rows=d["rows"], ldd={x.pop("channel"): x for x in d["ldd"]}, ratios=d["ratios"], used=d["used"],
         operating_hours=d["operating_hours"], events=d["events"], left_out=dict(d["left_out"]),
-        gears=d["gears"], bearings=d["bearings"], bootstrap=d["bootstrap"],
+        gears=d["gears"], bearings=d["bearings"], intervals=d["intervals"],
     )  # fmt: skip
 
 

@@ -121,7 +121,7 @@ def as_json(life: lt.Lifetime) -> dict:
         "lifetime": life.rows,
         "ldd": life.ldd,
         "thesis_ratios": life.ratios,
-        "intervals": {"level": 0.95, **life.bootstrap},
+        "intervals": {"level": 0.95, **life.intervals},
     }
     if life.gears:  # only then: a campaign without [gears] keeps the JSON it had
         d["gears"] = {"method": GEAR_METHOD, "lifetime": [_miner_json(r) for r in life.gears]}
@@ -260,9 +260,8 @@ def print_tables(life: lt.Lifetime, out=sys.stdout):
         lo, hi = r["lifetime_del_ci"]
         print(f"{r['channel']:36} {r['m']:>3g} {r['lifetime_del']:>13.5g} {f'{lo:.5g} .. {hi:.5g}':>25} "
               f"{r['damage_sum']:>13.4e}", file=out)  # fmt: skip
-    one = life.bootstrap.get("one_seed") or []
-    print(f"(95 % intervals over each DLC 1.2 bin's seeds: Student's t of the damage sums, DELs and lives, "
-          f"{life.bootstrap.get('draws')} bootstrap draws of the shares"
+    one = life.intervals.get("one_seed") or []
+    print("(95 % intervals: Student's t over each DLC 1.2 bin's seeds"
           + (f"; fixed, one case each: {', '.join(one[:6])}{' …' if len(one) > 6 else ''})" if one else ")"), file=out)
     heads = [f"{r['channel'].split('.')[-1]} m{r['m']:g}" for r in life.rows]
     print_shares("share of D [%]", life.groups, heads, life.rows, 16, out)

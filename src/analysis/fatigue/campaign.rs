@@ -12,16 +12,16 @@
 //! - The lifetime LDD: Σ w_i · (seconds, revolutions) per load bin.
 //! - Miner damage of rated parts (gear teeth, bearings) from their damage per day: the window's damage
 //!   D_i = day_i · T_i / 86 400, summed with the same weights, the life years / D.
-//! - Intervals (95 %) over the seeds of each DLC 1.2 bin: of every damage sum, and so of the lifetime DEL and
-//!   life it gives, Student's t with Welch and Satterthwaite's degrees of freedom ([`t_interval`]); of a
-//!   share, a percentile bootstrap of the bins' seeds. Events and bins of one seed carry none.
+//! - Intervals (95 %) over the seeds of each DLC 1.2 bin, Student's t with Welch and Satterthwaite's degrees
+//!   of freedom ([`Scatter::half_width`]): of every damage sum (and so of the lifetime DEL and life it
+//!   gives), and of every share, taken to first order in the bins' sums. Events and bins of one seed
+//!   carry none.
 //! - The thesis's DEL ratios (§3.4.3, m = 6): a shutdown's DEL over normal operation's (DLC 1.2 pooled
 //!   over its hours, and the bin at the shutdown's wind speed) and over start-ups' and normal stops'.
 //!
 //! D is a damage sum in load^m × cycles, not a Miner damage: no S-N curve is attached to a channel here.
 
 use super::operating_hours::HOURS_PER_YEAR;
-use crate::physics::turbulence::SplitMix;
 use serde::ser::{SerializeMap, Serializer};
 use serde::{Deserialize, Serialize};
 use statrs::distribution::{ContinuousCDF, StudentsT};
@@ -128,8 +128,7 @@ impl<T: Serialize> Serialize for Shares<T> {
     }
 }
 
-/// A 95 % confidence interval over seeds: of a damage sum Student's t ([`t_interval`]), of a share the
-/// [2.5 %, 97.5 %] points of the bootstrap.
+/// A 95 % confidence interval over seeds (Student's t, [`Scatter::half_width`]).
 pub type Interval = [f64; 2];
 
 /// A channel's lifetime damage sum and DEL at one slope.
@@ -221,14 +220,13 @@ pub struct CampaignLife {
     pub left_out: Vec<(String, Vec<String>)>,
     pub gears: Vec<GearRow>,
     pub bearings: Vec<BearingRow>,
-    /// The intervals' bootstrap: its draws and the groups whose scatter it cannot see (one case).
-    pub bootstrap: BootstrapInfo,
+    /// How the intervals are taken and the groups whose scatter they cannot see (one case).
+    pub intervals: IntervalInfo,
 }
 
 #[derive(Debug, Clone, Serialize)]
-pub struct BootstrapInfo {
-    pub draws: usize,
-    pub resampled: &'static str,
+pub struct IntervalInfo {
+    pub method: &'static str,
     pub one_seed: Vec<String>,
 }
 
@@ -288,7 +286,7 @@ fn short(x: f64) -> String {
     format!("{x}")
 }
 
-/// A damage summed over the cases and by group, with its intervals over the seed bootstrap.
+/// A damage summed over the cases and by group, with its intervals over the seeds.
 struct Summed {
     total: f64,
     share: Shares,
@@ -296,143 +294,113 @@ struct Summed {
     share_ci: Shares<Interval>,
 }
 
-fn sum_by_group(cases: &[Case], groups: &[String], boot: &Bootstrap, per_case: impl Fn(&Case) -> f64) -> Summed {
+fn sum_by_group(cases: &[Case], groups: &[String], bins: &SeedBins, per_case: impl Fn(&Case) -> f64) -> Summed {
     // a NaN (a DEL not computed) adds nothing, as pandas sums
     let values: Vec<f64> = cases
         .iter()
         .map(per_case)
         .map(|v| if v.is_nan() { 0.0 } else { v })
         .collect();
-    let in_group: Vec<Vec<bool>> = groups
-        .iter()
-        .map(|g| cases.iter().map(|c| &c.label == g).collect())
-        .collect();
-    let total_of = |counts: &[f64]| counts.iter().zip(&values).map(|(n, v)| n * v).sum::<f64>();
-    let share_of = |counts: &[f64], member: &[bool], total: f64| {
-        let part: f64 = counts
+    let total: f64 = values.iter().sum();
+    let scatter = bins.scatter(&values);
+    // the total: every bin's sum counts once
+    let total_ci = match scatter.half_width(|_| 1.0) {
+        Some(half) if total.is_finite() => [(total - half).max(0.0), total + half],
+        _ => [total, total],
+    };
+    let mut share = Vec::with_capacity(groups.len());
+    let mut share_ci = Vec::with_capacity(groups.len());
+    for g in groups {
+        let part: f64 = cases
             .iter()
             .zip(&values)
-            .zip(member)
-            .filter(|x| *x.1)
-            .map(|((n, v), _)| n * v)
+            .filter(|(c, _)| &c.label == g)
+            .map(|(_, v)| v)
             .sum();
-        if total > 0.0 { part / total } else { f64::NAN }
-    };
-    let ones = vec![1.0; cases.len()];
-    let total = total_of(&ones);
-    let drawn: Vec<f64> = boot.counts.iter().map(|c| total_of(c)).collect();
-    let share = groups
-        .iter()
-        .zip(&in_group)
-        .map(|(g, m)| (g.clone(), share_of(&ones, m, total)));
-    let share_ci = groups.iter().zip(&in_group).map(|(g, m)| {
-        let draws: Vec<f64> = boot
-            .counts
-            .iter()
-            .zip(&drawn)
-            .map(|(c, &t)| share_of(c, m, t))
-            .collect();
-        (g.clone(), percentiles(draws))
-    });
+        let s = if total > 0.0 { part / total } else { f64::NAN };
+        // s = S_g / T to first order in each bin's sum: ∂s/∂S_b = (1 − s)/T for the group's own bin, −s/T
+        // for every other
+        let ci = match scatter.half_width(|label| (f64::from(u8::from(label == g)) - s) / total) {
+            Some(half) if s.is_finite() => [(s - half).max(0.0), (s + half).min(1.0)],
+            _ => [s, s],
+        };
+        share.push((g.clone(), s));
+        share_ci.push((g.clone(), ci));
+    }
     Summed {
         total,
-        share: Shares(share.collect()),
-        total_ci: t_interval(&values, total, &boot.resampled),
-        share_ci: Shares(share_ci.collect()),
+        share: Shares(share),
+        total_ci,
+        share_ci: Shares(share_ci),
     }
 }
 
-/// The 95 % interval of a sum of case values whose DLC 1.2 bins (`bins`, the cases of each bin with
-/// more than one seed) scatter over their seeds: Student's t with Welch and Satterthwaite's degrees of
-/// freedom, the bins' sums independent, each n·ȳ with variance n·s². Events and bins of one seed add
-/// no variance. Over few seeds a percentile bootstrap is far too narrow (two seeds give each bin three
-/// distinct means): tests/python/test_campaign_lifetime.py measures the coverage of both.
-/// The lower end is held at 0: a damage is not negative.
-fn t_interval(values: &[f64], total: f64, bins: &[Vec<usize>]) -> Interval {
-    let (mut variance, mut dof_terms) = (0.0, 0.0);
-    for bin in bins {
-        let n = bin.len() as f64;
-        let mean = bin.iter().map(|&i| values[i]).sum::<f64>() / n;
-        let s2 = bin.iter().map(|&i| (values[i] - mean).powi(2)).sum::<f64>() / (n - 1.0);
-        let v = n * s2;
-        variance += v;
-        dof_terms += v * v / (n - 1.0);
-    }
-    if !(variance > 0.0 && dof_terms > 0.0 && total.is_finite()) {
-        return [total, total];
-    }
-    let dof = variance * variance / dof_terms;
-    let t = StudentsT::new(0.0, 1.0, dof).map_or(f64::NAN, |d| d.inverse_cdf(0.975));
-    let half = t * variance.sqrt();
-    [(total - half).max(0.0), total + half]
-}
-
-/// Draws of the seed bootstrap and the seed of its own random stream (fixed: a report is reproducible).
-pub const BOOTSTRAP_DRAWS: usize = 2000;
-const BOOTSTRAP_SEED: u64 = 61_400;
-
-/// How often each case counts in each bootstrap draw: each DLC 1.2 bin's seeds drawn with replacement,
-/// as many as it has (the bin's hours stay the bin's); an event, and a bin of one seed, as it is, so their
-/// seed-to-seed scatter is not in the interval (`one_seed` names them).
-struct Bootstrap {
-    counts: Vec<Vec<f64>>,
+/// The DLC 1.2 bins with more than one seed, whose seeds' scatter the intervals carry; the groups of one
+/// case (events, bins of one seed) add none and are named.
+struct SeedBins {
+    /// each such bin's label and its cases
+    bins: Vec<(String, Vec<usize>)>,
     one_seed: Vec<String>,
-    /// the cases of each DLC 1.2 bin with more than one seed (what the draws resample)
-    resampled: Vec<Vec<usize>>,
 }
 
-impl Bootstrap {
+impl SeedBins {
     fn new(cases: &[Case], groups: &[String]) -> Self {
-        let mut rng = SplitMix(BOOTSTRAP_SEED);
         let members: Vec<(String, Vec<usize>)> = groups
             .iter()
             .map(|g| (g.clone(), (0..cases.len()).filter(|&i| &cases[i].label == g).collect()))
-            .collect();
-        let resampled: Vec<Vec<usize>> = members
-            .iter()
-            .filter(|(_, m)| m.len() > 1 && cases[m[0]].group == "dlc12")
-            .map(|(_, m)| m.clone())
             .collect();
         let one_seed = members
             .iter()
             .filter(|(_, m)| m.len() == 1)
             .map(|(g, _)| g.clone())
             .collect();
-        let counts = (0..BOOTSTRAP_DRAWS)
-            .map(|_| {
-                let mut counts = vec![1.0; cases.len()];
-                for m in &resampled {
-                    m.iter().for_each(|&i| counts[i] = 0.0);
-                    for _ in 0..m.len() {
-                        let pick = ((rng.next_f64() * m.len() as f64) as usize).min(m.len() - 1);
-                        counts[m[pick]] += 1.0;
-                    }
-                }
-                counts
+        let bins = members
+            .into_iter()
+            .filter(|(_, m)| m.len() > 1 && cases[m[0]].group == "dlc12")
+            .collect();
+        Self { bins, one_seed }
+    }
+
+    /// Each bin's variance of its sum of `values` over its seeds: the sum n·ȳ varies as n·s².
+    fn scatter(&self, values: &[f64]) -> Scatter<'_> {
+        let bins = self
+            .bins
+            .iter()
+            .map(|(label, bin)| {
+                let n = bin.len() as f64;
+                let mean = bin.iter().map(|&i| values[i]).sum::<f64>() / n;
+                let s2 = bin.iter().map(|&i| (values[i] - mean).powi(2)).sum::<f64>() / (n - 1.0);
+                (label.as_str(), n * s2, n - 1.0)
             })
             .collect();
-        Self {
-            counts,
-            one_seed,
-            resampled,
-        }
+        Scatter { bins }
     }
 }
 
-/// The 2.5 and 97.5 % points of `draws` (linear between order statistics, as numpy's default);
-/// NaN draws (a share of no damage) are left out, all NaN gives NaN.
-fn percentiles(mut draws: Vec<f64>) -> Interval {
-    draws.retain(|x| !x.is_nan());
-    if draws.is_empty() {
-        return [f64::NAN; 2];
+/// The seed bins' variances of a sum: (label, variance, degrees of freedom n − 1).
+struct Scatter<'a> {
+    bins: Vec<(&'a str, f64, f64)>,
+}
+
+impl Scatter<'_> {
+    /// The 95 % half-width of Σ_b c_b S_b, S_b the bins' independent sums: Student's t with Welch and
+    /// Satterthwaite's degrees of freedom; None without scatter. Over few seeds a percentile bootstrap is
+    /// far too narrow (two seeds give a bin three distinct means): tests/python/test_campaign_lifetime.py
+    /// measures the coverage of both.
+    fn half_width(&self, coefficient: impl Fn(&str) -> f64) -> Option<f64> {
+        let (mut variance, mut dof_terms) = (0.0, 0.0);
+        for &(label, v, dof) in &self.bins {
+            let term = coefficient(label).powi(2) * v;
+            variance += term;
+            dof_terms += term * term / dof;
+        }
+        if !(variance > 0.0 && dof_terms > 0.0 && variance.is_finite()) {
+            return None;
+        }
+        let dof = variance * variance / dof_terms;
+        let t = StudentsT::new(0.0, 1.0, dof).ok()?.inverse_cdf(0.975);
+        Some(t * variance.sqrt())
     }
-    draws.sort_by(f64::total_cmp);
-    let at = |q: f64| {
-        let x = q * (draws.len() - 1) as f64;
-        let (i, w) = (x.floor() as usize, x - x.floor());
-        draws[i] + w * (draws[(i + 1).min(draws.len() - 1)] - draws[i])
-    };
-    [at(0.025), at(0.975)]
 }
 
 pub fn compute(table: &CampaignTable) -> Result<CampaignLife, CampaignLifeError> {
@@ -512,12 +480,12 @@ pub fn compute(table: &CampaignTable) -> Result<CampaignLife, CampaignLifeError>
         }
     }
     let life_s = years * HOURS_PER_YEAR * 3600.0;
-    let boot = Bootstrap::new(&cases, &groups);
+    let bins = SeedBins::new(&cases, &groups);
     let slopes = del_columns(columns);
     let rows = slopes
         .iter()
         .map(|&(ref channel, m, column)| {
-            let sum = sum_by_group(&cases, &groups, &boot, |c| {
+            let sum = sum_by_group(&cases, &groups, &bins, |c| {
                 c.weight * c.number(column).powf(m) * feq * c.analysed_s
             });
             let del = |total: f64| (total / (feq * life_s)).powf(1.0 / m);
@@ -549,11 +517,11 @@ pub fn compute(table: &CampaignTable) -> Result<CampaignLife, CampaignLifeError>
         cases: &cases,
         groups: &groups,
         years,
-        boot: &boot,
+        bins: &bins,
     };
     let gears = gear_rows(&weighed, columns)?;
     let bearings = bearing_rows(&weighed, columns)?;
-    let one_seed = boot.one_seed.clone();
+    let one_seed = bins.one_seed.clone();
     Ok(CampaignLife {
         campaign,
         years,
@@ -575,10 +543,9 @@ pub fn compute(table: &CampaignTable) -> Result<CampaignLife, CampaignLifeError>
         left_out,
         gears,
         bearings,
-        bootstrap: BootstrapInfo {
-            draws: BOOTSTRAP_DRAWS,
-            resampled: "each DLC 1.2 bin's seeds, with replacement (the shares' intervals; the damage sums' are \
-                        Student's t over the same seeds)",
+        intervals: IntervalInfo {
+            method: "Student's t over each DLC 1.2 bin's seeds (Welch-Satterthwaite degrees of freedom; a share to \
+                     first order in the bins' sums)",
             one_seed,
         },
     })
@@ -721,14 +688,14 @@ fn thesis_ratios(cases: &[Case], slopes: &[(String, f64, usize)], feq: f64) -> V
     out
 }
 
-/// The finished cases weighed, their share groups and their bootstrap: what every lifetime sum reads.
+/// The finished cases weighed, their share groups and their seed bins: what every lifetime sum reads.
 #[derive(Clone, Copy)]
 struct Weighed<'a> {
     campaign: &'a str,
     cases: &'a [Case<'a>],
     groups: &'a [String],
     years: f64,
-    boot: &'a Bootstrap,
+    bins: &'a SeedBins,
 }
 
 /// A part's Miner damage over the design life from its damage-per-day column; None when no case rates
@@ -739,7 +706,7 @@ fn miner(w: &Weighed, column: usize, name: &str) -> Result<Option<MinerLife>, Ca
         cases,
         groups,
         years,
-        boot,
+        bins,
     } = *w;
     let missing: Vec<&Case> = cases.iter().filter(|c| c.number(column).is_nan()).collect();
     if missing.len() == cases.len() {
@@ -754,7 +721,7 @@ fn miner(w: &Weighed, column: usize, name: &str) -> Result<Option<MinerLife>, Ca
             names: names.join(", "),
         });
     }
-    let sum = sum_by_group(cases, groups, boot, |c| {
+    let sum = sum_by_group(cases, groups, bins, |c| {
         c.weight * c.number(column) * c.analysed_s / SECONDS_PER_DAY
     });
     let life = |damage: f64| if damage > 0.0 { years / damage } else { f64::INFINITY };
@@ -1015,27 +982,34 @@ mod tests {
     }
 
     /// The 10 m/s bin's two seeds x1, x2 are the only scatter: the sum's variance n·s² = (x1 − x2)² with
-    /// one degree of freedom, t(0.975, 1) = 12.7062, the lower end held at 0. A share's interval is the
-    /// bootstrap's. Bins of one seed and events are fixed and named.
+    /// one degree of freedom, t(0.975, 1) = 12.7062, the lower end held at 0; the bin's share s moves as
+    /// (1 − s)/T times its sum, another group's share s' as s'/T. Bins of one seed and events are fixed
+    /// and named.
     #[test]
-    fn the_intervals_resample_each_bins_seeds() {
+    fn the_intervals_carry_each_bins_seeds() {
         let life = compute(&table()).unwrap();
         let (x1, x2) = (100.0 * 3600.0 * 0.5 * 64.0, 100.0 * 3600.0 * 0.5);
+        let t1 = 12.706_204_736_174_7;
         let row = &life.rows[0];
-        let half = 12.706_204_736_174_7 * (x1 - x2);
+        let half = t1 * (x1 - x2);
         assert!(close(row.damage_sum_ci[1], row.damage_sum + half));
         assert_eq!(row.damage_sum_ci[0], (row.damage_sum - half).max(0.0));
         let del = |d: f64| (d / (0.5 * 2.0 * 8760.0 * 3600.0)).powf(1.0 / 6.0);
         assert!(close(row.lifetime_del_ci[1], del(row.damage_sum + half)));
         assert_eq!(
-            life.bootstrap.one_seed,
+            life.intervals.one_seed,
             ["DLC 1.2 12 m/s", "shutdown-rated", "startup-cut-in"]
         );
         let b = &life.bearings[0].life;
         assert!(b.damage_ci[0] < b.damage && b.damage < b.damage_ci[1]);
         assert!(close(b.life_years_ci[0], 2.0 / b.damage_ci[1]));
-        let [lo, hi] = row.share_ci.0[0].1;
-        assert!(lo < row.share.get("DLC 1.2 10 m/s") && row.share.get("DLC 1.2 10 m/s") < hi);
+        let share = |g: &str| (row.share.get(g), row.share_ci.0.iter().find(|x| x.0 == g).unwrap().1);
+        let (s, [lo, hi]) = share("DLC 1.2 10 m/s");
+        let h = t1 * (1.0 - s) * (x1 - x2) / row.damage_sum;
+        assert!(close(hi, (s + h).min(1.0)) && close(lo, (s - h).max(0.0)));
+        let (s, [lo, hi]) = share("shutdown-rated");
+        let h = t1 * s * (x1 - x2) / row.damage_sum;
+        assert!(close(hi, (s + h).min(1.0)) && close(lo, (s - h).max(0.0)));
     }
 
     #[test]
