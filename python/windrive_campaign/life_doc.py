@@ -59,6 +59,13 @@ def _names(names) -> str:
     return ", ".join(names) if names else "none"
 
 
+def _interval(lo: float, hi: float) -> str:
+    """An interval over seeds, or – where there is none (every bin one seed: no scatter to carry)."""
+    if not (math.isfinite(lo) and math.isfinite(hi)) or lo == hi:
+        return "–"
+    return f"{_g(lo, 4)} to {_g(hi, 4)}"
+
+
 def _groups(t: pd.DataFrame) -> list[str]:
     return [c.removeprefix("share:") for c in t.columns if c.startswith("share:")]
 
@@ -74,10 +81,11 @@ def tables(folder: Path) -> str:
     channels = pd.read_csv(life)
     groups = _groups(channels)
     if len(channels):
-        w("| channel | Wöhler slope m | lifetime DEL | events' share of its damage |")
-        w("|---|---|---|---|")
+        w("| channel | Wöhler slope m | lifetime DEL | its 95 % interval over the seeds | events' share of its damage |")
+        w("|---|---|---|---|---|")
         for _, r in channels.iterrows():
-            w(f"| {r.channel} | {r.m:g} | {_g(r.lifetime_del, 4)} | {_pct(_events(r, groups))} |")
+            w(f"| {r.channel} | {r.m:g} | {_g(r.lifetime_del, 4)} | {_interval(r.lifetime_del_lo, r.lifetime_del_hi)} | "
+              f"{_pct(_events(r, groups))} |")  # fmt: skip
         w("")
         heads = [f"{c.removeprefix('torsional.').removeprefix('gearbox.')} m = {m:g}" for c, m in zip(channels.channel, channels.m, strict=True)]
         w("Each load case's share of the channel's lifetime damage sum:")
