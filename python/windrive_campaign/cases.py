@@ -213,9 +213,7 @@ def expand(c: Campaign, scenes: dict[Path, tuple[str, str]], windrive_id: str, w
         cl = c.climate
         if windrive is None:
             raise ValueError("expand: a campaign with [dlc12] needs the windrive binary for its wind bins")
-        sampling = d.wind_sampling
-        if sampling is None and f"{d.rotor}.wind_sampling" not in {**c.params, **d.params}:
-            sampling = WIND_SAMPLINGS[0]
+        sampling, from_params = dlc12_sampling(c)
         for b in climate_mod.wind_bins(windrive, d, cl):
             ti = d.turbulence_intensity
             if ti is None:
@@ -226,7 +224,7 @@ def expand(c: Campaign, scenes: dict[Path, tuple[str, str]], windrive_id: str, w
                     f"{d.rotor}.wind_speed": b.speed,
                     f"{d.rotor}.seed": seed,
                     f"{d.rotor}.turbulence_intensity": ti,
-                    **({f"{d.rotor}.wind_sampling": sampling} if sampling is not None else {}),
+                    **({} if from_params else {f"{d.rotor}.wind_sampling": sampling}),
                 }
                 cases.append(
                     make(
@@ -279,6 +277,16 @@ def expand(c: Campaign, scenes: dict[Path, tuple[str, str]], windrive_id: str, w
             )
         named[case.name] = case
     return cases
+
+
+def dlc12_sampling(c: Campaign) -> tuple[str, bool]:
+    """The wind sampling a campaign's DLC 1.2 cases run: [dlc12]'s `wind_sampling`, else the rotor's
+    parameter in the campaign's params (then True: expand leaves it to them), else blades."""
+    d = c.dlc12
+    given = {**c.params, **d.params}.get(f"{d.rotor}.wind_sampling")
+    if d.wind_sampling is None and given is not None:
+        return str(given), True
+    return d.wind_sampling or WIND_SAMPLINGS[0], False
 
 
 def turbulent_windows(params: dict[str, ParamValue], window: float) -> dict[str, ParamValue]:

@@ -89,8 +89,9 @@ def _consistency(w, rel: pd.DataFrame):
     steady = rel.xs(0.0, level="ti_pct")
     steady = steady[steady.index > data.RATED_SPEED] * 100.0
     ours_spread = float((steady.max() - steady.min()).max()) if len(steady) else math.nan
-    stage1 = max(spread.loc[paper.label("bending", "r1"), "spread"], spread.loc[paper.label("contacting", "s1"), "spread"])
-    rest = spread.drop([paper.label("bending", "r1"), paper.label("contacting", "s1")])["spread"]
+    first_stage = [paper.label(k, t) for k, t in data.TABLE8[2]]  # the ring's bending, the sun's contact
+    stage1 = spread.loc[first_stage, "spread"].max()
+    rest = spread.drop(first_stage)["spread"]
     w(f"  The first stage's damages spread by at most {stage1:.1f} points, the second and third stages' by "
       f"{rest.min():.1f} to {rest.max():.1f}: under one input torque the later stages' damage moves with the "
       "wind speed, so something in the paper's gearbox model, not the input torque, moves their η "
@@ -523,7 +524,7 @@ def seed_convergence(t: pd.DataFrame, cmp: paper.Comparison) -> dict:
         quantities["LSS torque DEL"] = DEL
     out = {}
     for speed, ti in CONVERGENCE_CELLS:
-        cell = ok[(ok.v == speed) & (ok.ti == ti) & ok.seed_number.notna()].sort_values("seed_number")
+        cell = ok[(ok.v == speed) & (ok.ti == ti) & ok.seed_number.notna()]
         if len(cell) < 2:
             continue
         for label, col in quantities.items():

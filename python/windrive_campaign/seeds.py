@@ -41,6 +41,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from . import cases as cases_mod
 from . import schema
 from .errors import CampaignError
 from .intervals import CONFIDENCE, half_width, seeds_needed
@@ -65,14 +66,6 @@ def end_marker(name: str) -> str:
 # running
 
 
-def sampling_of(c: schema.Campaign) -> str:
-    """The wind sampling the campaign's DLC 1.2 cases run (cases.expand's rule)."""
-    d = c.dlc12
-    key = f"{d.rotor}.wind_sampling"
-    given = d.wind_sampling or {**c.params, **d.params}.get(key)
-    return str(given) if given is not None else schema.WIND_SAMPLINGS[0]
-
-
 def window_campaigns(
     c: schema.Campaign, windows: list[float], other_sampling: bool = False
 ) -> list[tuple[float, str, schema.Campaign]]:
@@ -87,7 +80,7 @@ def window_campaigns(
         raise CampaignError(f"{c.path}: [dlc12] seeds: numbers from 0 to {OTHER_SAMPLING_SEEDS - 1} (the other windows "
                             f"and sampling run the same numbers plus {OTHER_SAMPLING_SEEDS} or more)")  # fmt: skip
     own = c.stop_time - c.transient
-    sampling = sampling_of(c)
+    sampling, _ = cases_mod.dlc12_sampling(c)
     out = [(own, sampling, dataclasses.replace(c, name=f"{c.name}-{own:g}s", grids=(), events=()))]
     for w in windows:
         if not (math.isfinite(w) and w >= 1.0 and w == round(w) and SEED_STRIDE * w < 2**30):
@@ -262,7 +255,8 @@ def block(name: str, table: pd.DataFrame, link: str | None) -> str:
     n_seeds = mine.groupby(["window", "wind_speed"]).size()
     iec = SEED_COUNTS.index(6)
     by = {(c.channel, c.m, c.wind_speed, c.window): c for c in cs}
-    rows = sorted({(c.channel, c.m, c.wind_speed) for c in cs}, key=lambda r: ([d[:2] for d in dels(table)].index(r[:2]), r[2]))
+    order = [d[:2] for d in dels(table)]
+    rows = sorted({(c.channel, c.m, c.wind_speed) for c in cs}, key=lambda r: (order.index(r[:2]), r[2]))
     source = f"[{Path(link).name}]({link})" if link else "the seeds' table"
     out = [begin_marker(name), ""]
     out.append(
