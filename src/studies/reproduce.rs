@@ -594,13 +594,11 @@ impl<'a> Computed<'a> {
                     ShutdownQuantity::NormalSunPlanetMinimum => summary.normal_min_mesh.0,
                     ShutdownQuantity::SunPlanetLowestCycleMean => lowest_mean(&summary.series.sun_planet),
                     ShutdownQuantity::HssLowestCycleMean => lowest_mean(&summary.series.hss_torque),
-                    ShutdownQuantity::BrakingOverFreeMode => {
-                        let slipping = summary.slipping.as_ref();
-                        slipping
-                            .ok_or_else(|| anyhow!("drivetrain {preset}: the brake never slips"))?
-                            .frequency_hz
-                            / reading.free_hz
-                    }
+                    // NaN where the brake locks before it slips (as in `shutdown` below)
+                    ShutdownQuantity::BrakingOverFreeMode => summary
+                        .slipping
+                        .as_ref()
+                        .map_or(f64::NAN, |s| s.frequency_hz / reading.free_hz),
                     ShutdownQuantity::NormalDominantFrequency => summary
                         .normal_dominant_hz
                         .ok_or_else(|| anyhow!("drivetrain {preset}: normal operation too short for a spectrum"))?,
@@ -685,7 +683,9 @@ impl<'a> Computed<'a> {
     }
 
     /// Dominant HSS-torque frequency while the brake slips, Hz, and the peak |LSS torque|, N·m, of a
-    /// shutdown scene.
+    /// shutdown scene. A brake that locks before it is fully applied (a strong brake on a long ramp, as
+    /// the sensitivity study's corners set it) leaves no slipping phase: the frequency is NaN, its rows
+    /// then "not reproduced" and left out of the study's bands, and the rest of the scene's rows stand.
     fn shutdown(&mut self, name: &str) -> anyhow::Result<(f64, f64)> {
         if let Some(known) = self.shutdowns.get(name) {
             return Ok(*known);
@@ -699,8 +699,7 @@ impl<'a> Computed<'a> {
         let applied = param("shutdown_time", 5.0) + param("brake_delay", 0.5) + param("brake_ramp_time", 0.6);
         let end = t.last().copied().unwrap_or(0.0);
         let lock = locked.iter().position(|&l| l > 0.5).map_or(end, |i| t[i]);
-        let (f, _, _) = dominant_in_window(t, hss, applied + 0.1, lock - 0.1, F_MIN_HZ)
-            .with_context(|| format!("{}: no slipping phase to analyse", scene.root.display()))?;
+        let f = dominant_in_window(t, hss, applied + 0.1, lock - 0.1, F_MIN_HZ).map_or(f64::NAN, |(f, _, _)| f);
         let peak = peak(lss);
         self.shutdowns.insert(name.to_string(), (f, peak));
         Ok((f, peak))

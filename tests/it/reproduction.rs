@@ -56,7 +56,8 @@ fn every_claimed_row_holds_and_the_documentation_is_what_the_code_gives() {
             .any(|r| r.quantity.starts_with(prefix) && r.verdict() == Verdict::Contradicts)
     };
     for prefix in [
-        "torque range, A's shutdown",
+        "peak torque / rated in A's shutdown",
+        "torque range, B's shutdown",
         "B's LSS peak rises",
         "lowest rainflow cycle mean of C's HSS",
         // the README's first screen says these conclusions come out contradicted
@@ -140,6 +141,40 @@ fn every_claimed_row_holds_and_the_documentation_is_what_the_code_gives() {
         "the face widths drive it: {}",
         bands[&hss_flanks.quantity].drivers
     );
+    // the README's first screen on the thesis's chapters 6 and 7: contradictions across the whole band
+    // (the models'), and verdicts that rest on an estimate (they flip inside it)
+    for prefix in [
+        "peak torque / rated in A's shutdown",
+        "peak torque / rated in B's shutdown",
+        "torque range, B's shutdown",
+        "B's LSS peak rises",
+        "lowest rainflow cycle mean of C's HSS",
+        "2 MW: the planet bearings have the shallowest subsurface shear",
+    ] {
+        let row = rows.iter().find(|r| r.quantity.starts_with(prefix)).unwrap();
+        assert_eq!(row.verdict(), Verdict::Contradicts, "{prefix}");
+        assert_eq!(
+            across(prefix),
+            Some(true),
+            "{prefix}: the README says it is the models'"
+        );
+    }
+    for (prefix, nominal) in [
+        ("torque range, A's shutdown / normal operation, LSS", Verdict::Holds),
+        ("peak torque / rated in C's shutdown, LSS", Verdict::Contradicts),
+        (
+            "2 MW: the HSS gears have the shallowest subsurface shear",
+            Verdict::Holds,
+        ),
+    ] {
+        let row = rows.iter().find(|r| r.quantity.starts_with(prefix)).unwrap();
+        assert_eq!(row.verdict(), nominal, "{prefix}");
+        assert_eq!(
+            across(prefix),
+            Some(false),
+            "{prefix}: the README says it rests on an estimate"
+        );
+    }
     // the README's first screen on ISO 281's modified life: the planet bearings fail first with the
     // estimated oil but not across the oil's range, and no HSS bearing fails with any oil in it
     let oil = |prefix: &str| {
@@ -153,27 +188,22 @@ fn every_claimed_row_holds_and_the_documentation_is_what_the_code_gives() {
     assert!(!oil(first).1, "the README says it rests on the oil");
     let hss = oil("2 MW, 20 years: HSS bearings failing of three (damage ≥ 1), ISO 281 modified");
     assert_eq!((hss.0, hss.1, hss.2), (Verdict::Contradicts, true, 0.0));
-    // "contradicted ... for every bearing but the two carrier bearings under the thesis's own rainflow count
-    // (the carrier bearings, whose damage there is 10⁻⁵, take 48 and 70 % of it from the shutdowns)" (README)
+    // "contradicted for every bearing under ISO 281 ..., for every bearing under the thesis's own rainflow count
+    // too" (README)
     let bearings = &report.lives[0].1.bearings;
     for b in bearings {
-        let share = b.thesis.shutdown_share();
-        if b.name.starts_with("carrier_") {
-            assert!(
-                (0.475..0.705).contains(&share) && b.thesis.life() < 1e-4,
-                "{}: {share}",
-                b.name
-            );
-        } else {
-            assert!(share < 0.5, "{}: {share}", b.name);
-        }
+        assert!(
+            b.thesis.shutdown_share() < 0.5,
+            "{}: {}",
+            b.name,
+            b.thesis.shutdown_share()
+        );
         assert!(b.iso.shutdown_share() < 0.5, "{}", b.name);
     }
-    assert_eq!(bearings.iter().filter(|b| b.name.starts_with("carrier_")).count(), 2);
-    // "the planet-bearing pressures (within ±10 % of the thesis's in the shutdown, 10–14 % below them in normal
+    // "the planet-bearing pressures (within ±10 % of the thesis's in the shutdown, 5–11 % below them in normal
     // operation)" (README)
     for p in ["A", "B", "C"] {
-        for (phase, range) in [("normal operation", -0.14..-0.10), ("the shutdown", -0.10..0.10)] {
+        for (phase, range) in [("normal operation", -0.115..-0.05), ("the shutdown", -0.10..0.10)] {
             let q = format!("2 MW: planet {p}'s upwind bearing, largest Hertz pressure in {phase} [GPa]");
             let row = rows.iter().find(|r| r.quantity == q).unwrap();
             let &Thesis::Value(thesis) = &row.thesis else {
