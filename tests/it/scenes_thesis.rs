@@ -70,14 +70,16 @@ fn check(scene: &str, preset: &str) {
         "{scene}: no reversal after the trip"
     );
     // A's and B's rotor torque is C's played back open loop: C's feathering rotor still pulls backwards
-    // when A's brake has already locked, and the reverse swing may slip it once; after that it holds
+    // when A's brake has already locked, and the reverse swing may slip it once within 0.5 s; after that
+    // it holds. The spring scenes' brake never lets go.
+    let played_back = matches!(preset, "A" | "B");
     let first_lock = r.locked.iter().position(|&l| l > 0.5).expect("the brake locks");
     let lock = r.locked.iter().rposition(|&l| l < 0.5).map_or(0, |i| i + 1);
     assert!(lock < r.locked.len(), "{scene}: the brake let go for good");
+    let slipped_for = r.t[lock] - r.t[first_lock];
     assert!(
-        r.t[lock] - r.t[first_lock] < 0.5,
-        "{scene}: the brake slipped again {:.2} s after it first locked",
-        r.t[lock] - r.t[first_lock]
+        slipped_for == 0.0 || (played_back && slipped_for < 0.5),
+        "{scene}: the brake slipped again {slipped_for:.2} s after it first locked"
     );
     let held = r.generator_angle[lock + 1];
     assert!(
@@ -101,7 +103,7 @@ fn check(scene: &str, preset: &str) {
     // drivetrain's integration. A's and B's rotor torque is C's played back, the feathered rotor's in the
     // turbulent field on the blades, which keeps forcing the held rotor: its rocking waxes and wanes with the
     // wind (measured 1.3x and 2.0x from the first quarter held to the last), so it bounds nothing there
-    if !matches!(preset, "A" | "B") {
+    if !played_back {
         assert!(
             last <= 1.01 * first,
             "{scene}: the held rotor's rocking grows, {first} -> {last}"
