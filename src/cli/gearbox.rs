@@ -7,6 +7,7 @@
 
 use crate::physics::gearbox::{Description, Gearbox, description::BearingModel};
 use crate::studies::carrier_revolution::revolution;
+use crate::studies::dynamic_factor::{Timing, dynamic_factors};
 use crate::studies::operating_point::{OperatingPoint, fit_carrier_webs, report};
 use anyhow::anyhow;
 
@@ -55,6 +56,17 @@ pub struct GearboxArgs {
     /// coupling (the mass must be positive; its inertias stay the description's)
     #[arg(long, value_name = "KG")]
     pub rotor_mass: Option<f64>,
+    /// Every mesh's dynamic factor K_v at this operating point's torque and speed instead (the
+    /// rotor's moments and thrust are left out: they swing the carrier slowly, which the factor
+    /// divides out): the largest mesh force with the tooth pairs' stiffness varying over the largest
+    /// at mean stiffness, two runs from the static equilibrium (Newmark), beside ISO 6336-1 method B
+    /// for the same perfect, unrelieved teeth
+    #[arg(long, conflicts_with_all = ["revolution", "fit_webs"])]
+    pub dynamic_factor: bool,
+    /// With --dynamic-factor: the integration step, s [default: a fortieth of the stiffest pair's
+    /// natural period or a hundredth of the fastest mesh period, whichever is shorter]
+    #[arg(long, requires = "dynamic_factor")]
+    pub step: Option<f64>,
 }
 
 /// The description with the command line's bearing model and gravity.
@@ -98,12 +110,34 @@ pub fn run(args: &GearboxArgs) -> anyhow::Result<()> {
     if args.revolution {
         return print_revolution(args, &point);
     }
+    if args.dynamic_factor {
+        return print_dynamic_factors(args, &point);
+    }
     let r = report(&args.gearbox, &description(args)?, &point)?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&r)?);
         return Ok(());
     }
     print!("{r}");
+    Ok(())
+}
+
+/// The rated rotor torque and the operating point's speed (rad/s) of `d`, built as `g`.
+fn rated(args: &GearboxArgs, d: &Description, g: &Gearbox, point: &OperatingPoint) -> anyhow::Result<(f64, f64)> {
+    let rated = g
+        .rated_rotor_torque
+        .ok_or_else(|| anyhow!("{}: the description gives no rated power and speed", args.gearbox))?;
+    let speed = point.speed_ratio * d.rated_rotor_speed_rpm.unwrap_or(0.0) * std::f64::consts::TAU / 60.0;
+    Ok((point.torque_ratio * rated, speed))
+}
+
+/// Print a study's result as JSON or its table.
+fn print<T: serde::Serialize + std::fmt::Display>(args: &GearboxArgs, r: &T) -> anyhow::Result<()> {
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(r)?);
+    } else {
+        print!("{r}");
+    }
     Ok(())
 }
 
@@ -114,15 +148,19 @@ fn print_revolution(args: &GearboxArgs, point: &OperatingPoint) -> anyhow::Resul
     let mut g = Gearbox::new(&d).map_err(|e| anyhow!("{}: {e}", args.gearbox))?;
     g.external_moment = [point.tilt_moment_nm, point.yaw_moment_nm];
     g.thrust = point.thrust_n;
-    let rated = g
-        .rated_rotor_torque
-        .ok_or_else(|| anyhow!("{}: the description gives no rated power and speed", args.gearbox))?;
-    let speed = point.speed_ratio * d.rated_rotor_speed_rpm.unwrap_or(0.0) * std::f64::consts::TAU / 60.0;
-    let r = revolution(&d, &g, point.torque_ratio * rated, speed, None)?;
-    if args.json {
-        println!("{}", serde_json::to_string_pretty(&r)?);
-    } else {
-        print!("{r}");
-    }
-    Ok(())
+    let (torque, speed) = rated(args, &d, &g, point)?;
+    print(args, &revolution(&d, &g, torque, speed, None)?)
+}
+
+/// `--dynamic-factor`: every mesh's K_v at the operating point's torque and speed (the rotor's
+/// moments and thrust are not applied: they move the carrier slowly, which the factor divides out).
+fn print_dynamic_factors(args: &GearboxArgs, point: &OperatingPoint) -> anyhow::Result<()> {
+    let d = description(args)?;
+    let g = Gearbox::new(&d).map_err(|e| anyhow!("{}: {e}", args.gearbox))?;
+    let (torque, speed) = rated(args, &d, &g, point)?;
+    let timing = Timing {
+        step_s: args.step,
+        ..Timing::default()
+    };
+    print(args, &dynamic_factors(&d, torque, speed, &timing)?)
 }

@@ -87,6 +87,7 @@ pub enum Command {
     ///   windrive gearbox --bearings linear --json          the same with the 6×6 linear bearings, as JSON
     ///   windrive gearbox --torque-ratio 1.3 --tilt-moment 2e5 --thrust 1e5   a shutdown's peak with the rotor's loads
     ///   windrive gearbox --revolution --rotor-mass 1       one carrier revolution without the rotor's weight (a dynamometer)
+    ///   windrive gearbox --dynamic-factor --bearings linear   every mesh's K_v, the model's beside ISO 6336-1 method B
     #[command(verbatim_doc_comment)]
     Gearbox(gearbox::GearboxArgs),
     /// Rated-torque step on a drivetrain through its torsional FMU; prints peak torques, the dominant

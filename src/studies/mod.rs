@@ -14,7 +14,8 @@
 //!   brake and the backlash (`nonsmooth`), the co-simulation stability map (`stability`);
 //! - the 6-DOF gearbox at a steady operating point: its bearings' and meshes' loads and stresses, and
 //!   the carrier-web stiffness that gives a measured load split (`operating_point`), and one carrier
-//!   revolution there: where each planet's upwind bearing peaks (`carrier_revolution`);
+//!   revolution there: where each planet's upwind bearing peaks (`carrier_revolution`), and every
+//!   mesh's dynamic factor K_v there, the model's beside ISO 6336-1 method B (`dynamic_factor`);
 //! - lifetime fatigue: the climate, the gear tooth or bearing a channel loads, and the reports of
 //!   their lifetimes (`life`);
 //! - shared: a preset's modes chosen by name (`preset_modes`).
@@ -29,6 +30,8 @@ pub mod calibration;
 pub mod carrier_revolution;
 #[cfg(feature = "cli")]
 pub mod chapter7;
+#[cfg(feature = "cli")]
+pub mod dynamic_factor;
 #[cfg(feature = "cli")]
 pub mod estimates;
 #[cfg(feature = "cli")]

@@ -192,6 +192,23 @@ pub fn pairs_in_contact(s: f64, contact_ratio: f64) -> u32 {
     whole as u32 + u32::from(f < part)
 }
 
+/// Mean tooth pairs in contact over roll positions [s − width/2, s + width/2] (width in base
+/// pitches, ≥ 0; 0 gives `pairs_in_contact` at s). A slice of a helical face spans this much roll
+/// along its width, so its stiffness follows the share of its contact line on each pair count, and
+/// the face's total follows the contact line's length whatever the slice count, instead of switching
+/// a whole slice at once.
+pub fn mean_pairs_in_contact(s: f64, width: f64, contact_ratio: f64) -> f64 {
+    if width <= 0.0 {
+        return f64::from(pairs_in_contact(s, contact_ratio));
+    }
+    let whole = contact_ratio.floor();
+    let part = contact_ratio - whole;
+    // roll spent with the extra pair from 0 to x: one `part` a base pitch, then the start of the
+    // current pitch
+    let extra = |x: f64| x.floor() * part + (x - x.floor()).min(part);
+    whole + (extra(s + 0.5 * width) - extra(s - 0.5 * width)) / width
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -279,5 +296,16 @@ mod tests {
             .count();
         assert_eq!(double, 500);
         assert_eq!(pairs_in_contact(-0.2, e), 1);
+        // the mean over a width: the point count for none, the contact ratio over whole pitches,
+        // the midpoint rule's count inside a zone, and in between across a switch
+        assert_eq!(mean_pairs_in_contact(0.3, 0.0, e), 2.0);
+        for s in [-1.7, 0.0, 0.35, 2.9] {
+            assert!((mean_pairs_in_contact(s, 3.0, e) - e).abs() < 1e-12);
+        }
+        assert!((mean_pairs_in_contact(0.3, 0.1, e) - 2.0).abs() < 1e-12);
+        assert!((mean_pairs_in_contact(0.8, 0.2, e) - 1.0).abs() < 1e-12);
+        let p = e - 1.0;
+        assert!((mean_pairs_in_contact(p, 0.2, e) - 1.5).abs() < 1e-12);
+        assert!((mean_pairs_in_contact(1.0 + p + 0.05, 0.2, e) - 1.25).abs() < 1e-12);
     }
 }

@@ -9,7 +9,7 @@
 //! O(slices) scalar work and two row updates whatever the DOF count.
 
 use super::contact::ContactStress;
-use super::involute::pairs_in_contact;
+use super::involute::{mean_pairs_in_contact, pairs_in_contact};
 use super::row::{Row, add_outer, add_symmetric};
 use nalgebra::DMatrix;
 
@@ -30,6 +30,8 @@ pub struct Phase {
     pub offset: f64,
     pub stagger: f64,
     pub contact_ratio: f64,
+    /// Roll a slice spans across its width, base pitches (stagger × slice width; 0 for spur).
+    pub slice_roll: f64,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -51,6 +53,10 @@ pub struct Mesh {
     pub face_width: f64,
     /// (r × n)_z of the driver's contact point: its spin's lever on the drive flank.
     pub driver_arm: f64,
+    /// Driver's and driven wheel's polar inertia over the squared base-radius lever, kg: each
+    /// wheel's mass along the line of action (infinite for a housing ring). They set the damping
+    /// ratio's critical damping and ISO 6336-1's reduced mass.
+    pub line_masses: [f64; 2],
 }
 
 /// Slice sums of one flank.
@@ -90,6 +96,14 @@ impl Mesh {
             .map(|p| p.teeth * p.roll.dot(q) / std::f64::consts::TAU + p.offset)
     }
 
+    /// Tooth-mesh frequency at speeds `v` (Hz): teeth passing per second of the wheel whose spin,
+    /// relative to its frame, rolls the mesh. None at mean stiffness (no roll phase kept).
+    pub fn mesh_frequency(&self, v: &[f64]) -> Option<f64> {
+        self.phase
+            .as_ref()
+            .map(|p| (p.teeth * p.roll.dot(v) / std::f64::consts::TAU).abs())
+    }
+
     /// Tooth pairs at slice j (its contact line staggered across the face) and the contact ratio.
     fn pairs(&self, roll: Option<f64>, j: usize) -> Option<(u32, f64)> {
         let p = self.phase.as_ref()?;
@@ -97,9 +111,16 @@ impl Mesh {
         Some((pairs_in_contact(s, p.contact_ratio), p.contact_ratio))
     }
 
-    /// Stiffness of slice j: the mean per slice, scaled by its tooth pairs over the contact ratio.
+    /// Stiffness of slice j: the mean per slice, scaled by its tooth pairs (their mean over the roll
+    /// the slice spans) over the contact ratio.
     fn slice_stiffness(&self, roll: Option<f64>, j: usize) -> f64 {
-        self.k_slice * self.pairs(roll, j).map_or(1.0, |(n, e)| f64::from(n) / e)
+        match (self.phase.as_ref(), roll) {
+            (Some(p), Some(r)) => {
+                let s = r + p.stagger * self.zeta[j];
+                self.k_slice * mean_pairs_in_contact(s, p.slice_roll, p.contact_ratio) / p.contact_ratio
+            }
+            _ => self.k_slice,
+        }
     }
 
     fn slice_force(&self, k: f64, d: f64, rate: f64) -> f64 {

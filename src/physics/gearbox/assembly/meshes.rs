@@ -91,7 +91,8 @@ pub(super) fn add_mesh(b: &mut Builder, m: &MeshSpec, sigma: f64) -> Result<(), 
         let rb = r * ca_ * cbb;
         body.polar / (rb * rb).max(1e-300)
     };
-    let m_eq = 1.0 / (1.0 / along(m.driver, p_driver) + 1.0 / along(m.driven, p_driven));
+    let line_masses = [along(m.driver, p_driver), along(m.driven, p_driven)];
+    let m_eq = 1.0 / (1.0 / line_masses[0] + 1.0 / line_masses[1]);
     let c_total = match (m.data.damping, m.data.torsional_damping) {
         (Some(c), _) => c,
         (None, Some(ct)) => ct / (arm * arm),
@@ -118,6 +119,7 @@ pub(super) fn add_mesh(b: &mut Builder, m: &MeshSpec, sigma: f64) -> Result<(), 
                 offset: m.phase,
                 stagger: g.base_helix.tan() / g.base_pitch,
                 contact_ratio: g.contact_ratio,
+                slice_roll: g.base_helix.tan() / g.base_pitch * w / slices as f64,
             })
         }
     };
@@ -135,6 +137,7 @@ pub(super) fn add_mesh(b: &mut Builder, m: &MeshSpec, sigma: f64) -> Result<(), 
         phase,
         face_width: w,
         driver_arm,
+        line_masses,
     });
     b.geometry.push(*g);
     Ok(())
