@@ -79,7 +79,8 @@ pub fn run(args: &NonSmoothArgs) -> anyhow::Result<()> {
         for (h_ms, m) in &v.runs {
             writeln!(
                 csv,
-                "{},{},{},{},{},{}",
+                // quoted: labels like "gs p0, internal 0.25 ms" hold a comma
+                "\"{}\",{},{},{},{},{}",
                 v.label,
                 h_ms * 1e-3,
                 m.brake_changes,

@@ -24,9 +24,9 @@ fn changes(x: &[f64], state: impl Fn(f64) -> i8) -> usize {
 
 /// Once the HSS brake locks it stays locked, the generator exactly still (the implicit integrator
 /// solves the stick exactly); with 100 µm backlash at the scene's 1 ms internal step Newmark's
-/// undamped mesh modes (h·ω up to 7) rattle in the dead zone: the sun-planet contact changes at 22 %
-/// of the communication points (measured 6694 of 30 000), against 57 in the reference; a 0.25 ms
-/// internal step or HHT-α (ρ∞ = 0.6) at 1 ms removes it (28 and 52).
+/// undamped mesh modes (h·ω up to 7) rattle in the dead zone: the sun-planet contact changes thousands
+/// of times in 30 000 communication points, against tens in the converged reference; a 0.25 ms internal
+/// step or HHT-α (ρ∞ = 0.6) at 1 ms removes it (docs/speed-accuracy/non-smooth.csv has the counts).
 #[test]
 fn brake_holds_and_backlash_rattles_only_at_a_coarse_undamped_internal_step() {
     let (_guard, dir) = common::scene_copy("c-shutdown");
