@@ -75,3 +75,39 @@ def test_the_shutdown_order_reading_is_its_table():
         f"(order 0: {100 * at(0, 32):.1f} %, 1: {100 * at(1, 32):.1f} %, 2: {100 * at(2, 32):.1f} %)",
     ]:
         assert quoted in text, f"docs/SPEED-ACCURACY.md should read: {quoted}"
+
+
+def fmt_step(s, unit="ms"):
+    return f"{s * 1e3:.0f} ms" if unit == "ms" else f"{s:.1f} s"
+
+
+def test_the_stability_tables_runs_are_the_maps():
+    """Per algorithm: the largest macro step whose run held at the nominal stiffness (every shorter one holding
+    too), its H·ω, and how many of the map's cells the theory calls as the runs do. The theory's own limits
+    come from the command's printout, not the table, and are not checked here."""
+    text = PAGE.read_text()
+    for name, heading in [("stability-map", "## Where each coupling algorithm is stable"),
+                          ("stability-map-shaft", "### The second split: the main shaft cut across two FMUs")]:
+        table = rows(name)
+        block = section(heading)
+        for algorithm in dict.fromkeys(r["algorithm"] for r in table):
+            cells = [r for r in table if r["algorithm"] == algorithm]
+            agree = sum(r["stable_measured"] == r["stable_theory"] for r in cells)
+            nominal = sorted((float(r["step_s"]), r["stable_measured"] == "true", float(r["h_omega"]))
+                             for r in cells if float(r["stiffness_factor"]) == 1.0)
+            held = None
+            for step, stable, h_omega in nominal:
+                if not stable:
+                    break
+                held = (step, h_omega)
+            if held is None:
+                runs = "none"
+            elif held[0] == nominal[-1][0]:
+                runs = f"every step to {fmt_step(held[0], 's')}"
+            else:
+                runs = f"{fmt_step(held[0])} ({held[1]:.2f})"
+            label = algorithm if algorithm != "iterative p1" else "iterative p1 (plain)"
+            row = next((line for line in block.splitlines() if line.startswith(f"| {label} |")), None)
+            assert row, f"{heading}: no row for {label}"
+            cols = [c.strip() for c in row.strip("|").split("|")]
+            assert cols[2] == runs and cols[3] == f"{agree}/{len(cells)}", (name, row, runs, agree)
