@@ -7,6 +7,7 @@
 //! asserted as our model gives it, beside the thesis's finding for the GRC on its dynamometer (the
 //! planet horizontal to the right of the sun seen from upwind, §7.1.1), which ours does not show.
 
+use crate::common;
 use windrive::physics::gearbox::description::{BearingModel, Description};
 use windrive::physics::gearbox::loads::Loads;
 use windrive::physics::gearbox::model::Gearbox;
@@ -200,6 +201,14 @@ fn a_carrier_revolution_shows_the_once_per_rev_swing_and_the_roller_passage() {
         (f / expected - 1.0).abs() < 0.01,
         "hss_a rings at {f} Hz, roller passage {expected} Hz"
     );
+    // docs/GEARBOX.md's verification row: the reference and the measured frequency
+    assert_eq!(
+        common::gearbox_doc_measured("HSS bearing hss_a in a carrier revolution"),
+        format!("{f:.1} Hz")
+    );
+    let page = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/GEARBOX.md")).unwrap();
+    let reference = format!("roller passage Z·f_shaft·(1 − D/d_m)/2 = {expected:.0} Hz");
+    assert!(page.contains(&reference), "docs/GEARBOX.md should give {reference}");
 
     let mut dyno = d.clone();
     dyno.rotor.as_mut().unwrap().mass = Some(1.0);

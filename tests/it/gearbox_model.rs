@@ -2,6 +2,7 @@
 //! the classical modal structure of a planetary stage, load sharing and face load under errors,
 //! and the rotating-frame terms on a spinning carrier.
 
+use crate::common;
 use windrive::linear::gearbox_modes::{Family, modes};
 use windrive::linear::modes::{Boundary, linearised, modal_analysis};
 use windrive::physics::drivetrain::preset_d;
@@ -129,6 +130,13 @@ fn grc_torsional_modes_agree_with_the_torsional_model() {
     assert!((a / b - 1.0).abs() < 0.02, "{a} vs {b}");
     let c = first(&flexible);
     assert!(c < a && c / b > 0.94, "with the preset's bearings {c} vs {b}");
+    // docs/GEARBOX.md's verification table quotes both
+    let quoted = common::gearbox_doc_measured("first drivetrain mode with supports as rigid");
+    let expected = format!("{a:.4} Hz ({:.2} %)", 100.0 * (a / b - 1.0).abs());
+    assert_eq!(quoted, expected);
+    let quoted = common::gearbox_doc_measured("same, with the preset's estimated bearings");
+    let expected = format!("{c:.3} Hz (−{:.1} %", 100.0 * (1.0 - c / b));
+    assert!(quoted.starts_with(&expected), "{quoted} should start with {expected}");
 }
 
 #[test]
@@ -228,6 +236,7 @@ fn planetary_mut(d: &mut Description) -> &mut windrive::physics::gearbox::descri
 /// statically determinate three-planet stage), with four it only partly does.
 #[test]
 fn a_pin_position_error_raises_the_load_sharing_factor_and_a_floating_sun_lowers_it() {
+    let mut quoted = Vec::new();
     for planets in [3, 4] {
         let mut d = stage_only(planets);
         let t = 3e5;
@@ -261,7 +270,9 @@ fn a_pin_position_error_raises_the_load_sharing_factor_and_a_floating_sun_lowers
         } else {
             assert!(floating > 1.005, "{floating}");
         }
+        quoted.push(format!("{planets} planets: held sun {held:.3}, floating {floating:.3}"));
     }
+    assert_eq!(common::gearbox_doc_measured("load sharing: 30 µm pin error"), quoted.join("; "));
 }
 
 /// A lead slope (misalignment) loads one end of the face: K_Hβ > 1, growing with the slope, the
@@ -270,6 +281,7 @@ fn a_pin_position_error_raises_the_load_sharing_factor_and_a_floating_sun_lowers
 fn misalignment_loads_one_end_of_the_face() {
     let mut d = stage_only(3);
     let mut previous = 0.0;
+    let mut quoted = Vec::new();
     for slope in [0.0, 10.0, 20.0, 40.0] {
         planetary_mut(&mut d).toothing.lead_slope_um = slope;
         let g = Gearbox::new(&d).unwrap();
@@ -288,7 +300,9 @@ fn misalignment_loads_one_end_of_the_face() {
             assert!(r.face_load_factor > 1.05 && r.max_position > 0.0, "{slope}: {r:?}");
         }
         previous = r.face_load_factor;
+        quoted.push(format!("{:.3}", r.face_load_factor));
     }
+    assert_eq!(common::gearbox_doc_measured("lead slope 0/10/20/40 µm"), quoted.join(", "));
 }
 
 /// Without backlash a misalignment larger than the drive flank's compression brings the back flank
@@ -408,6 +422,10 @@ fn a_planet_on_a_spinning_carrier_feels_the_centripetal_load() {
     let inward = -(elastic[0] * b.centre[0] + elastic[1] * b.centre[1]) / a;
     eprintln!("centripetal: {inward:.3} N, m·a·Ω² = {expected:.3} N");
     assert!((inward / expected - 1.0).abs() < 1e-3, "{inward} vs {expected}");
+    assert_eq!(
+        common::gearbox_doc_measured("planet on a carrier at 12 rad/s"),
+        format!("{inward:.2} N vs {expected:.2} N")
+    );
 }
 
 /// Started in its loaded, spinning equilibrium, the undisturbed GRC gearbox stays there: speeds,
@@ -483,6 +501,7 @@ fn varying_mesh_stiffness_excites_the_mesh_frequency() {
         windrive::analysis::signal::spectrum::dominant_in_window(&time, &force, 0.5, 2.0, 10.0).unwrap();
     let ims = 82.0 * 18.6 * (1.0 + 99.0 / 21.0) / 60.0;
     assert!((f / ims - 1.0).abs() < 0.02, "{f} vs {ims}");
+    let ims_found = f;
     let (f, _) = windrive::analysis::signal::spectrum::peaks(&freq, &amp, 10.0, 100.0, 1)[0];
     let expected = 99.0 * 18.6 / 60.0;
     let mean = force.iter().sum::<f64>() / force.len() as f64;
@@ -499,6 +518,10 @@ fn varying_mesh_stiffness_excites_the_mesh_frequency() {
     );
     assert!((f / expected - 1.0).abs() < 0.02, "{f} vs {expected}");
     assert!((mean / constant - 1.0).abs() < 0.02, "{mean} vs {constant}");
+    assert_eq!(
+        common::gearbox_doc_measured("varying mesh stiffness"),
+        format!("{f:.2} Hz (z_ring·f_c = {expected:.2}), {ims_found:.0} Hz (82·f_sun)")
+    );
 }
 
 /// A main shaft given as a Timoshenko beam (`shaft.beam`) adds exactly the element's stiffness between
@@ -555,7 +578,7 @@ fn a_beam_main_shaft_is_a_timoshenko_element() {
 /// through the shaft's lever, W·(a + L)/L for a rotor a ahead of the bearing and a shaft end L behind
 /// it, if the end were a pin; the shaft's own nodes add their weight by the same rule. The carrier
 /// end is no pin (its bearings, the planets and the ring share a moment there), so the statics may
-/// differ from the pin's lever by up to 10 %; they give 2 % less. The carrier's bearings then carry
+/// differ from the pin's lever by up to 10 %; they give a little less (the page quotes how much). The carrier's bearings then carry
 /// the shaft end's lift, not the rotor's weight.
 #[test]
 fn the_grc_main_bearing_carries_the_overhung_rotor_through_the_shafts_lever() {
@@ -587,6 +610,11 @@ fn the_grc_main_bearing_carries_the_overhung_rotor_through_the_shafts_lever() {
         (got / lever - 1.0).abs() < 0.10,
         "main bearing {got:.0} N, lever {lever:.0} N"
     );
+    // docs/GEARBOX.md quotes how far below the pin-ended lever
+    let below = 100.0 * (1.0 - got / lever);
+    let page = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/GEARBOX.md")).unwrap();
+    let quoted = format!("{below:.0} % below the pin-ended lever");
+    assert!(page.split_whitespace().collect::<Vec<_>>().join(" ").contains(&quoted), "docs/GEARBOX.md should say {quoted}");
     assert!(got > 2.0 * rotor.mass.unwrap() * weight, "main bearing {got:.0} N");
     let carrier = at("carrier_a") + at("carrier_b");
     assert!(

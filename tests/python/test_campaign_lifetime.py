@@ -144,6 +144,9 @@ def test_report_agrees_with_windrive_life(tiny_life, windrive):
         theirs = windrive_life(windrive, normal, shutdown, channel, m)
         assert ours["operating_hours"] == pytest.approx(theirs["operating_hours"], rel=1e-12)
         assert ours["reference_s"] == theirs["life_hours"] * 3600
+        # docs/CAMPAIGNS.md quotes the hours
+        hours = f"{ours['operating_hours']:,.1f}".replace(",", " ")
+        assert f"The operating hours agree too: {hours} h." in " ".join((ROOT / "docs/CAMPAIGNS.md").read_text().split())
         for d in theirs["lifetime_del"]:
             (row,) = [r for r in ours["lifetime"] if r["channel"] == channel and r["m"] == d["m"]]
             assert row["lifetime_del"] == pytest.approx(d["del"], rel=1e-9)

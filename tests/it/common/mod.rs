@@ -153,3 +153,14 @@ pub fn cpu_now() -> std::time::Duration {
     unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
     std::time::Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32)
 }
+
+/// The "measured" cell (the last) of docs/GEARBOX.md's verification-table row whose check starts with
+/// `check`: the tests that measure it assert the page quotes what they measure.
+pub fn gearbox_doc_measured(check: &str) -> String {
+    let page = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/GEARBOX.md")).unwrap();
+    let row = page
+        .lines()
+        .find(|l| l.starts_with(&format!("| {check}")))
+        .unwrap_or_else(|| panic!("docs/GEARBOX.md has no verification row \"{check}\""));
+    row.trim_end_matches('|').rsplit('|').next().unwrap().trim().to_string()
+}
