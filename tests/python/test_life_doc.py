@@ -4,6 +4,7 @@ equal to what the committed report folders give."""
 
 import json
 import pathlib
+import re
 import sys
 
 import pandas as pd
@@ -105,6 +106,16 @@ def test_what_campaigns_md_says_of_its_examples():
         (ROOT / "docs" / "campaigns" / "c-dlc12" / "lifetime.json").read_text())["thesis_ratios"]}  # fmt: skip
     for against in {a for _, a in ratios}:
         assert ratios[("torsional.hss_torque", against)] > ratios[("torsional.lss_torque", against)]
+    # the hours the page sets against each other: the shutdowns' (events × the event scene's stop time) and
+    # the climate's operation in the example's bins
+    report = json.loads((ROOT / "docs" / "campaigns" / "c-dlc12" / "lifetime.json").read_text())
+    ssd = (ROOT / "scenes" / "c-shutdown" / "SystemStructure.ssd").read_text()
+    stop = float(re.search(r'stopTime="([0-9.eE+-]+)"', ssd).group(1))
+    page = " ".join((ROOT / "docs" / "CAMPAIGNS.md").read_text().split())
+    hours = f"{report['operating_hours']:,.0f}".replace(",", " ")
+    quoted = f"The {report['events']:.0f} shutdowns last {report['events'] * stop / 3600:.1f} h in all, against the " \
+             f"climate's {hours} h of operation in these bins"
+    assert quoted in page, f"docs/CAMPAIGNS.md should read: {quoted}"
     e = _shares("c-events")
     groups = [c for c in e.columns if c.startswith("share:")]
     for m, most in ((6, 0.0), (9, 0.5)):

@@ -141,13 +141,25 @@ def test_shear_gives_the_3p_torque_summed_here():
     # 3P of its own of up to 2e-4 of the mean, so the FMU's amplitude is checked to that, not relatively
     assert q_3p > 1e-4 * q_mean, "shear gives a 3P torque"
     assert abs(amp_fmu - q_3p) < 2.5e-4 * q_mean, (amp_fmu, q_3p, q_mean)
+    moments = []
     for fmu_series, here in [(tilt, m_tilt), (yaw, m_yaw)]:
         (_, a_here), (_, a_fmu) = three_harmonic(psi, here), three_harmonic(psi, fmu_series)
-        print(f"3P moment amplitude {a_fmu:.1f} N·m (summed here {a_here:.1f})")
+        print(f"3P moment amplitude {a_fmu:.4f} N·m (summed here {a_here:.4f})")
         assert abs(a_fmu - a_here) < 0.1 * a_here + 2.5e-4 * np.mean(f) * radius, (a_fmu, a_here)
+        moments.append((a_fmu, a_here))
     # shear puts the thrust above the hub
     assert np.mean(m_tilt) > 0 and abs(np.mean(tilt) / np.mean(m_tilt) - 1) < 1e-2
-    print(f"3P torque amplitude: {amp_fmu:.1f} N·m (summed here {q_3p:.1f}) of mean {mean_fmu:.0f} N·m")
+    print(f"3P torque amplitude: {amp_fmu:.4f} N·m (summed here {q_3p:.4f}) of mean {mean_fmu:.0f} N·m")
+    # docs/WIND.md quotes these amplitudes
+    n = lambda x: f"{x:,.0f}".replace(",", " ")
+    page = " ".join((ROOT / "docs" / "WIND.md").read_text().split())
+    for quoted in [
+        f"the 3P of the tilt and yaw moments {n(moments[0][0])} and {n(moments[1][0])} N·m against "
+        f"{n(moments[0][1])} and {n(moments[1][1])} N·m summed there",
+        f"tiny 3P ({n(q_3p)} N·m on {q_mean / 1e6:.1f} MN·m",
+        f"(the FMU shows {n(amp_fmu)} N·m)",
+    ]:
+        assert quoted in page, f"docs/WIND.md should read: {quoted}"
 
 
 def test_a_tilting_and_yawing_disc_is_damped_as_summed_here():
