@@ -3,7 +3,12 @@
 page reads from it holds. The tables are not rerun here (minutes each); the chart commands' own tests check them."""
 
 import csv
+import json
 import re
+import subprocess
+import sys
+
+import pytest
 
 from conftest import ROOT
 
@@ -111,3 +116,61 @@ def test_the_stability_tables_runs_are_the_maps():
             assert row, f"{heading}: no row for {label}"
             cols = [c.strip() for c in row.strip("|").split("|")]
             assert cols[2] == runs and cols[3] == f"{agree}/{len(cells)}", (name, row, runs, agree)
+
+
+def fidelity(scene):
+    return json.loads((TABLES / f"{scene}-fidelity.json").read_text())
+
+
+def errors(ladder, level):
+    (found,) = [x for x in ladder["levels"] if x["name"] == level]
+    return {q["quantity"]: q["error"] for q in found["errors"]}
+
+
+@pytest.mark.parametrize("which,heading", [("torsional", "fidelity-torsional"), ("gearbox", "fidelity-gearbox")])
+def test_the_fidelity_tables_are_the_scripts(which, heading):
+    out = subprocess.run([sys.executable, str(ROOT / "scripts/fidelity-tables"), which], check=True,
+                         capture_output=True, text=True).stdout
+    block = re.search(rf"<!-- {heading}: begin -->\n(.*?)<!-- {heading}: end -->", PAGE.read_text(), re.S)
+    assert block and block.group(1) == out, f"docs/SPEED-ACCURACY.md's {which} fidelity table differs from " \
+                                            f"scripts/fidelity-tables {which}"
+
+
+def test_the_torsional_fidelity_readings_are_the_ladders():
+    normal, shutdown = fidelity("c-normal"), fidelity("c-shutdown")
+    pct = lambda x, d: f"{100 * x:.{d}f} %"
+    n2, n5, s2, s5 = (errors(normal, "2-mass"), errors(normal, "5-mass"), errors(shutdown, "2-mass"),
+                      errors(shutdown, "5-mass"))
+    full = normal["modes_hz"]["full torsional"]
+    text = " ".join(section("## The fidelity a scene needs").split())
+    for quoted in [
+        f"99 % of the input torques' spectral energy lies below {normal['excitation_band_hz']:.1f} Hz in normal "
+        f"operation and {shutdown['excitation_band_hz']:.2f} Hz in the shutdown",
+        f"C's first free–free mode is {full[0]:.2f} Hz ({normal['modes_hz']['2-mass'][0]:.2f} in the 2- and 5-mass "
+        f"models), the next {full[1]:.0f} Hz",
+        f"The 2-mass model's LSS DEL is within {pct(n2['LSS torque DEL m=6'], 1)} of the full model's (tolerance 3 %), "
+        f"its HSS torque RMS within {pct(n2['HSS torque RMS'], 2)}",
+        f"Its HSS DEL is {pct(n2['HSS torque DEL m=6'], 0)} off in normal operation and "
+        f"{pct(s2['HSS torque DEL m=6'], 0)} in the shutdown",
+        f"within {pct(max(n5.values()), 1)}.",
+        f"within {pct(s2['sun-planet mesh force max'], 1)} (2-mass) and {pct(s5['sun-planet mesh force max'], 2)} "
+        f"(5-mass) of the full model's",
+    ]:
+        assert quoted in text, f"docs/SPEED-ACCURACY.md should read: {quoted}"
+    assert normal["modes_hz"]["5-mass"][0] == pytest.approx(normal["modes_hz"]["2-mass"][0], abs=0.005)
+    # both finer levels within every tolerance in both scenes: the page's recommendation
+    for ladder in (normal, shutdown):
+        assert all(x["within_tolerance"] for x in ladder["levels"] if x["name"] != "2-mass")
+
+
+def test_the_gearbox_fidelity_reading_is_the_ladders():
+    ladder = fidelity("d-shutdown-6dof")
+    levels = {x["name"]: x for x in ladder["levels"]}
+    assert all(x["within_tolerance"] for x in levels.values())
+    worst = lambda name: max(q["error"] for q in levels[name]["errors"])
+    lamina = [n for n in levels if "lamina" in n]
+    linear = [n for n in levels if "linear" in n]
+    # the lamina levels under half a per cent, each linear level cheaper than each lamina level
+    assert max(worst(n) for n in lamina) < 0.005 < min(worst(n) for n in linear)
+    assert max(levels[n]["cpu_s"] for n in linear) < 0.5 * min(levels[n]["cpu_s"] for n in lamina)
+    assert ladder["recommended"] in linear
