@@ -3,6 +3,7 @@
 page reads from it holds. The tables are not rerun here (minutes each); the chart commands' own tests check them."""
 
 import csv
+import math
 import json
 import re
 import subprocess
@@ -174,3 +175,18 @@ def test_the_gearbox_fidelity_reading_is_the_ladders():
     assert max(worst(n) for n in lamina) < 0.005 < min(worst(n) for n in linear)
     assert max(levels[n]["cpu_s"] for n in linear) < 0.5 * min(levels[n]["cpu_s"] for n in lamina)
     assert ladder["recommended"] in linear
+
+
+def test_the_integrator_table_is_its_map():
+    """Per mesh-stiffness factor: the top mode (ω_max = the table's h·ω over its step), RK4's limit 2.785/ω_max
+    and the largest RK4 step that held. The amplification radii are theory (`Alpha::amplification_radius`),
+    not in the table."""
+    table = [r for r in rows("integrator-stability") if r["method"] == "rk4"]
+    block = section("## Where each integrator is stable")
+    for factor in dict.fromkeys(r["mesh_stiffness_factor"] for r in table):
+        cells = [r for r in table if r["mesh_stiffness_factor"] == factor]
+        omega = float(cells[0]["h_omega_max"]) / float(cells[0]["step_s"])
+        held = max(float(r["step_s"]) for r in cells if r["stable"] == "true")
+        label = f"{float(factor):g}"
+        row = f"| {label} | {omega / (2 * math.pi):.0f} Hz | {2.785 / omega * 1e6:.1f} µs | {held * 1e6:.1f} µs |"
+        assert row in block, f"docs/SPEED-ACCURACY.md should have the row starting {row}"
