@@ -190,3 +190,76 @@ def test_the_integrator_table_is_its_map():
         label = f"{float(factor):g}"
         row = f"| {label} | {omega / (2 * math.pi):.0f} Hz | {2.785 / omega * 1e6:.1f} µs | {held * 1e6:.1f} µs |"
         assert row in block, f"docs/SPEED-ACCURACY.md should have the row starting {row}"
+
+
+def chart(name):
+    """{(method, step in ms): (cpu_s, error, within tolerance, worst quantity)} of a work-precision table."""
+    out = {}
+    for r in rows(name):
+        ms = float(r["setting"].split("= ")[1].split(" ms")[0])
+        errors = {k[len("error "):]: float(v) for k, v in r.items() if k.startswith("error ") and v}
+        out[(r["method"], ms)] = (float(r["cpu_s"]), float(r["max_relative_error"]), r["within_tolerance"] == "true",
+                                  max(errors, key=errors.get))
+    return out
+
+
+def test_the_algorithm_readings_are_their_tables():
+    steps = (0.25, 0.5, 1, 2, 4, 8, 16, 32)
+    s = chart("c-shutdown-algorithm")
+    gs = lambda ms: s[("gauss-seidel", ms)]
+    assert all(gs(ms)[2] for ms in steps[:-1]) and not gs(32)[2]
+    jacobi_over = [s[("jacobi", ms)][1] / gs(ms)[1] for ms in steps[:-1]]
+    assert max(jacobi_over) < 3.5 and all(s[("jacobi", ms)][2] for ms in steps[:-1]) and not s[("jacobi", 32)][2]
+    assert all(s[(m, ms)][2] for m in ("iterative", "iterative iqn-ils") for ms in steps)
+    it4 = s[("iterative", 4)]
+    assert it4[0] > gs(4)[0] and it4[1] > gs(4)[1]
+    n = chart("c-normal-algorithm")
+    ngs = lambda ms: n[("gauss-seidel", ms)]
+    jacobi_less = [n[("jacobi", ms)][1] / ngs(ms)[1] for ms in steps]
+    o = chart("c-normal-order")
+    order = lambda k, ms: o[(f"gauss-seidel order {k}", ms)][1]
+    less = [order(k, ms) / order(0, ms) for k in (1, 2) for ms in (1, 2, 4, 8)]
+    assert all(ngs(ms)[2] for ms in steps) and not n[("jacobi", 4)][2] and n[("jacobi", 2)][2]
+    assert all(order(k, ms) < order(0, ms) for k in (1, 2) for ms in (0.25, 0.5))
+    assert order(0, 32) < 0.03 < order(2, 32)
+    pct = lambda x: f"{100 * x:.1f} %"
+    page = PAGE.read_text()
+    text = " ".join(page[page.index("## Work–precision on drivetrain C"):page.index("## The fidelity a scene needs")].split())
+    for quoted in [
+        f"within every tolerance up to 16 ms ({sci(gs(16)[1])} worst, the mesh-force maximum); at 32 ms it leaves "
+        f"the mesh-force tolerance ({pct(gs(32)[1])})",
+        f"from {gs(1)[0]:.2f} s CPU at the scenes' 1 ms ({sci(gs(1)[1])}) to {gs(4)[0]:.2f} s at 4 ms ({sci(gs(4)[1])})",
+        f"and leaves it at 32 ms ({100 * s[('jacobi', 32)][1]:.0f} %, the HSS DEL)",
+        f"within every tolerance at every step, {s[('iterative', 32)][1]:.0e}".replace("e-03", "e-3") + " at 32 ms",
+        f"Gauss–Seidel is within every tolerance up to 32 ms ({sci(ngs(32)[1])} there, {sci(ngs(16)[1])} at 16 ms",
+        f"{ngs(1)[0] / ngs(32)[0]:.1f}× cheaper there than at 1 ms ({ngs(32)[0]:.3f} against {ngs(1)[0]:.3f} s CPU for "
+        f"20 s; at 1 ms its error is {sci(ngs(1)[1])})",
+        f"Jacobi is {10 * round(min(jacobi_less) / 10):.0f} to {100 * round(max(jacobi_less) / 100):.0f} times less accurate",
+        f"({pct(n[('jacobi', 4)][1])} at 4 ms)",
+        f"`iterative` reaches {sci(n[('iterative', 0.25)][1])} at 0.25 ms and {sci(n[('iterative', 1)][1])} at 1 ms",
+        f"(order 2: {sci(order(2, 0.25))} at 0.25 ms)",
+        f"or up to {max(less):.0f} times less",
+        f"order 2 leaves the DEL tolerance ({pct(order(2, 32))})",
+    ]:
+        assert quoted in text, f"docs/SPEED-ACCURACY.md should read: {quoted}"
+
+
+def test_the_integrator_chart_reading_is_its_table():
+    table = rows("c-shutdown-integrator")
+    ok = [r for r in table if not r["failure"]]
+    implicit = [r for r in ok if r["method"] != "rk4"]
+    rk4 = sorted((r for r in ok if r["method"] == "rk4"), key=lambda r: -float(r["setting"].split("= ")[1].split()[0]))
+    refused = [r for r in table if r["failure"]]
+    assert {r["method"] for r in refused} == {"rk4"} and all("stability" in r["failure"] for r in refused)
+    newmark_1ms = next(float(r["cpu_s"]) for r in implicit if r["method"] == "implicit (Newmark)" and r["setting"] == "h = 1 ms")
+    err = lambda rs: [float(r["max_relative_error"]) for r in rs]
+    cpu = lambda rs: [float(r["cpu_s"]) for r in rs]
+    text = " ".join(section("### Integrators and internal step").split())
+    for quoted in [
+        f"all give {span(err(implicit), lambda x: sci(x).split('e')[0])}e-5 from 1 ms to 25 µs",
+        f"at {span(cpu(implicit), lambda x: f'{x:.2f}')} s CPU",
+        f"at {cpu(rk4)[0]:.2f} and {cpu(rk4)[1]:.2f} s CPU ({cpu(rk4)[0] / newmark_1ms:.1f}–{cpu(rk4)[1] / newmark_1ms:.1f}× "
+        f"Newmark at 1 ms), no more accurate ({sci(err(rk4)[0])}, {sci(err(rk4)[1])})",
+    ]:
+        assert quoted in text, f"docs/SPEED-ACCURACY.md should read: {quoted}"
+    assert all(e < min(err(rk4)) for e in err(implicit))
