@@ -11,12 +11,10 @@ import csv
 import json
 import math
 import re
-import shutil
 import subprocess
 
 import pytest
-from fmpy import extract, read_model_description
-from fmpy.fmi2 import FMU2Slave
+from packed_fmu import packed
 
 from conftest import ROOT
 
@@ -47,47 +45,9 @@ def bound(x):
 # FMUs, one instance per call (as tests/python/test_fmu_documentation.py does)
 
 
-class Fmu:
-    def __init__(self, path):
-        self.md = read_model_description(str(path))
-        self.dir = extract(str(path))
-        self.vars = {v.name: v for v in self.md.modelVariables}
-
-    def vr(self, name):
-        return self.vars[name].valueReference
-
-    def open(self, start):
-        s = FMU2Slave(guid=self.md.guid, unzipDirectory=self.dir,
-                      modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName="readme")
-        s.instantiate()
-        s.setupExperiment(startTime=0.0)
-        for name, value in start.items():
-            setter = {"Real": s.setReal, "Integer": s.setInteger, "String": s.setString}[self.vars[name].type]
-            setter([self.vr(name)], [value])
-        s.enterInitializationMode()
-        s.exitInitializationMode()
-        return s
-
-    def read(self, start, names):
-        s = self.open(start)
-        try:
-            return dict(zip(names, s.getReal([self.vr(n) for n in names])))
-        finally:
-            s.terminate()
-            s.freeInstance()
-
-
 @pytest.fixture(scope="module")
 def fmus(windrive):
-    opened = {}
-    for name in ("generator", "torsional"):
-        path = ROOT / "target" / "fmu" / f"{name}.fmu"
-        if not path.is_file():
-            subprocess.run([windrive, "pack", name], check=True, cwd=ROOT)
-        opened[name] = Fmu(path)
-    yield opened
-    for f in opened.values():
-        shutil.rmtree(f.dir, ignore_errors=True)
+    yield from packed(windrive, ("generator", "torsional"))
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -121,7 +81,7 @@ def test_numerically_damped_integrators(fmus):
     t = fmus["torsional"]
 
     def step(integrator, rho):
-        s = t.open({"integrator": integrator, "spectral_radius": rho})
+        s = t.instance({"integrator": integrator, "spectral_radius": rho})
         try:
             rotor, generator = s.getReal([t.vr("rated_rotor_torque"), t.vr("rated_generator_torque")])
             s.setReal([t.vr("rotor_torque"), t.vr("generator_torque")], [rotor, generator])
