@@ -272,7 +272,10 @@ fn a_pin_position_error_raises_the_load_sharing_factor_and_a_floating_sun_lowers
         }
         quoted.push(format!("{planets} planets: held sun {held:.3}, floating {floating:.3}"));
     }
-    assert_eq!(common::gearbox_doc_measured("load sharing: 30 µm pin error"), quoted.join("; "));
+    assert_eq!(
+        common::gearbox_doc_measured("load sharing: 30 µm pin error"),
+        quoted.join("; ")
+    );
 }
 
 /// A lead slope (misalignment) loads one end of the face: K_Hβ > 1, growing with the slope, the
@@ -302,7 +305,10 @@ fn misalignment_loads_one_end_of_the_face() {
         previous = r.face_load_factor;
         quoted.push(format!("{:.3}", r.face_load_factor));
     }
-    assert_eq!(common::gearbox_doc_measured("lead slope 0/10/20/40 µm"), quoted.join(", "));
+    assert_eq!(
+        common::gearbox_doc_measured("lead slope 0/10/20/40 µm"),
+        quoted.join(", ")
+    );
 }
 
 /// Without backlash a misalignment larger than the drive flank's compression brings the back flank
@@ -614,7 +620,10 @@ fn the_grc_main_bearing_carries_the_overhung_rotor_through_the_shafts_lever() {
     let below = 100.0 * (1.0 - got / lever);
     let page = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/GEARBOX.md")).unwrap();
     let quoted = format!("{below:.0} % below the pin-ended lever");
-    assert!(page.split_whitespace().collect::<Vec<_>>().join(" ").contains(&quoted), "docs/GEARBOX.md should say {quoted}");
+    assert!(
+        page.split_whitespace().collect::<Vec<_>>().join(" ").contains(&quoted),
+        "docs/GEARBOX.md should say {quoted}"
+    );
     assert!(got > 2.0 * rotor.mass.unwrap() * weight, "main bearing {got:.0} N");
     let carrier = at("carrier_a") + at("carrier_b");
     assert!(
