@@ -314,3 +314,19 @@ def test_a_to_c_modes_against_the_thesis(windrive):
     braking = re.search(r"braking frequencies it reports \(([^)]*) Hz\)", text()).group(1).split(", ")
     for p, f in zip("ABC", map(float, braking)):
         assert thesis[p] < f < modes(windrive, p, "full")[1], p
+
+
+def test_sources_md_quotes_the_same_rated_speeds_and_radii(windrive):
+    """docs/SOURCES.md's estimates table repeats the rated rotor speeds, the radii and C's rated tip-speed ratio:
+    the same values as the presets give."""
+    sources = " ".join((ROOT / "docs" / "SOURCES.md").read_text(encoding="utf-8").split())
+    rpm = {p: preset(windrive, p)["rpm"] for p in "ABCD"}
+    radius = {p: preset(windrive, p)["radius"] for p in "ABD"}
+    tsr = at_start(windrive, "rotor", ["rated_tip_speed_ratio"], preset="C", aerodynamics="analytic",
+                   turbulence="none")["rated_tip_speed_ratio"]
+    for quoted in [
+        f"| rated rotor speeds | A {rpm['A']:.3f}, B {rpm['B']:.3f}, C {rpm['C']:.3f}, D {rpm['D']:.3f} rpm |",
+        f"| rotor radii of A, B, D | A {radius['A']:.2f}, B {radius['B']:.2f}, D {radius['D']:.2f} m |",
+        f"at C's rated tip-speed ratio ({tsr:.2f})",
+    ]:
+        assert quoted in sources, f"docs/SOURCES.md should read: {quoted}"

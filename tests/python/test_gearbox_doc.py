@@ -71,3 +71,25 @@ def test_the_life_campaigns_hours_are_the_reports():
     for campaign in ("d-6dof-life", "c-6dof-life"):
         hours = json.loads((ROOT / "docs/campaigns" / campaign / "lifetime.json").read_text())["operating_hours"]
         assert f"{hours:,.0f}".replace(",", " ") + " h" in page, campaign
+
+
+def test_both_gearboxes_webs_give_the_fitted_ratio_and_the_pages_quote_them(windrive):
+    """The carrier webs' torsional stiffness of each description is fitted to upwind/downwind 1.433 at rated
+    torque (`windrive gearbox --fit-webs 1.4333`): at the descriptions' values the rated point gives that
+    ratio, and GEARBOX.md and SOURCES.md quote the values the descriptions hold."""
+    import tomllib
+
+    sources = " ".join((ROOT / "docs/SOURCES.md").read_text().split())
+    webs = {}
+    for gearbox in ("grc750", "c2mw"):
+        r = json.loads(subprocess.run([windrive, "gearbox", "--gearbox", gearbox, "--json"], check=True,
+                                      capture_output=True, text=True).stdout)
+        b = {x["name"]: x["radial_n"] for x in r["bearings"]}
+        ratio = sum(b[f"planet_{p}_uw"] for p in (1, 2, 3)) / sum(b[f"planet_{p}_dw"] for p in (1, 2, 3))
+        assert abs(ratio - 1.4333) < 5e-3, (gearbox, ratio)
+        d = tomllib.loads((ROOT / "fmus/gearbox6dof/resources" / f"{gearbox}.toml").read_text())
+        (stage,) = [s["planetary"] for s in d["stage"] if "planetary" in s][:1]
+        webs[gearbox] = stage["carrier_webs"]["torsional"]
+    sci = lambda x, d: (lambda m, e: f"{m}e{int(e)}")(*f"{x:.{d}e}".split("e"))
+    assert f"carrier webs | GRC {sci(webs['grc750'], 3)}, c2mw {sci(webs['c2mw'], 3)} N·m/rad" in sources
+    assert f"of 1.433 at rated torque ({sci(webs['c2mw'], 2)} N·m/rad)" in text()

@@ -149,3 +149,21 @@ def test_what_sensitivity_md_says_of_a_and_b():
         assert normal[q][f"{group.lower()}_mesh_damping_ratio"] > 0.9, q
     text = " ".join((ROOT / "docs" / "SENSITIVITY.md").read_text().split())
     assert "A's shaft peaks and its shutdown/normal range ratio take their spread from the brake torque almost alone" in text
+
+
+def test_the_pages_counts_are_the_committed_runs():
+    """docs/SENSITIVITY.md's estimates and evaluations per group are the estimates file's and the committed
+    evaluation tables' (Morris: r·(k + 1) points; Sobol: N·(k + 2))."""
+    import tomllib
+
+    page = (ROOT / "docs" / "SENSITIVITY.md").read_text()
+    estimates = tomllib.loads((ROOT / "src" / "studies" / "data" / "estimates.toml").read_text())["estimate"]
+    folder = ROOT / "docs" / "sensitivity"
+    rows = lambda name: sum(1 for _ in open(folder / name)) - 1
+    for group in ("A", "C", "2MW"):
+        k = sum(1 for e in estimates if e["group"] == group)
+        n = rows(f"{group}_evaluations.csv")
+        assert f"scripts/campaign sensitivity {group + ' ' * (4 - len(group))}--out docs/sensitivity     # {k} estimates, " \
+               f"{n} evaluations" in page, group
+    sobol = {rows(f"{g}_sobol_evaluations.csv") for g in ("A", "B")}
+    assert len(sobol) == 1 and f"the same for B; {sobol.pop()}\nevaluations each" in page
