@@ -8,14 +8,14 @@
 //! the mean stiffness. Each mesh's K_v is its largest force over the measured window of the first run
 //! over that of the second, so the carrier's slow swing (gravity, the rotor's weight) divides out.
 //! The teeth are perfect and unrelieved in both, so method B's counterpart is the same gear:
-//! B_p = B_f = 0 (no pitch or profile deviation) and B_k = 1 (no tip relief), with the model's mesh
-//! stiffness c_γα·b and ISO's reduced mass from the model's wheels (the sun's shared by its
-//! planets, a housing ring infinitely heavy).
+//! B_p = B_f = 0 (no pitch or profile deviation) and B_k = 1 (no tip relief), with the model's mean
+//! mesh stiffness (the description's, or ISO's c_γα·b) and ISO's reduced mass from the model's wheels
+//! (the sun's shared by its planets, a housing ring infinitely heavy).
 //!
 //! Integration: Newmark's rule (no numerical damping, which would take the mesh response the
 //! factor measures) at a step of a fortieth of the stiffest mesh's natural period or a hundredth of
 //! its fastest mesh period, whichever is shorter. The start transient (the first switch of every
-//! slice from equilibrium) decays over `SETTLE_S` at the meshes' damping ratio before the window.
+//! slice from equilibrium) decays over [`Timing::settle_s`] at the meshes' damping before the window.
 
 use crate::physics::gearbox::statics::equilibrium;
 use crate::physics::gearbox::{Description, Gearbox, description::MeshStiffnessModel};
