@@ -253,7 +253,7 @@ def test_rotor_fmu_uses_the_imported_blade_as_stored_or_scaled(windrive, importe
     stored (radius_used is its tip radius, and the torque at a tip-speed ratio is `windrive aero`'s on the
     folder); the start value true scales it to the preset's radius; a radius that contradicts an
     unscaled blade is refused."""
-    from test_fmu_documentation import Fmu
+    from packed_fmu import Fmu
 
     folder, report = imported
     path = ROOT / "target" / "fmu" / "rotor.fmu"
