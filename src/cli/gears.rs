@@ -2,7 +2,7 @@
 //! cycles from the speeds, two-slope S-N, Miner) through [`crate::analysis::rating::gear_set`].
 
 use crate::analysis::rating::gear_set::{
-    channels, fmu_mesh_force, gear_table, rate_series, table, with_model_face_load,
+    channels, fmu_mesh_force, gear_table, rate_series, table, with_dynamic_factor, with_model_face_load,
 };
 use std::path::PathBuf;
 
@@ -32,6 +32,11 @@ pub struct GearsArgs {
     /// lead errors), with --fmu gearbox6dof
     #[arg(long, default_value = "one", value_parser = ["one", "model"])]
     pub face_load: String,
+    /// ISO 6336-1's dynamic factor K_v on every mesh (σ_H ∝ √K_v, σ_F ∝ K_v): 1 rates the simulated load,
+    /// which at mean mesh stiffness holds no tooth-mesh dynamics; IEC 61400-4 asks for at least 1.05
+    /// (`windrive gearbox --dynamic-factor` gives each mesh's from the model and ISO's method B)
+    #[arg(long, value_name = "K_V", default_value_t = 1.0)]
+    pub dynamic_factor: f64,
     #[command(flatten)]
     pub rating: super::rating::RatingOptions,
 }
@@ -54,6 +59,12 @@ pub fn run(args: &GearsArgs) -> anyhow::Result<()> {
     } else {
         teeth
     };
+    let teeth = with_dynamic_factor(teeth, args.dynamic_factor).ok_or_else(|| {
+        anyhow::anyhow!(
+            "--dynamic-factor {}: a number ≥ 1 (ISO 6336-1's K_v)",
+            args.dynamic_factor
+        )
+    })?;
     args.rating.check()?;
     if args.rating.channels {
         println!("{}", channels(&teeth).join("\n"));

@@ -238,10 +238,13 @@ pub fn dynamic_factors(
         let fastest_mesh = rows.iter().map(|r| r.0).fold(0.0, f64::max);
         (1.0 / (40.0 * stiffest)).min(1.0 / (100.0 * fastest_mesh))
     });
-    if !(step > 0.0 && step.is_finite()) || fastest <= 0.0 {
+    let fastest_mesh = rows.iter().map(|r| r.0).fold(0.0, f64::max);
+    if !(step > 0.0 && step.is_finite()) || fastest <= 0.0 || step > 0.25 / fastest_mesh {
         return Err(anyhow!(
-            "{}: no usable step ({step} s) for mesh frequencies up to {fastest} Hz",
-            d.name
+            "{}: step {step} s: it must be positive and resolve the fastest mesh frequency, {fastest_mesh:.1} Hz \
+             (at most {:.3e} s)",
+            d.name,
+            0.25 / fastest_mesh
         ));
     }
     let slowest = rows.iter().map(|r| r.0).fold(f64::INFINITY, f64::min);

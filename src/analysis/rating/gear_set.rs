@@ -122,6 +122,9 @@ pub struct RatedTooth {
     /// `face_load_factor_<mesh>`, [`with_model_face_load`]); None rates with K_Hβ = K_Fβ = 1, the
     /// nominal stresses.
     pub face_load: Option<String>,
+    /// ISO 6336-1's dynamic factor K_v on every sample (σ_H ∝ √K_v, σ_F ∝ K_v): 1 rates the load as
+    /// simulated, which at mean mesh stiffness holds no tooth-mesh dynamics ([`with_dynamic_factor`]).
+    pub dynamic_factor: f64,
 }
 
 /// A tooth's result over one series.
@@ -214,6 +217,7 @@ impl RatedTooth {
             self.pair,
             crate::analysis::rating::gear::Factors {
                 k_a: 1.0,
+                k_v: self.dynamic_factor,
                 y_f,
                 y_s,
                 ..Default::default()
@@ -333,6 +337,19 @@ pub fn with_model_face_load(mut teeth: Vec<RatedTooth>) -> Option<Vec<RatedTooth
     Some(teeth)
 }
 
+/// `teeth` rated with the dynamic factor `k_v` on every mesh (ISO 6336-1; IEC 61400-4 asks for at least
+/// 1.05, `windrive gearbox --dynamic-factor` gives the model's and method B's per mesh). None unless `k_v`
+/// is a finite number ≥ 1.
+pub fn with_dynamic_factor(mut teeth: Vec<RatedTooth>, k_v: f64) -> Option<Vec<RatedTooth>> {
+    if !(k_v.is_finite() && k_v >= 1.0) {
+        return None;
+    }
+    for tooth in &mut teeth {
+        tooth.dynamic_factor = k_v;
+    }
+    Some(teeth)
+}
+
 /// Which FMU's mesh forces a series holds: the kind of force and the name the repository's scenes give
 /// that FMU. `fmu` is `torsional` (transverse forces, preset P) or `gearbox6dof` (normal forces).
 pub fn fmu_mesh_force(fmu: &str) -> Option<(MeshForce, &'static str)> {
@@ -430,6 +447,7 @@ pub fn description_table(d: &Description, component: &str, force_kind: MeshForce
                 flank: true,
                 root: true,
                 face_load: None,
+                dynamic_factor: 1.0,
             }
         };
         match stage {
@@ -805,6 +823,34 @@ mod tests {
         assert!(with_model_face_load(paper_1p5mw("torsional", MeshForce::Transverse)).is_none());
         let names = channels(&teeth);
         assert!(names.contains(&"gearbox.face_load_factor_sun_planet_1"), "{names:?}");
+    }
+
+    /// ISO 6336-1's K_v scales σ_H by √K_v and σ_F by K_v: a tooth rated with K_v is the tooth rated at a
+    /// K_v times larger force, flank and root, to 1e-12; a K_v below 1 or not finite is refused.
+    #[test]
+    fn the_dynamic_factor_rates_as_a_larger_force() {
+        let (w, t_end, f, k_v) = (1.8, 60.0, 1.1e5, 1.05);
+        let plain = paper_1p5mw("gearbox", MeshForce::Normal);
+        let teeth = with_dynamic_factor(plain.clone(), k_v).unwrap();
+        let n = 301;
+        let t: Vec<f64> = (0..n).map(|i| t_end * i as f64 / (n - 1) as f64).collect();
+        let speed = vec![w; n];
+        let close = |x: f64, y: f64| (x - y).abs() <= 1e-12 * x.abs().max(1e-300);
+        for (with, tooth) in teeth.iter().zip(&plain) {
+            let a = with.rate(&t, &vec![f; n], &speed).unwrap();
+            let b = tooth.rate(&t, &vec![f * k_v; n], &speed).unwrap();
+            for (x, y) in [
+                (a.max_contact_stress, b.max_contact_stress),
+                (a.max_root_stress, b.max_root_stress),
+                (a.flank_damage, b.flank_damage),
+                (a.root_damage, b.root_damage),
+            ] {
+                assert!(close(x, y) || (x.is_nan() && y.is_nan()), "{}: {x} vs {y}", tooth.name);
+            }
+        }
+        for bad in [0.99, f64::NAN, f64::INFINITY] {
+            assert!(with_dynamic_factor(plain.clone(), bad).is_none(), "{bad}");
+        }
     }
 
     /// Y_F and Y_S land in ISO 6336-3's usual band (Y_F 1.1–1.4, Y_S 1.9–2.6 at the outer point of
