@@ -410,7 +410,7 @@ class _Reader:
         if t is None:
             return None
         key = ("gears",)
-        self.check_keys(t, key, ("table", "fmu", "component", "face_load"))
+        self.check_keys(t, key, ("table", "fmu", "component", "face_load", "dynamic_factor"))
         table = self.description(t, key, "table")
         if table is None:
             self.fail(key + ("table",), "missing (the gear table: P, a gearbox6dof preset or a description file)")
@@ -419,7 +419,10 @@ class _Reader:
         if face_load == "model" and fmu != "gearbox6dof":
             self.fail(key + ("face_load",), "model reads gearbox6dof's face_load_factor_<mesh> outputs: "
                                              'set fmu = "gearbox6dof"')  # fmt: skip
-        return gears_mod.Gears(table, fmu, self.component(t, key, "component", gears_mod.FMUS[fmu]), face_load)
+        # ISO 6336-1's K_v on every mesh (IEC 61400-4 asks for at least 1.05; `windrive gearbox --dynamic-factor`)
+        dynamic_factor = self.number(t, key, "dynamic_factor", default=1.0, minimum=1.0)
+        return gears_mod.Gears(table, fmu, self.component(t, key, "component", gears_mod.FMUS[fmu]), face_load,
+                               dynamic_factor)
 
     def bearings(self, doc: dict) -> bearings_mod.Bearings | None:
         t = self.table(doc, (), "bearings")

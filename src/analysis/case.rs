@@ -21,7 +21,9 @@ use crate::analysis::fatigue::ldd::sample_revolutions;
 use crate::analysis::fatigue::matrix::Bins;
 use crate::analysis::fatigue::rainflow::Counter;
 use crate::analysis::rating::bearing_set::{BearingSetError, BearingTable};
-use crate::analysis::rating::gear_set::{GearSetError, fmu_mesh_force, gear_table, rate_columns, with_model_face_load};
+use crate::analysis::rating::gear_set::{
+    GearSetError, fmu_mesh_force, gear_table, rate_columns, with_dynamic_factor, with_model_face_load,
+};
 use crate::analysis::rating::life_modification::Lubrication;
 use serde::Deserialize;
 use serde::ser::{Serialize, SerializeMap, Serializer};
@@ -82,6 +84,8 @@ pub struct GearsSpec {
     /// The face load factor K_Hβ: `one` (nominal stresses) or `model` (each sample's from gearbox6dof,
     /// `windrive gears --face-load model`) [default: one].
     pub face_load: Option<String>,
+    /// ISO 6336-1's dynamic factor K_v on every mesh, ≥ 1 (`windrive gears --dynamic-factor`) [default: 1].
+    pub dynamic_factor: Option<f64>,
 }
 
 fn torsional() -> String {
@@ -226,6 +230,11 @@ impl CaseSpec {
                 Some("model") => return bad("gears.face_load \"model\" needs gears.fmu \"gearbox6dof\"".into()),
                 Some(other) => return bad(format!("gears.face_load {other:?}: use one or model")),
             }
+            if let Some(k_v) = g.dynamic_factor
+                && !(k_v.is_finite() && k_v >= 1.0)
+            {
+                return bad(format!("gears.dynamic_factor {k_v}: a number ≥ 1 (ISO 6336-1's K_v)"));
+            }
         }
         Ok(())
     }
@@ -242,12 +251,13 @@ pub fn analyse(time: &[f64], names: &[String], columns: &[Vec<f64>], spec: &Case
             let component = g.component.as_deref().unwrap_or(default_component);
             let teeth = gear_table(&g.table, component, kind)
                 .map_err(|e| CaseError::Spec(format!("gears.table {:?}: {e}", g.table)))?;
-            if g.face_load.as_deref() == Some("model") {
+            let teeth = if g.face_load.as_deref() == Some("model") {
                 with_model_face_load(teeth)
-                    .ok_or_else(|| CaseError::Spec(format!("gears.table {:?}: no gearbox6dof mesh forces", g.table)))
+                    .ok_or_else(|| CaseError::Spec(format!("gears.table {:?}: no gearbox6dof mesh forces", g.table)))?
             } else {
-                Ok(teeth)
-            }
+                teeth
+            };
+            Ok::<_, CaseError>(with_dynamic_factor(teeth, g.dynamic_factor.unwrap_or(1.0)).expect("checked"))
         })
         .transpose()?;
     let bearings = spec
@@ -553,6 +563,27 @@ mod tests {
         assert!(matches!(torsional, Err(CaseError::Spec(m)) if m.contains("gearbox6dof")));
         let other = run(r#"{"table": "grc750", "fmu": "gearbox6dof", "face_load": "iso"}"#);
         assert!(matches!(other, Err(CaseError::Spec(m)) if m.contains("\"iso\"")));
+        // the dynamic factor, with the face load or alone: the same rate_columns on teeth with K_v set
+        let with_k_v =
+            run(r#"{"table": "grc750", "fmu": "gearbox6dof", "face_load": "model", "dynamic_factor": 1.05}"#).unwrap();
+        let k_v_teeth = with_dynamic_factor(teeth.clone(), 1.05).unwrap();
+        for r in rate_columns(&k_v_teeth, &t[from..], column).unwrap() {
+            let key = format!("gear.{}.flank_day", r.name);
+            if r.flank_damage_per_day.is_nan() {
+                continue;
+            }
+            assert_eq!(number(&with_k_v, &key), r.flank_damage_per_day, "{key}");
+            assert!(number(&with_k_v, &key) > number(&model, &key), "{key}");
+        }
+        for bad in ["0.9", "-1"] {
+            let r = run(&format!(
+                r#"{{"table": "grc750", "fmu": "gearbox6dof", "dynamic_factor": {bad}}}"#
+            ));
+            assert!(
+                matches!(r, Err(CaseError::Spec(m)) if m.contains("gears.dynamic_factor")),
+                "{bad}"
+            );
+        }
     }
 
     /// [bearings]' oil: unset keys take windrive's estimate, set ones replace it, and a value the

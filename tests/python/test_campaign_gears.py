@@ -56,7 +56,7 @@ rotor.wind_speed = [11.5, 18.0]
     "text, message, line",
     [
         (campaign(tables=TWO_GRIDS + '[gears]\ntable = "no/such.toml"'), "gears.table: ", 14),
-        (campaign(tables=TWO_GRIDS + '[gears]\ntabel = "P"'), "gears.tabel: unknown key (known here: table, fmu, component, face_load)", 14),
+        (campaign(tables=TWO_GRIDS + '[gears]\ntabel = "P"'), "gears.tabel: unknown key (known here: table, fmu, component, face_load, dynamic_factor)", 14),
         (campaign(tables=TWO_GRIDS + "[gears]\ntable = 1"), "gears.table: must be a non-empty string", 14),
         (campaign(tables=TWO_GRIDS + "[gears]"),
          "gears.table: missing (the gear table: P, a gearbox6dof preset or a description file)", 13),
@@ -69,6 +69,8 @@ rotor.wind_speed = [11.5, 18.0]
          "gears.face_load: must be one of one, model, not 'iso'", 15),
         (campaign(tables=TWO_GRIDS + '[gears]\ntable = "P"\nface_load = "model"'),
          "gears.face_load: model reads gearbox6dof's face_load_factor_<mesh> outputs", 15),
+        (campaign(tables=TWO_GRIDS + '[gears]\ntable = "P"\ndynamic_factor = 0.9'),
+         "gears.dynamic_factor: must be at least 1.0, not 0.9", 15),
         (campaign(tables=TWO_GRIDS + "[[grid]]\n"), "grid[3]: no axis", 13),
         (campaign(tables=TWO_GRIDS.replace('["none"]', '"none"')), "grid[2].rotor.turbulence: a grid axis is a", 11),
         (campaign(tables=TWO_GRIDS.replace("[0.09, 0.14]\n[[grid]]", "[0.09, 0.14]\nspeed = [1]\n[[grid]]")),
@@ -143,6 +145,19 @@ def test_the_models_face_load_is_asked_for_and_read(tmp_path, windrive):
     assert "gearbox.face_load_factor_sun_planet_1" in channels
     assert model.gears.channels(windrive) == tuple(channels)
     assert set(plain.gears.channels(windrive)) < set(channels)
+
+
+def test_the_dynamic_factor_reaches_the_rating(tmp_path):
+    """dynamic_factor = K_v rates every mesh with ISO 6336-1's K_v (`windrive gears --dynamic-factor`): the
+    spec and the command line carry it; unset is 1 and leaves the spec and digest as they were."""
+    section = '[grid]\nrotor.wind_speed = [11.5]\n[gears]\ntable = "P"\n'
+    plain = schema.load(write_campaign(tmp_path, campaign(tables=section), "a.toml"))
+    one = schema.load(write_campaign(tmp_path, campaign(tables=section + "dynamic_factor = 1"), "b.toml"))
+    k_v = schema.load(write_campaign(tmp_path, campaign(tables=section + "dynamic_factor = 1.05"), "c.toml"))
+    assert plain.gears == one.gears and plain.analysis_digest() == one.analysis_digest()
+    assert k_v.analysis_spec()["gears"]["dynamic_factor"] == 1.05
+    assert k_v.analysis_digest() != plain.analysis_digest()
+    assert k_v.gears.options()[-2:] == ["--dynamic-factor", "1.05"]
 
 
 def test_a_description_file_is_relative_to_the_campaign_file(tmp_path, windrive):
