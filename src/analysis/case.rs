@@ -404,7 +404,7 @@ fn short(m: f64) -> String {
 mod tests {
     use super::*;
     use crate::analysis::rating::gear::MeshForce;
-    use crate::analysis::rating::gear_set::channels;
+    use crate::analysis::rating::gear_set::{RatedTooth, channels};
 
     fn spec(json_channels: Vec<ChannelSpec>, transient: f64, feq: f64) -> CaseSpec {
         CaseSpec {
@@ -551,30 +551,26 @@ mod tests {
         );
         let from = t.iter().position(|&x| x >= 1.0).unwrap();
         let column = |n: &str| &columns[names.iter().position(|c| c == n).unwrap()][from..];
-        for r in rate_columns(&teeth, &t[from..], column).unwrap() {
-            let key = format!("gear.{}.flank_day", r.name);
-            if r.flank_damage_per_day.is_nan() {
-                continue;
+        // every rated flank of `row` is rate_columns' on `teeth`, and above `below`'s
+        let rates_as = |row: &Statistics, teeth: &[RatedTooth], below: &Statistics| {
+            for r in rate_columns(teeth, &t[from..], column).unwrap() {
+                let key = format!("gear.{}.flank_day", r.name);
+                if r.flank_damage_per_day.is_nan() {
+                    continue;
+                }
+                assert_eq!(number(row, &key), r.flank_damage_per_day, "{key}");
+                assert!(number(row, &key) > number(below, &key), "{key}");
             }
-            assert_eq!(number(&model, &key), r.flank_damage_per_day, "{key}");
-            assert!(number(&model, &key) > number(&nominal, &key), "{key}");
-        }
+        };
+        rates_as(&model, &teeth, &nominal);
         let torsional = run(r#"{"table": "P", "face_load": "model"}"#);
         assert!(matches!(torsional, Err(CaseError::Spec(m)) if m.contains("gearbox6dof")));
         let other = run(r#"{"table": "grc750", "fmu": "gearbox6dof", "face_load": "iso"}"#);
         assert!(matches!(other, Err(CaseError::Spec(m)) if m.contains("\"iso\"")));
-        // the dynamic factor, with the face load or alone: the same rate_columns on teeth with K_v set
+        // the dynamic factor on top of the model's face load: the same rate_columns on teeth with K_v set
         let with_k_v =
             run(r#"{"table": "grc750", "fmu": "gearbox6dof", "face_load": "model", "dynamic_factor": 1.05}"#).unwrap();
-        let k_v_teeth = with_dynamic_factor(teeth.clone(), 1.05).unwrap();
-        for r in rate_columns(&k_v_teeth, &t[from..], column).unwrap() {
-            let key = format!("gear.{}.flank_day", r.name);
-            if r.flank_damage_per_day.is_nan() {
-                continue;
-            }
-            assert_eq!(number(&with_k_v, &key), r.flank_damage_per_day, "{key}");
-            assert!(number(&with_k_v, &key) > number(&model, &key), "{key}");
-        }
+        rates_as(&with_k_v, &with_dynamic_factor(teeth.clone(), 1.05).unwrap(), &model);
         for bad in ["0.9", "-1"] {
             let r = run(&format!(
                 r#"{{"table": "grc750", "fmu": "gearbox6dof", "dynamic_factor": {bad}}}"#

@@ -232,14 +232,12 @@ pub fn dynamic_factors(
             g.base_helix == 0.0,
         ));
     }
-    let fastest = rows.iter().map(|r| r.0.max(r.1)).fold(0.0, f64::max);
-    let step = timing.step_s.unwrap_or_else(|| {
-        let stiffest = rows.iter().map(|r| r.1).fold(0.0, f64::max);
-        let fastest_mesh = rows.iter().map(|r| r.0).fold(0.0, f64::max);
-        (1.0 / (40.0 * stiffest)).min(1.0 / (100.0 * fastest_mesh))
-    });
     let fastest_mesh = rows.iter().map(|r| r.0).fold(0.0, f64::max);
-    if !(step > 0.0 && step.is_finite()) || fastest <= 0.0 || step > 0.25 / fastest_mesh {
+    let stiffest = rows.iter().map(|r| r.1).fold(0.0, f64::max);
+    let step = timing
+        .step_s
+        .unwrap_or((1.0 / (40.0 * stiffest)).min(1.0 / (100.0 * fastest_mesh)));
+    if !(step > 0.0 && step.is_finite()) || fastest_mesh <= 0.0 || step > 0.25 / fastest_mesh {
         return Err(anyhow!(
             "{}: step {step} s: it must be positive and resolve the fastest mesh frequency, {fastest_mesh:.1} Hz \
              (at most {:.3e} s)",
