@@ -19,16 +19,31 @@ use std::fmt;
 use std::path::Path;
 use std::time::Instant;
 
-/// Wall time and recorded columns of a scene run (Gauss–Seidel, 1 ms).
+/// A scene run's wall time, the part of it spent in one component (its steps and output reads),
+/// both s, and the recorded columns.
+struct SceneRun {
+    wall_s: f64,
+    component_s: f64,
+    cols: Vec<Vec<f64>>,
+}
+
+/// A scene run (Gauss–Seidel, 1 ms), `component` timed on its own.
 fn run_scene(
     dir: &Path,
     overrides: &[(String, String, String)],
     channels: &[String],
     stop: f64,
-) -> anyhow::Result<(f64, Vec<Vec<f64>>)> {
+    component: &str,
+) -> anyhow::Result<SceneRun> {
     let scene = Scene::open(dir)?;
     let mut system = System::build(&scene, overrides, &Record::Only(channels.to_vec()))?;
     system.initialize(Some(stop))?;
+    let timed = system
+        .units
+        .iter()
+        .position(|u| u.name == component)
+        .ok_or_else(|| anyhow::anyhow!("{}: no component {component}", dir.display()))?;
+    system.units[timed].clock = Some(std::time::Duration::ZERO);
     let mut cols: Vec<Vec<f64>> = vec![Vec::new(); channels.len()];
     let start = Instant::now();
     let mut master = Master::new(&mut system, Options::new(Algorithm::GaussSeidel, 1e-3, stop))?;
@@ -39,7 +54,14 @@ fn run_scene(
         }
         Ok(())
     })?;
-    Ok((start.elapsed().as_secs_f64(), cols))
+    let wall_s = start.elapsed().as_secs_f64();
+    drop(master);
+    let component_s = system.units[timed].clock.unwrap_or_default().as_secs_f64();
+    Ok(SceneRun {
+        wall_s,
+        component_s,
+        cols,
+    })
 }
 
 fn peak(x: &[f64]) -> f64 {
@@ -87,9 +109,16 @@ impl MainShaft {
 }
 
 /// One gearbox variant against the reference.
+#[derive(Debug, Clone)]
 pub struct VariantRow {
     pub label: &'static str,
+    /// `lamina` or `linear`, and whether the row is the full model (35 slices, the preset's main
+    /// shaft) at the FMU's default step and integrator (1 ms, HHT-α): the rows issue 33's targets are for.
+    pub bearings: &'static str,
+    pub full_model: bool,
+    /// The whole scene's wall time and the gearbox FMU's part of it (its steps and output reads), s.
     pub wall_s: f64,
+    pub gearbox_s: f64,
     /// Peak differences against the reference, %: sun–planet and gear–pinion mesh force, planet 1's
     /// upwind bearing's radial load and inner-race pressure, the HSS mesh's contact pressure.
     pub sun_planet: f64,
@@ -105,6 +134,11 @@ pub struct VariantRow {
     pub hss_rms_error: f64,
 }
 
+/// What issue 33 asks of the gearbox FMU on its own (its steps and output reads in this scene), in
+/// multiples of real time: 35 slices with lamina bearings, and linear bearings.
+pub const LAMINA_TARGET: f64 = 20.0;
+pub const LINEAR_TARGET: f64 = 50.0;
+
 /// The head of the variants' table over `stop` s; each [`VariantRow`] renders as a row of it
 /// ([`VariantRow::row`]).
 pub fn variants_head(stop: f64) -> String {
@@ -112,10 +146,12 @@ pub fn variants_head(stop: f64) -> String {
         "drivetrain D shutdown scene, {stop} s at 1 ms through the master (Gauss–Seidel); reference: 35 slices with \
          lamina bearings at a 0.25 ms internal step with Newmark's average acceleration (no numerical damping); rows: the \
          FMU's default HHT-α (ρ∞ = 0.8) at 1 ms unless named; baseline: torsional full fidelity\n\
-         {:<24} {:>9} {:>7} {:>11} {:>11} {:>11} {:>11} {:>9} {:>11} {:>11} {:>10}",
+         {:<24} {:>9} {:>7} {:>9} {:>7} {:>11} {:>11} {:>11} {:>11} {:>9} {:>11} {:>11} {:>10}",
         "variant",
         "ms per s",
         "× real",
+        "FMU ms/s",
+        "FMU ×",
         "÷ torsional",
         "sun-planet",
         "gear-pinion",
@@ -127,14 +163,49 @@ pub fn variants_head(stop: f64) -> String {
     )
 }
 
-/// The foot of the variants' table: the baseline's time `t_tor` s over `stop` s and the columns' meaning.
-pub fn variants_foot(stop: f64, t_tor: f64) -> String {
+/// The torsional baseline's scene: its wall time and its FMU's part of it, s.
+#[derive(Debug, Clone, Copy)]
+pub struct Baseline {
+    pub wall_s: f64,
+    pub fmu_s: f64,
+}
+
+/// The foot of the variants' table: the baseline over `stop` s, what bounds the scene, the columns'
+/// meaning.
+pub fn variants_foot(stop: f64, base: Baseline) -> String {
+    let rest = base.wall_s - base.fmu_s;
     format!(
-        "torsional: {:.2} ms per simulated s ({:.0}× real time); columns: peak differences against the reference \
-         (min rollr: fewest rollers carrying planet 1's upwind bearing in normal operation, the reference's in \
-         brackets; linear bearings report none)\n",
-        t_tor / stop * 1e3,
-        stop / t_tor
+        "torsional: {:.2} ms per simulated s ({:.0}× real time), of which its FMU {:.2}; the scene's other FMUs (the rotor \
+         with its blades, the generator) and the master take the other {:.1} ms per s, so no gearbox makes this scene \
+         faster than {:.0}× real time; columns: ms per s and × real for the whole scene, FMU ms/s and FMU × for the gearbox \
+         FMU's steps and output reads alone, ÷ torsional the scene against the torsional scene, peak differences against \
+         the reference (min rollr: fewest rollers carrying planet 1's upwind bearing in normal operation, the \
+         reference's in brackets; linear bearings report none)\n",
+        base.wall_s / stop * 1e3,
+        stop / base.wall_s,
+        base.fmu_s / stop * 1e3,
+        rest / stop * 1e3,
+        stop / rest,
+    )
+}
+
+/// Whether the gearbox FMU alone meets issue 33's targets in the rows `rows` (their labels name the
+/// bearings): the default 35-slice lamina row and the fastest linear row.
+pub fn targets(rows: &[VariantRow], stop: f64) -> String {
+    let fastest = |bearings: &str| {
+        rows.iter()
+            .filter(|r| r.full_model && r.bearings == bearings)
+            .min_by(|a, b| a.gearbox_s.total_cmp(&b.gearbox_s))
+            .map_or((f64::NAN, "none"), |r| (stop / r.gearbox_s, r.label))
+    };
+    let verdict = |x: f64, target: f64| if x >= target { "met" } else { "not met" };
+    let ((lamina, lamina_row), (linear, linear_row)) = (fastest("lamina"), fastest("linear"));
+    format!(
+        "targets for the gearbox FMU alone (the fastest full-model row at 1 ms): 35 slices with lamina bearings \
+         {lamina:.1}× real time ({lamina_row:?}; ≥ {LAMINA_TARGET}×: {}), linear bearings {linear:.1}× ({linear_row:?}; \
+         ≥ {LINEAR_TARGET}×: {})\n",
+        verdict(lamina, LAMINA_TARGET),
+        verdict(linear, LINEAR_TARGET),
     )
 }
 
@@ -150,13 +221,15 @@ fn rollers(x: f64) -> String {
 
 impl VariantRow {
     /// The row of this variant over `stop` s, against the torsional baseline's `t_tor` s.
-    pub fn row(&self, stop: f64, t_tor: f64) -> String {
+    pub fn row(&self, stop: f64, base: Baseline) -> String {
         format!(
-            "{:<24} {:>9.1} {:>7.2} {:>11.0} {:>11} {:>11} {:>11} {:>4} ({}) {:>11} {:>11} {:>9.3}%",
+            "{:<24} {:>9.1} {:>7.2} {:>9.1} {:>7.2} {:>11.1} {:>11} {:>11} {:>11} {:>4} ({}) {:>11} {:>11} {:>9.3}%",
             self.label,
             self.wall_s / stop * 1e3,
             stop / self.wall_s,
-            self.wall_s / t_tor,
+            self.gearbox_s / stop * 1e3,
+            stop / self.gearbox_s,
+            self.wall_s / base.wall_s,
             percent(self.sun_planet),
             percent(self.gear_pinion),
             percent(self.planet_upwind),
@@ -184,9 +257,13 @@ fn channels(component: &str) -> Vec<String> {
     CHANNELS.iter().map(|n| format!("{component}.{n}")).collect()
 }
 
-/// The baseline: the torsional model in d-shutdown (the folder `dir`) over `stop` s, its wall time, s.
-pub fn torsional_baseline(dir: &Path, stop: f64) -> anyhow::Result<f64> {
-    Ok(run_scene(dir, &[], &channels("torsional")[..3], stop)?.0)
+/// The baseline: the torsional model in d-shutdown (the folder `dir`) over `stop` s.
+pub fn torsional_baseline(dir: &Path, stop: f64) -> anyhow::Result<Baseline> {
+    let run = run_scene(dir, &[], &channels("torsional")[..3], stop, "torsional")?;
+    Ok(Baseline {
+        wall_s: run.wall_s,
+        fmu_s: run.component_s,
+    })
 }
 
 /// The variants in d-shutdown-6dof (the folder `six`) over `stop` s; `row` after each.
@@ -232,7 +309,11 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         if let Some(file) = shaft.description()? {
             o.push(param("gearbox", "gearbox", file.display()));
         }
-        let (wall, cols) = run_scene(six, &o, &channels("gearbox"), stop)?;
+        let SceneRun {
+            wall_s,
+            component_s,
+            cols,
+        } = run_scene(six, &o, &channels("gearbox"), stop, "gearbox")?;
         let r = reference.get_or_insert_with(|| cols.clone());
         let rel = |k: usize| 100.0 * (peak(&cols[k]) / peak(&r[k]) - 1.0);
         // the fewest rollers carrying the upwind planet bearing in normal operation (1 s to the trip
@@ -247,7 +328,10 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         };
         row(&VariantRow {
             label,
-            wall_s: wall,
+            bearings,
+            full_model: slices == 35 && matches!(shaft, MainShaft::Preset) && step == 1e-3 && integrator == "hht",
+            wall_s,
+            gearbox_s: component_s,
             sun_planet: rel(1),
             gear_pinion: rel(2),
             planet_upwind: rel(3),
@@ -336,7 +420,7 @@ pub fn part_load(dir: &Path, stop: f64, mut row: impl FnMut(&PartLoadRow)) -> an
             param("gearbox", "integrator", integrator),
             param("gearbox", "max_internal_step", step),
         ];
-        let (wall, cols) = run_scene(dir, &o, &channels, stop)?;
+        let SceneRun { wall_s, cols, .. } = run_scene(dir, &o, &channels, stop, "gearbox")?;
         let cols: Vec<Vec<f64>> = cols.into_iter().map(|c| c[skip.min(c.len())..].to_vec()).collect();
         let p99 = |x: &[f64]| {
             let mut a: Vec<f64> = x.iter().map(|v| v.abs()).collect();
@@ -349,7 +433,7 @@ pub fn part_load(dir: &Path, stop: f64, mut row: impl FnMut(&PartLoadRow)) -> an
         };
         row(&PartLoadRow {
             label,
-            wall_s: wall,
+            wall_s,
             hss_p99: p99(&cols[0]),
             hss_max: peak(&cols[0]),
             mesh_max: peak(&cols[1]),
@@ -486,4 +570,47 @@ pub fn explicit_against_implicit() -> anyhow::Result<ExplicitImplicit> {
             / 1e6,
         model_share,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{VariantRow, targets};
+
+    fn row(label: &'static str, bearings: &'static str, full_model: bool, gearbox_s: f64) -> VariantRow {
+        VariantRow {
+            label,
+            bearings,
+            full_model,
+            wall_s: 2.0 * gearbox_s,
+            gearbox_s,
+            sun_planet: 0.0,
+            gear_pinion: 0.0,
+            planet_upwind: 0.0,
+            upwind_pressure: 0.0,
+            hss_pressure: 0.0,
+            fewest_rollers: 6.0,
+            reference_fewest_rollers: 6.0,
+            hss_rms_error: 0.0,
+        }
+    }
+
+    #[test]
+    fn targets_take_the_fastest_full_model_row_of_each_bearing_model() {
+        let rows = [
+            row("35 slices, lamina", "lamina", true, 2.0),
+            row("same, kept", "lamina", true, 0.4),
+            // faster, but not the full model: never counts
+            row("5 slices, lamina", "lamina", false, 0.01),
+            row("35 slices, linear", "linear", true, 0.25),
+        ];
+        let text = targets(&rows, 10.0);
+        assert!(
+            text.contains("lamina bearings 25.0× real time (\"same, kept\"; ≥ 20×: met)"),
+            "{text}"
+        );
+        assert!(
+            text.contains("linear bearings 40.0× (\"35 slices, linear\"; ≥ 50×: not met)"),
+            "{text}"
+        );
+    }
 }

@@ -145,10 +145,15 @@ fn gearbox(stop: f64) -> anyhow::Result<()> {
     for dir in [six, tor, part] {
         provide_own_fmus(&Scene::open(dir)?, true)?;
     }
-    let t_tor = bench::gearbox::torsional_baseline(tor, stop)?;
+    let base = bench::gearbox::torsional_baseline(tor, stop)?;
     println!("{}", bench::gearbox::variants_head(stop));
-    bench::gearbox::variants(six, stop, |r| println!("{}", r.row(stop, t_tor)))?;
-    println!("{}", bench::gearbox::variants_foot(stop, t_tor));
+    let mut rows = Vec::new();
+    bench::gearbox::variants(six, stop, |r| {
+        println!("{}", r.row(stop, base));
+        rows.push(r.clone());
+    })?;
+    println!("{}", bench::gearbox::variants_foot(stop, base));
+    println!("{}", bench::gearbox::targets(&rows, stop));
     let stop = stop.min(30.0);
     println!("{}", bench::gearbox::part_load_head(stop));
     bench::gearbox::part_load(part, stop, |r| println!("{}", r.row(stop)))?;

@@ -172,6 +172,24 @@ pub struct Master<'s> {
 }
 
 fn step_unit(unit: &mut Unit, t: f64, h: f64) -> Result<(), MasterError> {
+    timed(unit, |unit| step_and_fetch(unit, t, h))
+}
+
+/// `work` on `unit`, its wall time added to the unit's clock when it has one.
+#[inline(always)]
+fn timed<R>(unit: &mut Unit, work: impl FnOnce(&mut Unit) -> R) -> R {
+    match unit.clock {
+        None => work(unit),
+        Some(before) => {
+            let start = std::time::Instant::now();
+            let r = work(unit);
+            unit.clock = Some(before + start.elapsed());
+            r
+        }
+    }
+}
+
+fn step_and_fetch(unit: &mut Unit, t: f64, h: f64) -> Result<(), MasterError> {
     let fail = |error| MasterError::Step {
         component: unit.name.clone(),
         time: t,
@@ -200,7 +218,7 @@ pub fn read_recorded(sys: &mut System, time: f64) -> Result<(), MasterError> {
         if unit.recorded_only.is_empty() {
             continue;
         }
-        unit.fetch_recorded().map_err(|error| MasterError::Step {
+        timed(unit, Unit::fetch_recorded).map_err(|error| MasterError::Step {
             component: unit.name.clone(),
             time,
             error,

@@ -358,6 +358,7 @@ impl System {
                 saved: None,
                 discrete_held: DiscreteInputs::default(),
                 discrete_scratch: DiscreteInputs::default(),
+                clock: None,
             });
             remaps.push(remap);
         }

@@ -119,6 +119,9 @@ pub struct Unit {
     /// The Integer and Boolean input values the FMU holds, and scratch to gather the next ones.
     pub discrete_held: DiscreteInputs,
     pub discrete_scratch: DiscreteInputs,
+    /// Wall time this unit spent in its steps and output reads (doStep and the getters after it),
+    /// when a bench asks for it (None: not timed; the clock costs two readings per step).
+    pub clock: Option<std::time::Duration>,
 }
 
 impl Drop for Unit {
