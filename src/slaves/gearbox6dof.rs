@@ -199,9 +199,33 @@ pub struct Gearbox6dofSlave {
     /// Loads of the current state (a master reads a hundred outputs per step).
     #[serde(skip)]
     loads: Option<Loads>,
+    /// f_int less the rotor's loads where the loads were last evaluated, for the next step.
+    #[serde(skip)]
+    state_forces: StateForces,
     /// Once stepped, the state is the simulation's: an input no longer rebuilds it.
     #[serde(default)]
     stepped: bool,
+}
+
+/// The internal forces the reported loads were evaluated with (less the rotor's loads, which follow
+/// inputs) and the state they belong to: the next step's consistent accelerations take them instead of
+/// evaluating them again when it starts from that very state (compared exactly, so no path that
+/// changes the state or rebuilds the model can hand a step stale forces).
+#[derive(Clone, Default)]
+struct StateForces {
+    q: Vec<f64>,
+    v: Vec<f64>,
+    forces: Vec<f64>,
+    held: bool,
+}
+
+impl StateForces {
+    /// Whether these are the forces at (q, v), compared bit for bit.
+    fn at(&self, q: &[f64], v: &[f64]) -> bool {
+        let same =
+            |a: &[f64], b: &[f64]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+        self.held && same(&self.q, q) && same(&self.v, v)
+    }
 }
 
 fn implicit_driver() -> Driver {
@@ -216,6 +240,7 @@ impl Gearbox6dofSlave {
             self.driver.set_newton(built.newton);
             self.built = Some(Arc::new(built));
             self.loads = None;
+            self.state_forces.held = false;
         }
         if self.state.is_none() {
             // the initial equilibrium carries the rotor's moments and thrust as the inputs have them
@@ -251,8 +276,14 @@ impl Gearbox6dofSlave {
 
     fn current_loads(&mut self) -> SlaveResult<&Loads> {
         if self.loads.is_none() {
-            let (b, st) = self.ensure()?;
-            let loads = b.model.loads(&st.q, &st.v);
+            self.ensure()?;
+            let (b, st) = (self.built.as_ref().unwrap(), self.state.as_ref().unwrap());
+            let held = &mut self.state_forces;
+            held.forces.resize(st.q.len(), 0.0);
+            let loads = b.model.loads_and_state_forces(&st.q, &st.v, &mut held.forces);
+            held.q.clone_from(&st.q);
+            held.v.clone_from(&st.v);
+            held.held = true;
             self.loads = Some(loads);
         }
         Ok(self.loads.as_ref().unwrap())
@@ -302,6 +333,7 @@ impl Slave for Gearbox6dofSlave {
             built: self.built.clone(),
             driver: implicit_driver(),
             loads: None,
+            state_forces: StateForces::default(),
             stepped: self.stepped,
         }
     }
@@ -316,6 +348,7 @@ impl Slave for Gearbox6dofSlave {
         into.state.clone_from(&self.state);
         super::share_build(&mut into.built, &self.built);
         into.loads = None;
+        into.state_forces.held = false;
         into.stepped = self.stepped;
     }
 
@@ -340,6 +373,7 @@ impl Slave for Gearbox6dofSlave {
             built: None,
             driver: implicit_driver(),
             loads: None,
+            state_forces: StateForces::default(),
             stepped: false,
         }
     }
@@ -527,6 +561,15 @@ impl Gearbox6dofSlave {
     fn step_with(&mut self, built: &Built, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
         let inputs = &self.inputs;
         let st = self.state.as_mut().unwrap();
+        let held = &mut self.state_forces;
+        if held.at(&st.q, &st.v) {
+            // the loads' forces with this step's rotor loads: f_int at the start, to the bit
+            self.driver.give_start_forces(st.q.len(), |fi| {
+                fi.copy_from_slice(&held.forces);
+                built.model.add_rotor_loads(&st.q, fi);
+            });
+        }
+        held.held = false;
         self.driver.max_steps_per_call = self.params.max_steps_per_call;
         let result = self.driver.advance(
             &built.model,

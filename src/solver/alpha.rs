@@ -284,6 +284,8 @@ struct Work {
     padded: Vec<f64>,
     key: Vec<u64>,
     key_new: Vec<u64>,
+    /// [`Newton::keep`]: the iterate before the last increment, whose pattern the next test may need.
+    before: Vec<f64>,
     /// What a linear step's map multiplies: [x; v; a; u], the positions less the rigid rotation,
     /// the speeds, the accelerations and the inputs interpolated to the α-point (sized by the step).
     z: Vec<f64>,
@@ -316,6 +318,7 @@ impl Work {
                 padded: vec![0.0; padded(n)],
                 key: Vec::new(),
                 key_new: Vec::new(),
+                before: z.clone(),
                 z,
             };
         }
@@ -632,11 +635,16 @@ impl AlphaIntegrator {
         // ‖δ‖∞ of the previous iteration on this factorisation (NaN: none yet)
         let mut previous = f64::NAN;
         let (mut force, mut held) = (0.0, false);
+        // whether the work's key is the previous iterate's (the start's at first, as the default
+        // iteration has it): the pattern is taken only when an increment passes its test, from the
+        // iterate kept in `before` when the last iteration did not take it
+        let mut key_of_previous = true;
         for _ in 0..2 * KEPT_ITERATIONS {
             stats.newton_iterations += 1;
             let AlphaIntegrator { cache, work: w, .. } = self;
             let factor = cache.get(idx);
             let residual = w.residual(sys, st, c, t1, friction_dof, force);
+            w.before.copy_from_slice(&w.delta);
             (force, held) = w.increment(factor, c, friction, st, false, (force, held));
             on_factor += 1;
             let size = w.step.iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -653,15 +661,30 @@ impl AlphaIntegrator {
                 f64::INFINITY
             };
             let fraction = NEARLY_LINEAR_INCREMENT_TOLERANCE / eta;
-            if w.same_pattern(sys, st, t1) && (w.settled(residual, 1.0) || small_increment(w, st, c, fraction)) {
-                self.kept = Some(idx);
-                return Ok(Some((force, held)));
+            if w.settled(residual, 1.0) || small_increment(w, st, c, fraction) {
+                if !key_of_previous {
+                    w.key_at_before(sys, st, t1);
+                }
+                key_of_previous = true;
+                if w.same_pattern(sys, st, t1) {
+                    self.kept = Some(idx);
+                    return Ok(Some((force, held)));
+                }
+            } else {
+                key_of_previous = false;
             }
             let stalled = on_factor == KEPT_ITERATIONS;
             if fresh && (stalled || theta >= 1.0) {
                 break;
             }
             if !fresh && (stalled || theta > THETA_REFRESH) {
+                // the fresh factorisation is cached under the iterate's own pattern
+                if !key_of_previous {
+                    let w = &mut self.work;
+                    w.before.copy_from_slice(&w.delta);
+                    w.key_at_before(sys, st, t1);
+                    key_of_previous = true;
+                }
                 idx = self.factor_at_iterate(sys, st, c, t1, friction_dof, true, stats)?;
                 fresh = true;
                 on_factor = 0;
@@ -790,6 +813,14 @@ impl Work {
 
     /// Whether the pattern at the iterate Δ is the last iterate's; the key in the work becomes the
     /// new iterate's.
+    /// The pattern of the iterate in `before` into the key, as [`Self::same_pattern`] leaves it.
+    fn key_at_before<S: SecondOrderSystem>(&mut self, sys: &S, st: &DynState, t1: f64) {
+        for ((q1, q), d) in self.q1.iter_mut().zip(&st.q).zip(&self.before) {
+            *q1 = q + d;
+        }
+        sys.factor_key(t1, &self.q1, &mut self.key);
+    }
+
     fn same_pattern<S: SecondOrderSystem>(&mut self, sys: &S, st: &DynState, t1: f64) -> bool {
         for ((q1, q), d) in self.q1.iter_mut().zip(&st.q).zip(&self.delta) {
             *q1 = q + d;

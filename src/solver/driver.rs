@@ -54,6 +54,9 @@ pub struct Driver {
     /// Whether the first sub-step reuses `fi` (true, the default); false evaluates them afresh, the
     /// check that reusing them changes no bit.
     pub reuse_start_forces: bool,
+    /// `fi` holds the internal forces at the state the next `advance` starts from, given by the
+    /// caller ([`Driver::give_start_forces`]).
+    start_forces_given: bool,
     /// Whether a step that qualifies takes [`Driver::plain_linear_step`] (true, the default); false
     /// takes every step the general way, the check that the plain way changes no bit.
     pub plain_linear_steps: bool,
@@ -88,6 +91,7 @@ impl Driver {
             fi: Vec::new(),
             fi_at_start: false,
             reuse_start_forces: true,
+            start_forces_given: false,
             plain_linear_steps: true,
             friction_a: Vec::new(),
             mass: MassSolver::default(),
@@ -100,6 +104,17 @@ impl Driver {
     /// The Newton iteration of the nearly piecewise-linear class ([`Newton`]; default: as every class).
     pub fn set_newton(&mut self, newton: Newton) {
         self.alpha.newton = newton;
+    }
+
+    /// The internal forces at the state the next [`Self::advance`] starts from, from a caller that has
+    /// them (the 6-DOF gearbox evaluates them for the loads it reports at a communication point):
+    /// that advance takes them for its consistent accelerations instead of evaluating them again.
+    /// `fill` writes exactly what `internal_forces` would at that state, to the bit; the next
+    /// advance forgets them, whether it used them or not.
+    pub fn give_start_forces(&mut self, n: usize, fill: impl FnOnce(&mut [f64])) {
+        self.fi.resize(n, 0.0);
+        fill(&mut self.fi[..n]);
+        self.start_forces_given = true;
     }
 
     /// Advances `st` from `t` by `h` in sub-steps of at most `max_step`; `inputs(τ, u)` writes the
@@ -120,6 +135,8 @@ impl Driver {
         input_count: usize,
         inputs: impl Fn(f64, &mut [f64]),
     ) -> Result<(), SolverError> {
+        // given forces serve this call or none: taken before any way out of it
+        let given = std::mem::take(&mut self.start_forces_given);
         // positive and finite (NaN fails both comparisons), as two comparisons
         if !(0.0 < h && h < f64::INFINITY) {
             return Err(SolverError::BadStep { step: h });
@@ -138,6 +155,7 @@ impl Driver {
                 return self.plain_linear_step(sys, st, t, h);
             }
         }
+        self.start_forces_given = given;
         self.advance_in_substeps(sys, st, t, h, max_step, &inputs)
     }
 
@@ -204,6 +222,8 @@ impl Driver {
         max_step: f64,
         inputs: &impl Fn(f64, &mut [f64]),
     ) -> Result<(), SolverError> {
+        // taken first, so that no way out of this call leaves the given forces for a later one
+        let start_forces_given = std::mem::take(&mut self.start_forces_given);
         let substeps = (h / max_step * (1.0 - 1e-12)).ceil().max(1.0);
         if substeps > self.max_steps_per_call {
             return Err(SolverError::TooManySteps {
@@ -221,7 +241,7 @@ impl Driver {
                 limit: stability_limit,
             });
         }
-        self.consistent_acceleration(sys, st, t);
+        self.consistent_acceleration(sys, st, t, start_forces_given);
         let n = substeps as usize;
         self.iteration_start = self.stats.newton_iterations;
         self.iteration_budget = ITERATIONS_PER_STEP * n as u64 + ITERATIONS_SPARE;
@@ -313,7 +333,13 @@ impl Driver {
     /// For a linear system with a lumped mass the accelerations already satisfy the equations of
     /// motion for the previously applied inputs (the implicit step enforces them at every step
     /// end), so only the loaded DOFs change: O(inputs) instead of a sweep over every force.
-    fn consistent_acceleration<S: SecondOrderSystem>(&mut self, sys: &S, st: &mut DynState, t: f64) {
+    fn consistent_acceleration<S: SecondOrderSystem>(
+        &mut self,
+        sys: &S,
+        st: &mut DynState,
+        t: f64,
+        forces_given: bool,
+    ) {
         let n = sys.dofs();
         let u = &self.u0;
         let friction = active_friction(sys, u);
@@ -335,7 +361,9 @@ impl Driver {
                 self.f.resize(n, 0.0);
                 self.fi.resize(n, 0.0);
                 external_forces(sys, u, &mut self.f);
-                sys.internal_forces(t, &st.q, &st.v, &mut self.fi);
+                if !forces_given {
+                    sys.internal_forces(t, &st.q, &st.v, &mut self.fi);
+                }
                 self.fi_at_start = true;
                 for (f, fi) in self.f.iter_mut().zip(&self.fi) {
                     *f -= fi;

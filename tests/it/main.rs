@@ -32,4 +32,5 @@ mod scenes_as_simulated;
 mod scenes_thesis;
 mod shaft_cut;
 mod solver_zoo;
+mod start_forces;
 mod torsional_dynamics;

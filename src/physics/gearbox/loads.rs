@@ -1,6 +1,6 @@
 //! What a gearbox run reports: mesh loads, bearing loads, shaft torques, load sharing.
 
-use super::bearing::RaceStresses;
+use super::bearing::{RaceStresses, RollerLoads};
 use super::mesh::MeshReport;
 use super::model::{Gearbox, SPIN, TX, TY};
 
@@ -33,8 +33,18 @@ pub struct Loads {
 impl Gearbox {
     /// Every reported load at (q, v).
     pub fn loads(&self, q: &[f64], v: &[f64]) -> Loads {
+        self.loads_and_state_forces(q, v, &mut vec![0.0; self.dofs()])
+    }
+
+    /// Every reported load at (q, v), and f_int there less the rotor's loads into `forces`, to the bit
+    /// what f_int is before [`Gearbox::add_rotor_loads`] adds them: the loads are taken from the forces'
+    /// own evaluation, so an owner that reports loads at a communication point can hand f_int to the
+    /// next step instead of evaluating it again.
+    pub fn loads_and_state_forces(&self, q: &[f64], v: &[f64], forces: &mut [f64]) -> Loads {
         let mut slices = vec![0.0; self.slice_count()];
-        let flank = self.mesh_loads(q, v, &mut slices);
+        let mut flank = Vec::with_capacity(self.meshes.len());
+        let mut sets = vec![RollerLoads::default(); self.rollers.len()];
+        self.state_forces(q, v, forces, Some(&mut slices), |i, l| sets[i] = l, |l| flank.push(l));
         let meshes = self
             .meshes
             .iter()
@@ -55,9 +65,8 @@ impl Gearbox {
                     if spring.lamina { 0.0 } else { spring.force(q, v) }
                 });
                 let mut load = BearingLoad::default();
-                if let Some(r) = b.rollers.map(|i| &self.rollers[i]) {
-                    let (x, xd, cage) = r.kinematics(q, v);
-                    let rl = r.evaluate(&x, &xd, cage, None);
+                if let Some(i) = b.rollers {
+                    let (r, rl) = (&self.rollers[i], sets[i]);
                     for (si, f) in s.iter_mut().zip(rl.force) {
                         *si += r.sign * f;
                     }

@@ -1,6 +1,7 @@
 //! The gearbox as a [`SecondOrderSystem`]: forces, tangent and contact pattern for the integrators,
 //! and the engaged-mesh linearisation for modal analysis.
 
+use super::bearing::RollerLoads;
 use super::mesh::{FlankLoad, KeyBits};
 use super::model::{Gearbox, INPUT_BRAKE_COMMAND, SPIN, TX, TY, UX, UY, UZ};
 use super::row::add_outer;
@@ -8,21 +9,22 @@ use crate::solver::system::{Friction, InputLoad, Linearisation, Linearity, Mass,
 use nalgebra::DMatrix;
 
 impl Gearbox {
-    /// Springs' forces (bearings, shafts) and the roller sets' into `out` (added).
-    fn add_spring_forces(&self, q: &[f64], v: &[f64], out: &mut [f64]) {
+    /// Springs' forces (bearings, shafts) and the roller sets' into `out` (added), each roller set's
+    /// loads handed to `each_set` with its index.
+    fn add_spring_forces(&self, q: &[f64], v: &[f64], out: &mut [f64], mut each_set: impl FnMut(usize, RollerLoads)) {
         for s in self.springs.iter().filter(|s| !s.lamina) {
             let f = s.force(q, v);
             if f != 0.0 {
                 s.row.axpy(f, out);
             }
         }
-        for r in &self.rollers {
-            r.add_forces(q, v, out);
+        for (i, r) in self.rollers.iter().enumerate() {
+            each_set(i, r.add_forces(q, v, out));
         }
     }
 
-    /// The rotating frames' inertial forces, gyroscopic moments, gravity and the external moment,
-    /// added to f_int (they sit on the left-hand side: loads enter negated).
+    /// The rotating frames' inertial forces, gyroscopic moments and gravity, added to f_int (they sit
+    /// on the left-hand side: loads enter negated).
     fn add_frame_forces(&self, q: &[f64], v: &[f64], out: &mut [f64]) {
         for (i, b) in self.bodies.iter().enumerate() {
             let Some(f) = b.first else { continue };
@@ -56,13 +58,42 @@ impl Gearbox {
                 out[f + UY] -= b.mass * (-s * g[0] + c * g[1]);
                 out[f + UZ] -= b.mass * g[2];
             }
-            if i == self.input_body {
-                let mo = self.external_moment;
-                out[f + TX] -= c * mo[0] + s * mo[1];
-                out[f + TY] -= -s * mo[0] + c * mo[1];
-                out[f + UZ] -= self.thrust;
-            }
         }
+    }
+
+    /// The rotor's moment and thrust on the input body, turned into its frame, added to f_int
+    /// (negated): the only part of f_int that follows the inputs the owner sets each communication
+    /// step rather than the state. Added last, so f_int without it (the forces the reported loads
+    /// evaluate) plus this is f_int to the bit: no other force acts on the input body's tilts and
+    /// axial DOF after it.
+    pub fn add_rotor_loads(&self, q: &[f64], out: &mut [f64]) {
+        let Some(f) = self.bodies[self.input_body].first else {
+            return;
+        };
+        let angle = self.frame_spin(self.input_body).map_or(0.0, |fs| q[fs]);
+        let (s, c) = angle.sin_cos();
+        let mo = self.external_moment;
+        out[f + TX] -= c * mo[0] + s * mo[1];
+        out[f + TY] -= -s * mo[0] + c * mo[1];
+        out[f + UZ] -= self.thrust;
+    }
+
+    /// f_int less the rotor's loads ([`Self::add_rotor_loads`]) into `out`, handing each roller set's
+    /// loads to `each_set` and each mesh's flank loads to `each_mesh` and, when given, writing the
+    /// per-slice loads of every mesh to `slices` (mesh after mesh).
+    pub(super) fn state_forces(
+        &self,
+        q: &[f64],
+        v: &[f64],
+        out: &mut [f64],
+        slices: Option<&mut [f64]>,
+        each_set: impl FnMut(usize, RollerLoads),
+        each_mesh: impl FnMut([FlankLoad; 2]),
+    ) {
+        out.iter_mut().for_each(|x| *x = 0.0);
+        self.add_spring_forces(q, v, out, each_set);
+        self.add_frame_forces(q, v, out);
+        self.add_mesh_forces(q, v, out, slices, each_mesh);
     }
 
     /// f_int into `out`, handing each mesh's flank loads to `each` and, when given, writing the
@@ -75,10 +106,8 @@ impl Gearbox {
         slices: Option<&mut [f64]>,
         each: impl FnMut([FlankLoad; 2]),
     ) {
-        out.iter_mut().for_each(|x| *x = 0.0);
-        self.add_spring_forces(q, v, out);
-        self.add_frame_forces(q, v, out);
-        self.add_mesh_forces(q, v, out, slices, each);
+        self.state_forces(q, v, out, slices, |_, _| {}, each);
+        self.add_rotor_loads(q, out);
     }
 
     /// The meshes' part of f_int added to `out`, each mesh's flank loads handed to `each` and,
@@ -107,8 +136,7 @@ impl Gearbox {
     }
 
     /// Every mesh's flank loads, its per-slice loads written to `slices`, without the springs',
-    /// roller sets' and frames' forces: what the reported loads need of the meshes (the roller sets
-    /// report their own). Half a force evaluation less per reported step.
+    /// roller sets' and frames' forces: what a study of the meshes alone needs.
     pub fn mesh_loads(&self, q: &[f64], v: &[f64], slices: &mut [f64]) -> Vec<[FlankLoad; 2]> {
         let mut loads = Vec::with_capacity(self.meshes.len());
         self.add_mesh_forces(q, v, &mut vec![0.0; self.dofs()], Some(slices), |l| loads.push(l));
