@@ -19,31 +19,34 @@ use std::fmt;
 use std::path::Path;
 use std::time::Instant;
 
-/// A scene run's wall time, the part of it spent in one component (its steps and output reads),
-/// both s, and the recorded columns.
+/// A scene run's wall time, s, every component's part of it (its steps and output reads), s, and
+/// the recorded columns.
 struct SceneRun {
     wall_s: f64,
-    component_s: f64,
+    units: Vec<(String, f64)>,
     cols: Vec<Vec<f64>>,
 }
 
-/// A scene run (Gauss–Seidel, 1 ms), `component` timed on its own.
+impl SceneRun {
+    /// The part of the wall time spent in the component `name`, s (0 for none of that name).
+    fn unit_s(&self, name: &str) -> f64 {
+        self.units.iter().find(|(n, _)| n == name).map_or(0.0, |u| u.1)
+    }
+}
+
+/// A scene run (Gauss–Seidel, 1 ms), each component timed on its own.
 fn run_scene(
     dir: &Path,
     overrides: &[(String, String, String)],
     channels: &[String],
     stop: f64,
-    component: &str,
 ) -> anyhow::Result<SceneRun> {
     let scene = Scene::open(dir)?;
     let mut system = System::build(&scene, overrides, &Record::Only(channels.to_vec()))?;
     system.initialize(Some(stop))?;
-    let timed = system
-        .units
-        .iter()
-        .position(|u| u.name == component)
-        .ok_or_else(|| anyhow::anyhow!("{}: no component {component}", dir.display()))?;
-    system.units[timed].clock = Some(std::time::Duration::ZERO);
+    for unit in &mut system.units {
+        unit.clock = Some(std::time::Duration::ZERO);
+    }
     let mut cols: Vec<Vec<f64>> = vec![Vec::new(); channels.len()];
     let start = Instant::now();
     let mut master = Master::new(&mut system, Options::new(Algorithm::GaussSeidel, 1e-3, stop))?;
@@ -56,12 +59,12 @@ fn run_scene(
     })?;
     let wall_s = start.elapsed().as_secs_f64();
     drop(master);
-    let component_s = system.units[timed].clock.unwrap_or_default().as_secs_f64();
-    Ok(SceneRun {
-        wall_s,
-        component_s,
-        cols,
-    })
+    let units = system
+        .units
+        .iter()
+        .map(|u| (u.name.clone(), u.clock.unwrap_or_default().as_secs_f64()))
+        .collect();
+    Ok(SceneRun { wall_s, units, cols })
 }
 
 fn peak(x: &[f64]) -> f64 {
@@ -163,28 +166,43 @@ pub fn variants_head(stop: f64) -> String {
     )
 }
 
-/// The torsional baseline's scene: its wall time and its FMU's part of it, s.
-#[derive(Debug, Clone, Copy)]
+/// The torsional baseline's scene: its wall time and each component's part of it, s.
+#[derive(Debug, Clone)]
 pub struct Baseline {
     pub wall_s: f64,
-    pub fmu_s: f64,
+    pub units: Vec<(String, f64)>,
 }
 
-/// The foot of the variants' table: the baseline over `stop` s, what bounds the scene, the columns'
-/// meaning.
-pub fn variants_foot(stop: f64, base: Baseline) -> String {
-    let rest = base.wall_s - base.fmu_s;
+impl Baseline {
+    /// The torsional FMU's part, s.
+    pub fn fmu_s(&self) -> f64 {
+        self.units.iter().find(|(n, _)| n == "torsional").map_or(0.0, |u| u.1)
+    }
+}
+
+/// The foot of the variants' table: the baseline over `stop` s, where its time goes, what bounds the
+/// scene, the columns' meaning.
+pub fn variants_foot(stop: f64, base: &Baseline) -> String {
+    let ms = |s: f64| s / stop * 1e3;
+    let rest = base.wall_s - base.fmu_s();
+    let split: Vec<String> = base
+        .units
+        .iter()
+        .map(|(name, s)| format!("{name} {:.2}", ms(*s)))
+        .chain([format!(
+            "master and recording {:.2}",
+            ms(base.wall_s - base.units.iter().map(|u| u.1).sum::<f64>())
+        )])
+        .collect();
     format!(
-        "torsional: {:.2} ms per simulated s ({:.0}× real time), of which its FMU {:.2}; the scene's other FMUs (the rotor \
-         with its blades, the generator) and the master take the other {:.1} ms per s, so no gearbox makes this scene \
-         faster than {:.0}× real time; columns: ms per s and × real for the whole scene, FMU ms/s and FMU × for the gearbox \
+        "torsional: {:.2} ms per simulated s ({:.0}× real time): {} ms per s; so no gearbox makes this scene faster \
+         than {:.0}× real time; columns: ms per s and × real for the whole scene, FMU ms/s and FMU × for the gearbox \
          FMU's steps and output reads alone, ÷ torsional the scene against the torsional scene, peak differences against \
          the reference (min rollr: fewest rollers carrying planet 1's upwind bearing in normal operation, the \
          reference's in brackets; linear bearings report none)\n",
-        base.wall_s / stop * 1e3,
+        ms(base.wall_s),
         stop / base.wall_s,
-        base.fmu_s / stop * 1e3,
-        rest / stop * 1e3,
+        split.join(", "),
         stop / rest,
     )
 }
@@ -221,7 +239,7 @@ fn rollers(x: f64) -> String {
 
 impl VariantRow {
     /// The row of this variant over `stop` s, against the torsional baseline's `t_tor` s.
-    pub fn row(&self, stop: f64, base: Baseline) -> String {
+    pub fn row(&self, stop: f64, base: &Baseline) -> String {
         format!(
             "{:<24} {:>9.1} {:>7.2} {:>9.1} {:>7.2} {:>11.1} {:>11} {:>11} {:>11} {:>4} ({}) {:>11} {:>11} {:>9.3}%",
             self.label,
@@ -259,10 +277,10 @@ fn channels(component: &str) -> Vec<String> {
 
 /// The baseline: the torsional model in d-shutdown (the folder `dir`) over `stop` s.
 pub fn torsional_baseline(dir: &Path, stop: f64) -> anyhow::Result<Baseline> {
-    let run = run_scene(dir, &[], &channels("torsional")[..3], stop, "torsional")?;
+    let run = run_scene(dir, &[], &channels("torsional")[..3], stop)?;
     Ok(Baseline {
         wall_s: run.wall_s,
-        fmu_s: run.component_s,
+        units: run.units,
     })
 }
 
@@ -309,11 +327,8 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         if let Some(file) = shaft.description()? {
             o.push(param("gearbox", "gearbox", file.display()));
         }
-        let SceneRun {
-            wall_s,
-            component_s,
-            cols,
-        } = run_scene(six, &o, &channels("gearbox"), stop, "gearbox")?;
+        let run = run_scene(six, &o, &channels("gearbox"), stop)?;
+        let (wall_s, gearbox_s, cols) = (run.wall_s, run.unit_s("gearbox"), run.cols);
         let r = reference.get_or_insert_with(|| cols.clone());
         let rel = |k: usize| 100.0 * (peak(&cols[k]) / peak(&r[k]) - 1.0);
         // the fewest rollers carrying the upwind planet bearing in normal operation (1 s to the trip
@@ -331,7 +346,7 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
             bearings,
             full_model: slices == 35 && matches!(shaft, MainShaft::Preset) && step == 1e-3 && integrator == "hht",
             wall_s,
-            gearbox_s: component_s,
+            gearbox_s,
             sun_planet: rel(1),
             gear_pinion: rel(2),
             planet_upwind: rel(3),
@@ -420,7 +435,7 @@ pub fn part_load(dir: &Path, stop: f64, mut row: impl FnMut(&PartLoadRow)) -> an
             param("gearbox", "integrator", integrator),
             param("gearbox", "max_internal_step", step),
         ];
-        let SceneRun { wall_s, cols, .. } = run_scene(dir, &o, &channels, stop, "gearbox")?;
+        let SceneRun { wall_s, cols, .. } = run_scene(dir, &o, &channels, stop)?;
         let cols: Vec<Vec<f64>> = cols.into_iter().map(|c| c[skip.min(c.len())..].to_vec()).collect();
         let p99 = |x: &[f64]| {
             let mut a: Vec<f64> = x.iter().map(|v| v.abs()).collect();

@@ -149,10 +149,10 @@ fn gearbox(stop: f64) -> anyhow::Result<()> {
     println!("{}", bench::gearbox::variants_head(stop));
     let mut rows = Vec::new();
     bench::gearbox::variants(six, stop, |r| {
-        println!("{}", r.row(stop, base));
+        println!("{}", r.row(stop, &base));
         rows.push(r.clone());
     })?;
-    println!("{}", bench::gearbox::variants_foot(stop, base));
+    println!("{}", bench::gearbox::variants_foot(stop, &base));
     println!("{}", bench::gearbox::targets(&rows, stop));
     let stop = stop.min(30.0);
     println!("{}", bench::gearbox::part_load_head(stop));
