@@ -100,7 +100,9 @@ fn the_driver_takes_given_forces_for_one_advance_only() {
         for k in 0..3 {
             give(k, &mut driver, &st);
             driver
-                .advance(&g, &mut st, k as f64 * 1e-3, 1e-3, 1e-3, 3, |_, out| out.copy_from_slice(&u))
+                .advance(&g, &mut st, k as f64 * 1e-3, 1e-3, 1e-3, 3, |_, out| {
+                    out.copy_from_slice(&u)
+                })
                 .unwrap();
         }
         st.q.iter().chain(&st.v).map(|x| x.to_bits()).collect::<Vec<_>>()
@@ -124,7 +126,11 @@ fn the_driver_takes_given_forces_for_one_advance_only() {
         if k == 1 {
             driver.give_start_forces(n, |fi| fi.fill(1e9));
             let mut copy = st.clone();
-            assert!(driver.advance(&g, &mut copy, 0.0, f64::NAN, 1e-3, 3, |_, _| {}).is_err());
+            assert!(
+                driver
+                    .advance(&g, &mut copy, 0.0, f64::NAN, 1e-3, 3, |_, _| {})
+                    .is_err()
+            );
         }
     });
     assert_eq!(plain, refused_first);
