@@ -811,8 +811,6 @@ impl Work {
         }
     }
 
-    /// Whether the pattern at the iterate Δ is the last iterate's; the key in the work becomes the
-    /// new iterate's.
     /// The pattern of the iterate in `before` into the key, as [`Self::same_pattern`] leaves it.
     fn key_at_before<S: SecondOrderSystem>(&mut self, sys: &S, st: &DynState, t1: f64) {
         for ((q1, q), d) in self.q1.iter_mut().zip(&st.q).zip(&self.before) {
@@ -821,6 +819,8 @@ impl Work {
         sys.factor_key(t1, &self.q1, &mut self.key);
     }
 
+    /// Whether the pattern at the iterate Δ is the last iterate's; the key in the work becomes the
+    /// new iterate's.
     fn same_pattern<S: SecondOrderSystem>(&mut self, sys: &S, st: &DynState, t1: f64) -> bool {
         for ((q1, q), d) in self.q1.iter_mut().zip(&st.q).zip(&self.delta) {
             *q1 = q + d;

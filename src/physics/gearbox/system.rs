@@ -63,9 +63,10 @@ impl Gearbox {
 
     /// The rotor's moment and thrust on the input body, turned into its frame, added to f_int
     /// (negated): the only part of f_int that follows the inputs the owner sets each communication
-    /// step rather than the state. Added last, so f_int without it (the forces the reported loads
-    /// evaluate) plus this is f_int to the bit: no other force acts on the input body's tilts and
-    /// axial DOF after it.
+    /// step rather than the state. [`Self::forces`] adds it last, so the state's part the reported
+    /// loads evaluate ([`Self::state_forces`]) plus this is f_int to the bit. (It used to be added with
+    /// the input body's frame forces; no mesh acts on the presets' input bodies, so the move changed
+    /// no output.)
     pub fn add_rotor_loads(&self, q: &[f64], out: &mut [f64]) {
         let Some(f) = self.bodies[self.input_body].first else {
             return;
