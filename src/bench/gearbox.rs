@@ -27,11 +27,9 @@ struct SceneRun {
     cols: Vec<Vec<f64>>,
 }
 
-impl SceneRun {
-    /// The part of the wall time spent in the component `name`, s (0 for none of that name).
-    fn unit_s(&self, name: &str) -> f64 {
-        self.units.iter().find(|(n, _)| n == name).map_or(0.0, |u| u.1)
-    }
+/// The part of a run's wall time spent in the component `name` of `units`, s (0 for none of that name).
+fn unit_s(units: &[(String, f64)], name: &str) -> f64 {
+    units.iter().find(|(n, _)| n == name).map_or(0.0, |u| u.1)
 }
 
 /// A scene run (Gauss–Seidel, 1 ms), each component timed on its own.
@@ -176,7 +174,7 @@ pub struct Baseline {
 impl Baseline {
     /// The torsional FMU's part, s.
     pub fn fmu_s(&self) -> f64 {
-        self.units.iter().find(|(n, _)| n == "torsional").map_or(0.0, |u| u.1)
+        unit_s(&self.units, "torsional")
     }
 }
 
@@ -207,8 +205,8 @@ pub fn variants_foot(stop: f64, base: &Baseline) -> String {
     )
 }
 
-/// Whether the gearbox FMU alone meets issue 33's targets in the rows `rows` (their labels name the
-/// bearings): the default 35-slice lamina row and the fastest linear row.
+/// Whether the gearbox FMU alone meets issue 33's targets in the rows `rows`: the fastest full-model row
+/// ([`VariantRow::full_model`]) of each bearing model, named by its label.
 pub fn targets(rows: &[VariantRow], stop: f64) -> String {
     let fastest = |bearings: &str| {
         rows.iter()
@@ -238,7 +236,7 @@ fn rollers(x: f64) -> String {
 }
 
 impl VariantRow {
-    /// The row of this variant over `stop` s, against the torsional baseline's `t_tor` s.
+    /// The row of this variant over `stop` s, against the torsional baseline `base`.
     pub fn row(&self, stop: f64, base: &Baseline) -> String {
         format!(
             "{:<24} {:>9.1} {:>7.2} {:>9.1} {:>7.2} {:>11.1} {:>11} {:>11} {:>11} {:>4} ({}) {:>11} {:>11} {:>9.3}%",
@@ -328,7 +326,7 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
             o.push(param("gearbox", "gearbox", file.display()));
         }
         let run = run_scene(six, &o, &channels("gearbox"), stop)?;
-        let (wall_s, gearbox_s, cols) = (run.wall_s, run.unit_s("gearbox"), run.cols);
+        let (wall_s, gearbox_s, cols) = (run.wall_s, unit_s(&run.units, "gearbox"), run.cols);
         let r = reference.get_or_insert_with(|| cols.clone());
         let rel = |k: usize| 100.0 * (peak(&cols[k]) / peak(&r[k]) - 1.0);
         // the fewest rollers carrying the upwind planet bearing in normal operation (1 s to the trip

@@ -15,6 +15,7 @@ use crate::physics::gearbox::loads::Loads;
 use crate::physics::gearbox::model::{INPUT_BRAKE_COMMAND, INPUT_GENERATOR_TORQUE, INPUT_ROTOR_TORQUE};
 use crate::physics::gearbox::statics::equilibrium;
 use crate::solver::alpha::{Alpha, Newton};
+use crate::solver::state::same_bits;
 use crate::solver::{Driver, DynState, Method, Statistics};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -216,15 +217,13 @@ struct StateForces {
     q: Vec<f64>,
     v: Vec<f64>,
     forces: Vec<f64>,
-    held: bool,
+    valid: bool,
 }
 
 impl StateForces {
     /// Whether these are the forces at (q, v), compared bit for bit.
     fn at(&self, q: &[f64], v: &[f64]) -> bool {
-        let same =
-            |a: &[f64], b: &[f64]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
-        self.held && same(&self.q, q) && same(&self.v, v)
+        self.valid && same_bits(&self.q, q) && same_bits(&self.v, v)
     }
 }
 
@@ -240,7 +239,7 @@ impl Gearbox6dofSlave {
             self.driver.set_newton(built.newton);
             self.built = Some(Arc::new(built));
             self.loads = None;
-            self.state_forces.held = false;
+            self.state_forces.valid = false;
         }
         if self.state.is_none() {
             // the initial equilibrium carries the rotor's moments and thrust as the inputs have them
@@ -278,12 +277,12 @@ impl Gearbox6dofSlave {
         if self.loads.is_none() {
             self.ensure()?;
             let (b, st) = (self.built.as_ref().unwrap(), self.state.as_ref().unwrap());
-            let held = &mut self.state_forces;
-            held.forces.resize(st.q.len(), 0.0);
-            let loads = b.model.loads_and_state_forces(&st.q, &st.v, &mut held.forces);
-            held.q.clone_from(&st.q);
-            held.v.clone_from(&st.v);
-            held.held = true;
+            let kept = &mut self.state_forces;
+            kept.forces.resize(st.q.len(), 0.0);
+            let loads = b.model.loads_and_state_forces(&st.q, &st.v, &mut kept.forces);
+            kept.q.clone_from(&st.q);
+            kept.v.clone_from(&st.v);
+            kept.valid = true;
             self.loads = Some(loads);
         }
         Ok(self.loads.as_ref().unwrap())
@@ -348,7 +347,7 @@ impl Slave for Gearbox6dofSlave {
         into.state.clone_from(&self.state);
         super::share_build(&mut into.built, &self.built);
         into.loads = None;
-        into.state_forces.held = false;
+        into.state_forces.valid = false;
         into.stepped = self.stepped;
     }
 
@@ -561,15 +560,15 @@ impl Gearbox6dofSlave {
     fn step_with(&mut self, built: &Built, t: f64, h: f64, log: &mut dyn Log) -> SlaveResult<()> {
         let inputs = &self.inputs;
         let st = self.state.as_mut().unwrap();
-        let held = &mut self.state_forces;
-        if held.at(&st.q, &st.v) {
+        let kept = &mut self.state_forces;
+        if kept.at(&st.q, &st.v) {
             // the loads' forces with this step's rotor loads: f_int at the start, to the bit
             self.driver.give_start_forces(st.q.len(), |fi| {
-                fi.copy_from_slice(&held.forces);
+                fi.copy_from_slice(&kept.forces);
                 built.model.add_rotor_loads(&st.q, fi);
             });
         }
-        held.held = false;
+        kept.valid = false;
         self.driver.max_steps_per_call = self.params.max_steps_per_call;
         let result = self.driver.advance(
             &built.model,

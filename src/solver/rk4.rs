@@ -7,7 +7,7 @@
 //! (first-order event location, as OpenFAST's HSS brake: the implicit integrators solve
 //! stick–slip exactly and are the default).
 
-use super::state::{DynState, Statistics};
+use super::state::{DynState, Statistics, same_bits};
 use super::system::{Friction, Mass, SecondOrderSystem, external_forces};
 
 /// Largest stable RK4 step is STABILITY_BOUND / ω_max (2√2 on the imaginary axis).
@@ -51,7 +51,7 @@ impl MassSolver {
         let same = self
             .matrix
             .as_ref()
-            .is_some_and(|f| f.shape() == m.shape() && same_bytes(f.as_slice(), m.as_slice()));
+            .is_some_and(|f| f.shape() == m.shape() && same_bits(f.as_slice(), m.as_slice()));
         if !same {
             self.factor = m.clone().cholesky();
             self.matrix = Some(m.clone());
@@ -101,13 +101,6 @@ impl MassSolver {
             }
         }
     }
-}
-
-/// Whether two f64 slices hold the same bits (a byte comparison the library vectorises).
-fn same_bytes(a: &[f64], b: &[f64]) -> bool {
-    // SAFETY: any f64 is eight initialised bytes; the views live as long as the slices.
-    let bytes = |x: &[f64]| unsafe { std::slice::from_raw_parts(x.as_ptr().cast::<u8>(), std::mem::size_of_val(x)) };
-    bytes(a) == bytes(b)
 }
 
 /// x = (L·Lᵀ)⁻¹·b in place, L the lower triangle of `l` (its upper part is not read): nalgebra's
@@ -284,7 +277,7 @@ impl Rk4 {
 
 #[cfg(test)]
 mod tests {
-    use super::{cholesky_solve, nalgebra_dot, same_bytes};
+    use super::{cholesky_solve, nalgebra_dot, same_bits};
     use nalgebra::{DMatrix, DVector};
 
     /// A seeded sequence in (−1, 1).
@@ -330,9 +323,10 @@ mod tests {
 
     #[test]
     fn matrices_are_the_same_only_with_the_same_bits() {
-        assert!(same_bytes(&[1.0, 2.5], &[1.0, 2.5]));
-        assert!(!same_bytes(&[1.0, 2.5], &[1.0, 2.5000000000000004]));
-        assert!(!same_bytes(&[0.0], &[-0.0]));
-        assert!(same_bytes(&[], &[]));
+        assert!(same_bits(&[1.0, 2.5], &[1.0, 2.5]));
+        assert!(!same_bits(&[1.0, 2.5], &[1.0, 2.5000000000000004]));
+        assert!(!same_bits(&[0.0], &[-0.0]));
+        assert!(!same_bits(&[1.0], &[1.0, 1.0]));
+        assert!(same_bits(&[], &[]));
     }
 }
