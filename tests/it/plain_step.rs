@@ -6,7 +6,6 @@
 //! the steps went (all plain, none, or handed over and back around a brake application).
 
 use windrive::fmi2::fmu::slave::{NoLog as Quiet, Slave};
-use windrive::fmi2::fmu::variables::{Causality, VarType};
 use windrive::models::torsional::vr;
 use windrive::physics::drivetrain::Drivetrain;
 use windrive::slaves::torsional::TorsionalSlave;
@@ -33,14 +32,7 @@ struct Scenario {
 
 /// Every Real output, then the brake's lock, as bits.
 fn outputs(s: &mut TorsionalSlave) -> Vec<u64> {
-    let vrs: Vec<u32> = TorsionalSlave::VARIABLES
-        .iter()
-        .filter(|v| v.ty == VarType::Real && v.causality == Causality::Output)
-        .map(|v| v.vr)
-        .collect();
-    let mut values = vec![0.0; vrs.len()];
-    s.get_reals(&vrs, &mut values).unwrap();
-    let mut bits: Vec<u64> = values.iter().map(|x| x.to_bits()).collect();
+    let mut bits = crate::common::real_output_bits(s);
     bits.push(s.get_boolean(vr::BRAKE_LOCKED).unwrap() as u64);
     bits
 }

@@ -7,8 +7,8 @@
 //! the reading one's after every step against a third that reads them all but never hands forces on
 //! (its state restored before each step, which drops them).
 
+use crate::common::real_output_bits;
 use windrive::fmi2::fmu::slave::{NoLog, Slave};
-use windrive::fmi2::fmu::variables::{Causality, VarType};
 use windrive::slaves::gearbox6dof::Gearbox6dofSlave;
 
 fn vr(name: &str) -> u32 {
@@ -17,17 +17,6 @@ fn vr(name: &str) -> u32 {
         .find(|v| v.name == name)
         .unwrap_or_else(|| panic!("no variable {name}"))
         .vr
-}
-
-fn outputs(s: &mut Gearbox6dofSlave) -> Vec<u64> {
-    let vrs: Vec<u32> = Gearbox6dofSlave::VARIABLES
-        .iter()
-        .filter(|v| v.ty == VarType::Real && v.causality == Causality::Output)
-        .map(|v| v.vr)
-        .collect();
-    let mut out = vec![0.0; vrs.len()];
-    s.get_reals(&vrs, &mut out).unwrap();
-    out.into_iter().map(f64::to_bits).collect()
 }
 
 fn instance() -> Gearbox6dofSlave {
@@ -60,10 +49,10 @@ fn handed_start_forces_give_the_evaluated_bits() {
     let mut read = Vec::new();
     for k in 0..120 {
         step(&mut reading, k);
-        read.push(outputs(&mut reading));
+        read.push(real_output_bits(&mut reading));
         step(&mut quiet, k);
     }
-    assert_eq!(outputs(&mut quiet), read[read.len() - 1]);
+    assert_eq!(real_output_bits(&mut quiet), read[read.len() - 1]);
     // the same run with every state restored into the instance before its step: a restore drops the
     // held forces, so every step evaluates its own
     let mut restored = instance();
@@ -71,7 +60,7 @@ fn handed_start_forces_give_the_evaluated_bits() {
         let snap = restored.snapshot();
         restored.restore(&snap);
         step(&mut restored, k);
-        assert_eq!(&outputs(&mut restored), expected, "step {k}");
+        assert_eq!(&real_output_bits(&mut restored), expected, "step {k}");
     }
 }
 

@@ -164,3 +164,16 @@ pub fn gearbox_doc_measured(check: &str) -> String {
         .unwrap_or_else(|| panic!("docs/GEARBOX.md has no verification row \"{check}\""));
     row.trim_end_matches('|').rsplit('|').next().unwrap().trim().to_string()
 }
+
+/// Every Real output of a slave through its Rust face, in the order its variables are declared, as bits.
+pub fn real_output_bits<S: windrive::fmi2::fmu::slave::Slave>(s: &mut S) -> Vec<u64> {
+    use windrive::fmi2::fmu::variables::{Causality, VarType};
+    let vrs: Vec<u32> = S::VARIABLES
+        .iter()
+        .filter(|v| v.ty == VarType::Real && v.causality == Causality::Output)
+        .map(|v| v.vr)
+        .collect();
+    let mut values = vec![0.0; vrs.len()];
+    s.get_reals(&vrs, &mut values).unwrap();
+    values.into_iter().map(f64::to_bits).collect()
+}
