@@ -9,8 +9,11 @@
 //! 470 s release build on 2 cores, measured 2026-11-29 with `cargo build --timings`).
 //!
 //! Rows are kept as they come, one after the other in one buffer (a row costs one copy, not a push
-//! per column; the buffer is reused), and written as a row group of columns every
-//! [`ROW_GROUP_ROWS`] rows. Parquet places its index (the footer) at the end of the file: the file is
+//! per column), and every [`ROW_GROUP_ROWS`] rows the full buffer goes to a writer thread, which
+//! turns it into a row group of columns (transpose, encoding, Snappy) while the simulation fills the
+//! next buffer; the two buffers are passed back and forth, never reallocated. The thread moves the
+//! writer's work off the simulation's path, it does not remove it (a campaign running a case per core
+//! pays it all the same). Parquet places its index (the footer) at the end of the file: the file is
 //! complete once the run ends, fails or is stopped and the recorder is finished, flushed or dropped.
 //! A process killed outright (SIGKILL, a crashing FMU without `--isolate`) leaves a file no reader
 //! opens; CSV keeps the rows up to its last quarter-second flush there.
@@ -30,12 +33,16 @@ pub const ROW_GROUP_ROWS: usize = 1 << 13;
 
 /// Writes a Parquet file with a `time` column and one DOUBLE column per name.
 pub struct ParquetWriter {
-    /// None once closed.
-    writer: Option<SerializedFileWriter<BufWriter<std::fs::File>>>,
-    /// The rows not yet written, row after row: the time, then each named column's value.
+    /// The rows not yet handed to the writer thread, row after row: the time, then each named
+    /// column's value.
     rows: Vec<f64>,
-    /// The buffered rows as columns, reused group after group.
-    columns: Vec<Vec<f64>>,
+    /// Full buffers to the writer thread (an empty one: the last group was sent, finish the file);
+    /// None once closed.
+    to_thread: Option<std::sync::mpsc::SyncSender<Vec<f64>>>,
+    /// Written buffers back from the thread, to be filled again.
+    from_thread: std::sync::mpsc::Receiver<Vec<f64>>,
+    /// The writer thread; its result is the file's (the first error, or the file complete).
+    thread: Option<std::thread::JoinHandle<std::io::Result<()>>>,
     /// Values per row: the time and the named columns.
     width: usize,
     path: String,
@@ -88,10 +95,34 @@ impl ParquetWriter {
             .build();
         let writer = SerializedFileWriter::new(BufWriter::new(file), Arc::new(schema), Arc::new(properties))
             .map_err(|e| io_error(&shown, e))?;
-        Ok(Self {
-            writer: Some(writer),
-            rows: Vec::new(),
+        // one buffer in the channel at most: the simulation runs at most a group ahead of the file
+        let (to_thread, groups) = std::sync::mpsc::sync_channel::<Vec<f64>>(1);
+        let (give_back, from_thread) = std::sync::mpsc::channel();
+        let mut file = GroupWriter {
+            writer,
             columns: vec![Vec::new(); width],
+            path: shown.clone(),
+        };
+        let thread = std::thread::Builder::new()
+            .name("parquet-writer".into())
+            .spawn(move || {
+                for mut rows in groups {
+                    if rows.is_empty() {
+                        break;
+                    }
+                    file.write_group(&rows)?;
+                    rows.clear();
+                    // the simulation may have finished meanwhile: nobody to give it back to
+                    let _ = give_back.send(rows);
+                }
+                file.finish()
+            })
+            .map_err(|e| io_error(&shown, e))?;
+        Ok(Self {
+            rows: Vec::new(),
+            to_thread: Some(to_thread),
+            from_thread,
+            thread: Some(thread),
             width,
             path: shown,
         })
@@ -100,9 +131,13 @@ impl ParquetWriter {
     /// Adds one row: the time, then the values in the columns' order.
     pub fn row(&mut self, time: f64, values: impl IntoIterator<Item = f64>) -> std::io::Result<()> {
         let start = self.rows.len();
-        if start == 0 {
-            // the whole group at once: growing it would copy every row kept so far, repeatedly
-            self.rows.reserve_exact(ROW_GROUP_ROWS * self.width);
+        if start == 0 && self.rows.capacity() == 0 {
+            // the whole group at once: growing it would copy every row kept so far, repeatedly;
+            // a buffer the writer thread has written comes back with its capacity
+            self.rows = self
+                .from_thread
+                .try_recv()
+                .unwrap_or_else(|_| Vec::with_capacity(ROW_GROUP_ROWS * self.width));
         }
         self.rows.push(time);
         self.rows.extend(values.into_iter().take(self.width - 1));
@@ -115,22 +150,70 @@ impl ParquetWriter {
             ));
         }
         if self.rows.len() >= ROW_GROUP_ROWS * self.width {
-            self.write_buffered()?;
+            self.send_buffered()?;
         }
         Ok(())
     }
 
-    /// Writes the buffered rows as one row group, column after column.
-    fn write_buffered(&mut self) -> std::io::Result<()> {
-        let Some(writer) = &mut self.writer else {
+    /// Hands the buffered rows to the writer thread as one row group; a thread that stopped on an
+    /// error answers with it.
+    fn send_buffered(&mut self) -> std::io::Result<()> {
+        let Some(to_thread) = &self.to_thread else {
             return Err(io_error(&self.path, "written after it was closed"));
         };
         if self.rows.is_empty() {
             return Ok(());
         }
-        transpose(&self.rows, &mut self.columns);
+        let rows = std::mem::take(&mut self.rows);
+        if to_thread.send(rows).is_err() {
+            // the thread returned early: its error is the answer
+            return self.close();
+        }
+        Ok(())
+    }
+
+    /// Writes the buffered rows and the footer and waits for the writer thread: the file is
+    /// complete. Closing twice does nothing.
+    pub fn close(&mut self) -> std::io::Result<()> {
+        let Some(to_thread) = self.to_thread.take() else {
+            return Ok(());
+        };
+        let rows = std::mem::take(&mut self.rows);
+        // a thread that stopped early cannot take them; its error is reported below
+        if !rows.is_empty() {
+            let _ = to_thread.send(rows);
+        }
+        let _ = to_thread.send(Vec::new());
+        drop(to_thread);
+        match self.thread.take().map(std::thread::JoinHandle::join) {
+            Some(Ok(result)) => result,
+            Some(Err(_)) => Err(io_error(&self.path, "the Parquet writer thread panicked")),
+            None => Ok(()),
+        }
+    }
+}
+
+impl Drop for ParquetWriter {
+    /// A recorder dropped on an error path still leaves a readable file with every row it was given.
+    fn drop(&mut self) {
+        let _ = self.close();
+    }
+}
+
+/// The writer thread's side: the file and the column buffers a group is transposed into.
+struct GroupWriter {
+    writer: SerializedFileWriter<BufWriter<std::fs::File>>,
+    /// The group's rows as columns, reused group after group.
+    columns: Vec<Vec<f64>>,
+    path: String,
+}
+
+impl GroupWriter {
+    /// Writes `rows` (whole rows, one after the other) as one row group, column after column.
+    fn write_group(&mut self, rows: &[f64]) -> std::io::Result<()> {
+        transpose(rows, &mut self.columns);
         let path = &self.path;
-        let mut group = writer.next_row_group().map_err(|e| io_error(path, e))?;
+        let mut group = self.writer.next_row_group().map_err(|e| io_error(path, e))?;
         for values in &self.columns {
             let mut column = group
                 .next_column()
@@ -143,29 +226,14 @@ impl ParquetWriter {
             column.close().map_err(|e| io_error(path, e))?;
         }
         group.close().map_err(|e| io_error(path, e))?;
-        self.rows.clear();
         Ok(())
     }
 
-    /// Writes the buffered rows and the footer: the file is complete. Closing twice does nothing.
-    pub fn close(&mut self) -> std::io::Result<()> {
-        if self.writer.is_none() {
-            return Ok(());
-        }
-        let written = self.write_buffered();
-        let writer = self.writer.take().expect("checked above");
-        let closed = writer
-            .into_inner()
-            .map_err(|e| io_error(&self.path, e))
-            .and_then(|mut file| file.flush().map_err(|e| io_error(&self.path, e)));
-        written.and(closed)
-    }
-}
-
-impl Drop for ParquetWriter {
-    /// A recorder dropped on an error path still leaves a readable file with every row it was given.
-    fn drop(&mut self) {
-        let _ = self.close();
+    /// Writes the footer and flushes the file.
+    fn finish(self) -> std::io::Result<()> {
+        let path = self.path;
+        let mut file = self.writer.into_inner().map_err(|e| io_error(&path, e))?;
+        file.flush().map_err(|e| io_error(&path, e))
     }
 }
 
@@ -192,7 +260,47 @@ pub fn is_parquet(path: &Path) -> bool {
 
 #[cfg(test)]
 mod tests {
-    use super::transpose;
+    use super::{ParquetWriter, ROW_GROUP_ROWS, transpose};
+    use crate::analysis::signal::series::read_channels;
+
+    /// Rows across several groups handed to the writer thread, the last one partial, come back in
+    /// order to the bit, whether the file is closed or only dropped; a wrong row is refused at once.
+    #[test]
+    fn every_row_reaches_the_file_through_the_writer_thread() {
+        let dir = std::env::temp_dir().join(format!("windrive-parquet-{}", std::process::id()));
+        let value = |i: usize, j: usize| (i as f64).sin() * 1e3 + j as f64;
+        for (rows, close) in [
+            (2 * ROW_GROUP_ROWS + 17, true),
+            (ROW_GROUP_ROWS + 1, false),
+            (3, false),
+            (0, true),
+        ] {
+            let path = dir.join(format!("{rows}-{close}.parquet"));
+            let mut w = ParquetWriter::create(&path, ["a", "b"]).unwrap();
+            for i in 0..rows {
+                w.row(i as f64 * 1e-3, [value(i, 0), value(i, 1)]).unwrap();
+            }
+            let refused = w.row(1.0, [1.0]).unwrap_err().to_string();
+            assert!(refused.contains("a row of 1 values for 2 columns"), "{refused}");
+            if close {
+                w.close().unwrap();
+                w.close().unwrap();
+            }
+            drop(w);
+            if rows == 0 {
+                assert!(std::fs::metadata(&path).unwrap().len() > 0);
+                continue;
+            }
+            let (t, x) = read_channels(&path, &["a", "b"]).unwrap();
+            assert_eq!(t.len(), rows);
+            for i in 0..rows {
+                assert_eq!(t[i].to_bits(), (i as f64 * 1e-3).to_bits(), "row {i}");
+                assert_eq!(x[0][i].to_bits(), value(i, 0).to_bits(), "row {i}");
+                assert_eq!(x[1][i].to_bits(), value(i, 1).to_bits(), "row {i}");
+            }
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     #[test]
     fn rows_become_columns_across_block_boundaries() {

@@ -66,6 +66,8 @@ pub struct TorsionalSlave {
     built: Option<Arc<Built>>,
     #[serde(skip, default = "implicit_driver")]
     driver: Driver,
+    #[serde(skip)]
+    read_plan: ReadPlan,
 }
 
 fn implicit_driver() -> Driver {
@@ -166,6 +168,109 @@ impl Params {
     }
 }
 
+/// Where one Real variable's value comes from: resolved once for an array a host reads repeatedly,
+/// so that reading it costs what each value's physics costs, not a search for the variable.
+#[derive(Clone, Copy, Debug)]
+enum Source {
+    /// A parameter or an input (the generated getter).
+    Declared(u32),
+    /// Fixed while the model is built (gear ratio, rated torques, RK4's limit, an absent body's 0).
+    Constant(f64),
+    /// factor × the DOF's angle or speed.
+    Body {
+        dof: usize,
+        factor: f64,
+        speed: bool,
+    },
+    /// An element's force (a shaft's torque, a mesh's force); None reads 0.
+    Element(Option<crate::physics::torsional::ForceOutput>),
+    BrakeTorque,
+    StoredEnergy,
+}
+
+impl Source {
+    /// Where the computed variable `r` comes from in model `b` (None: no computed variable).
+    fn of(b: &Built, r: u32) -> Option<Self> {
+        let body = |slot: u32, speed: bool| {
+            b.model.bodies[slot as usize].map_or(Self::Constant(0.0), |(dof, factor)| Self::Body { dof, factor, speed })
+        };
+        let shaft = |i: usize| Self::Element(b.model.shafts[i]);
+        Some(match r {
+            vr::GEAR_RATIO => Self::Constant(b.model.gear_ratio),
+            vr::RATED_ROTOR_TORQUE => Self::Constant(b.drivetrain.rated_rotor_torque()),
+            vr::RATED_GENERATOR_TORQUE => Self::Constant(b.drivetrain.rated_generator_torque()),
+            vr::RK4_STEP_LIMIT => Self::Constant(b.rk4_step_limit),
+            vr::ROTOR_SPEED => body(0, true),
+            vr::GENERATOR_SPEED => body(BODY_COUNT - 1, true),
+            vr::LSS_TORQUE => shaft(0),
+            vr::IS1_TORQUE => shaft(1),
+            vr::IS2_TORQUE => shaft(2),
+            vr::HSS_TORQUE => shaft(3),
+            vr::BRAKE_TORQUE => Self::BrakeTorque,
+            vr::STORED_ENERGY => Self::StoredEnergy,
+            r if (MESH_FIRST..MESH_FIRST + MESH_COUNT).contains(&r) => {
+                Self::Element(b.model.meshes[(r - MESH_FIRST) as usize])
+            }
+            r if (ANGLE_FIRST..ANGLE_FIRST + BODY_COUNT).contains(&r) => body(r - ANGLE_FIRST, false),
+            r if (SPEED_FIRST..SPEED_FIRST + BODY_COUNT).contains(&r) => body(r - SPEED_FIRST, true),
+            _ => return None,
+        })
+    }
+
+    /// The value now, at state `st` and the cut's (angle, speed) `cut` (a Declared source reads NaN:
+    /// the caller reads those from the parameters and inputs).
+    #[inline]
+    fn value(self, b: &Built, st: &DynState, cut: (f64, f64)) -> f64 {
+        match self {
+            Self::Declared(_) => f64::NAN,
+            Self::Constant(v) => v,
+            Self::Body { dof, factor, speed } => factor * if speed { st.v[dof] } else { st.q[dof] },
+            Self::Element(o) => b.model.element_output(o, &st.q, &st.v, cut),
+            Self::BrakeTorque => -st.friction_force,
+            Self::StoredEnergy => b.model.stored_energy(&st.q, &st.v, cut),
+        }
+    }
+}
+
+/// The sources of the last long array read ([`Slave::get_reals`]), for the model they were resolved in
+/// (held, so that its address cannot be another model's).
+#[derive(Clone, Default)]
+struct ReadPlan {
+    vrs: Vec<u32>,
+    built: Option<Arc<Built>>,
+    sources: Vec<Source>,
+}
+
+impl ReadPlan {
+    /// Arrays shorter than this are read value by value (a master's coupling reads: one or two).
+    const MIN_LEN: usize = 8;
+
+    fn fits(&self, b: &Arc<Built>, vrs: &[u32]) -> bool {
+        self.built.as_ref().is_some_and(|p| Arc::ptr_eq(p, b)) && self.vrs == vrs
+    }
+
+    /// Resolves `vrs` in `b`; false (and no plan) if one of them is no Real variable with a value.
+    fn resolve(&mut self, b: &Arc<Built>, (params, inputs): (&Params, &Inputs), vrs: &[u32]) -> bool {
+        self.built = None;
+        self.sources.clear();
+        for &r in vrs {
+            let source = if xml::get_real(params, inputs, r).is_some() {
+                Source::Declared(r)
+            } else {
+                match Source::of(b, r) {
+                    Some(s) => s,
+                    None => return false,
+                }
+            };
+            self.sources.push(source);
+        }
+        self.vrs.clear();
+        self.vrs.extend_from_slice(vrs);
+        self.built = Some(Arc::clone(b));
+        true
+    }
+}
+
 impl TorsionalSlave {
     fn blank() -> Self {
         Self {
@@ -175,6 +280,7 @@ impl TorsionalSlave {
             cut_angle: 0.0,
             built: None,
             driver: implicit_driver(),
+            read_plan: ReadPlan::default(),
         }
     }
 
@@ -220,40 +326,10 @@ impl TorsionalSlave {
         }
     }
 
-    fn element_output(
-        built: &Built,
-        st: &DynState,
-        cut: (f64, f64),
-        out: Option<crate::physics::torsional::ForceOutput>,
-    ) -> f64 {
-        built.model.element_output(out, &st.q, &st.v, cut)
-    }
-
     /// A value the model computes from its state: a calculated parameter or an output.
     fn computed(b: &Built, st: &DynState, cut: (f64, f64), r: u32) -> SlaveResult<f64> {
-        let body = |slot: u32, speed: bool| {
-            b.model.bodies[slot as usize].map_or(0.0, |(d, f)| f * if speed { st.v[d] } else { st.q[d] })
-        };
-        Ok(match r {
-            vr::GEAR_RATIO => b.model.gear_ratio,
-            vr::RATED_ROTOR_TORQUE => b.drivetrain.rated_rotor_torque(),
-            vr::RATED_GENERATOR_TORQUE => b.drivetrain.rated_generator_torque(),
-            vr::RK4_STEP_LIMIT => b.rk4_step_limit,
-            vr::ROTOR_SPEED => body(0, true),
-            vr::GENERATOR_SPEED => body(BODY_COUNT - 1, true),
-            vr::LSS_TORQUE => Self::element_output(b, st, cut, b.model.shafts[0]),
-            vr::IS1_TORQUE => Self::element_output(b, st, cut, b.model.shafts[1]),
-            vr::IS2_TORQUE => Self::element_output(b, st, cut, b.model.shafts[2]),
-            vr::HSS_TORQUE => Self::element_output(b, st, cut, b.model.shafts[3]),
-            vr::BRAKE_TORQUE => -st.friction_force,
-            vr::STORED_ENERGY => b.model.stored_energy(&st.q, &st.v, cut),
-            r if (MESH_FIRST..MESH_FIRST + MESH_COUNT).contains(&r) => {
-                Self::element_output(b, st, cut, b.model.meshes[(r - MESH_FIRST) as usize])
-            }
-            r if (ANGLE_FIRST..ANGLE_FIRST + BODY_COUNT).contains(&r) => body(r - ANGLE_FIRST, false),
-            r if (SPEED_FIRST..SPEED_FIRST + BODY_COUNT).contains(&r) => body(r - SPEED_FIRST, true),
-            _ => return Err(xml::no_getter(VarType::Real, r)),
-        })
+        let source = Source::of(b, r).ok_or_else(|| xml::no_getter(VarType::Real, r))?;
+        Ok(source.value(b, st, cut))
     }
 
     /// The cut's angle and speed now (section = drivetrain; unused by the other sections).
@@ -297,6 +373,7 @@ impl Slave for TorsionalSlave {
             cut_angle: self.cut_angle,
             built: self.built.clone(),
             driver: implicit_driver(),
+            read_plan: ReadPlan::default(),
         }
     }
 
@@ -333,9 +410,34 @@ impl Slave for TorsionalSlave {
         Ok(out[0])
     }
 
-    /// The model built (or checked) once for all the values asked.
+    /// The model built (or checked) once for all the values asked; an array a host reads again and
+    /// again (a recorder's row) is resolved once into where each value comes from ([`ReadPlan`]).
     fn get_reals(&mut self, vrs: &[u32], values: &mut [f64]) -> SlaveResult<()> {
         let cut = self.cut();
+        if vrs.len() >= ReadPlan::MIN_LEN {
+            self.ensure()?;
+            let Self {
+                params,
+                inputs,
+                built: Some(b),
+                state: Some(st),
+                read_plan,
+                ..
+            } = self
+            else {
+                unreachable!("ensure built the model and its state")
+            };
+            if read_plan.fits(b, vrs) || read_plan.resolve(b, (params, inputs), vrs) {
+                for (source, value) in read_plan.sources.iter().zip(values) {
+                    *value = match *source {
+                        // resolved because it has a value; NaN sends the host to the value-by-value path
+                        Source::Declared(r) => xml::get_real(params, inputs, r).unwrap_or(f64::NAN),
+                        s => s.value(b, st, cut),
+                    };
+                }
+                return Ok(());
+            }
+        }
         for (&r, value) in vrs.iter().zip(values) {
             *value = match xml::get_real(&self.params, &self.inputs, r) {
                 Some(v) => v,

@@ -23,6 +23,7 @@ mod non_smooth;
 mod paper_turbine;
 mod physics_modes;
 mod plain_step;
+mod read_plan;
 mod readme;
 mod reproduction;
 mod rotor_aero_damping;

@@ -1,0 +1,54 @@
+//! A host reading a long array of Real variables (a recorder's row) gets what it gets reading them one
+//! by one, to the bit: the torsional FMU resolves such an array once into where each value comes from,
+//! and must resolve it again for a model built anew (another preset, another section).
+
+use windrive::fmi2::fmu::slave::{NoLog, Slave};
+use windrive::fmi2::fmu::variables::VarType;
+use windrive::models::torsional::vr;
+use windrive::slaves::torsional::TorsionalSlave;
+
+/// Every Real variable with a value, as an array and one by one, as bits.
+fn both_ways(s: &mut TorsionalSlave) -> (Vec<u64>, Vec<u64>) {
+    let vrs: Vec<u32> = TorsionalSlave::VARIABLES
+        .iter()
+        .filter(|v| v.ty == VarType::Real)
+        .map(|v| v.vr)
+        .collect();
+    assert!(vrs.len() > 40, "{} Real variables", vrs.len());
+    let mut array = vec![0.0; vrs.len()];
+    s.get_reals(&vrs, &mut array).unwrap();
+    let one_by_one = vrs.iter().map(|&r| s.get_real(r).unwrap().to_bits()).collect();
+    (array.into_iter().map(f64::to_bits).collect(), one_by_one)
+}
+
+#[test]
+fn an_array_reads_what_its_values_read_one_by_one_across_rebuilds() {
+    let mut s = TorsionalSlave::instantiate(None);
+    s.set_real(vr::MESH_BACKLASH, 1e-4, &mut NoLog).unwrap();
+    s.initialize(0.0, &mut NoLog).unwrap();
+    let mut t: f64 = 0.0;
+    let h = 1e-3;
+    // D whole, then C cut at its LSS (other bodies, the cut's inputs in the shaft torque), then D again
+    for (preset, section) in [("D", "whole"), ("C", "drivetrain"), ("D", "whole")] {
+        s.set_string(vr::PRESET, preset, &mut NoLog).unwrap();
+        s.set_string(vr::SECTION, section, &mut NoLog).unwrap();
+        for k in 0..300 {
+            let (array, one_by_one) = both_ways(&mut s);
+            assert_eq!(array, one_by_one, "{preset} {section}, step {k}");
+            s.set_real(vr::ROTOR_TORQUE, 1e6 * (1.0 + (7.0 * t).sin()), &mut NoLog)
+                .unwrap();
+            s.set_real(vr::CUT_SPEED, 1.5 + 0.1 * (3.0 * t).cos(), &mut NoLog)
+                .unwrap();
+            s.set_real(vr::BRAKE_COMMAND, if k > 150 { 1.0 } else { 0.0 }, &mut NoLog)
+                .unwrap();
+            s.do_step(t, h, &mut NoLog).unwrap();
+            t += h;
+        }
+    }
+    // a reference that is no Real variable fails the array as it fails alone
+    let mut values = [0.0; 9];
+    let mut vrs = [vr::HSS_TORQUE; 9];
+    vrs[4] = 99_999;
+    assert!(s.get_reals(&vrs, &mut values).is_err());
+    assert!(s.get_real(99_999).is_err());
+}
