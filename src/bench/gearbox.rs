@@ -43,7 +43,7 @@ fn run_scene(
     let mut system = System::build(&scene, overrides, &Record::Only(channels.to_vec()))?;
     system.initialize(Some(stop))?;
     for unit in &mut system.units {
-        unit.clock = Some(std::time::Duration::ZERO);
+        unit.clock = Some(crate::cosim::unit::Clock::default());
     }
     let mut cols: Vec<Vec<f64>> = vec![Vec::new(); channels.len()];
     let start = Instant::now();
@@ -60,7 +60,7 @@ fn run_scene(
     let units = system
         .units
         .iter()
-        .map(|u| (u.name.clone(), u.clock.unwrap_or_default().as_secs_f64()))
+        .map(|u| (u.name.clone(), u.clock.unwrap_or_default().total().as_secs_f64()))
         .collect();
     Ok(SceneRun { wall_s, units, cols })
 }

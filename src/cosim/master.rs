@@ -172,21 +172,26 @@ pub struct Master<'s> {
 }
 
 fn step_unit(unit: &mut Unit, t: f64, h: f64) -> Result<(), MasterError> {
-    timed(unit, |unit| step_and_fetch(unit, t, h))
+    timed(unit, |c| &mut c.step, |unit| step_and_fetch(unit, t, h))
 }
 
-/// `work` on `unit`, its wall time added to the unit's clock when it has one.
+/// `work` on `unit`, its wall time added to the part of the unit's clock `part` picks when it has one.
 #[inline(always)]
-fn timed<R>(unit: &mut Unit, work: impl FnOnce(&mut Unit) -> R) -> R {
-    match unit.clock {
-        None => work(unit),
-        Some(before) => {
-            let start = std::time::Instant::now();
-            let r = work(unit);
-            unit.clock = Some(before + start.elapsed());
-            r
-        }
+fn timed<R>(
+    unit: &mut Unit,
+    part: impl FnOnce(&mut super::unit::Clock) -> &mut std::time::Duration,
+    work: impl FnOnce(&mut Unit) -> R,
+) -> R {
+    if unit.clock.is_none() {
+        return work(unit);
     }
+    let start = std::time::Instant::now();
+    let r = work(unit);
+    let elapsed = start.elapsed();
+    if let Some(clock) = &mut unit.clock {
+        *part(clock) += elapsed;
+    }
+    r
 }
 
 fn step_and_fetch(unit: &mut Unit, t: f64, h: f64) -> Result<(), MasterError> {
@@ -218,7 +223,7 @@ pub fn read_recorded(sys: &mut System, time: f64) -> Result<(), MasterError> {
         if unit.recorded_only.is_empty() {
             continue;
         }
-        timed(unit, Unit::fetch_recorded).map_err(|error| MasterError::Step {
+        timed(unit, |c| &mut c.recorded, Unit::fetch_recorded).map_err(|error| MasterError::Step {
             component: unit.name.clone(),
             time,
             error,
@@ -721,6 +726,15 @@ pub fn run_columns_with(
         cpu_s,
         stats,
     })
+}
+
+/// CPU time every thread of this process has used, s (the calling thread's and any worker's, a
+/// results writer's for one).
+pub fn process_cpu_seconds() -> f64 {
+    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    // SAFETY: clock_gettime writes into the timespec we own; CLOCK_PROCESS_CPUTIME_ID exists on Linux.
+    unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
+    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
 }
 
 /// CPU time the calling thread has used, s: what a run costs, unlike wall time not counting the

@@ -9,6 +9,7 @@ pub mod divergence;
 pub mod error;
 pub mod master;
 pub mod parquet;
+pub mod profile;
 pub mod recorder;
 pub mod settings;
 pub mod ssp;

@@ -10,9 +10,11 @@ pub struct Summary<'a> {
     pub components: usize,
     pub opts: &'a Options,
     pub stats: &'a Stats,
-    /// The run's start time, s, and its wall time, s.
+    /// The run's start time, s, its wall time, s, and the CPU time of every thread of the process
+    /// meanwhile (the results' writer thread included), s.
     pub start_time: f64,
     pub wall_s: f64,
+    pub cpu_s: f64,
     /// Where the rows went (a file, or "memory"), how many, and their columns (time included).
     pub results: String,
     pub rows: u64,
@@ -38,9 +40,10 @@ impl fmt::Display for Summary<'_> {
         )?;
         writeln!(
             f,
-            "simulated   {simulated} s of {} s in {:.3} s wall ({:.1}× real time)",
+            "simulated   {simulated} s of {} s in {:.3} s wall, {:.3} s CPU ({:.1}× real time)",
             opts.stop_time - self.start_time,
             self.wall_s,
+            self.cpu_s,
             simulated / self.wall_s.max(1e-12)
         )?;
         let unconverged = if stats.unconverged > 0 {

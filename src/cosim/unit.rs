@@ -119,9 +119,24 @@ pub struct Unit {
     /// The Integer and Boolean input values the FMU holds, and scratch to gather the next ones.
     pub discrete_held: DiscreteInputs,
     pub discrete_scratch: DiscreteInputs,
-    /// Wall time this unit spent in its steps and output reads (doStep and the getters after it),
-    /// when a bench asks for it (None: not timed; the clock costs two readings per step).
-    pub clock: Option<std::time::Duration>,
+    /// Wall time this unit spent, when a bench or `run --profile` asks for it (None: not timed; the
+    /// clock costs two readings per call timed).
+    pub clock: Option<Clock>,
+}
+
+/// A unit's wall time, split by what the master asked of it.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Clock {
+    /// doStep and the coupled outputs' getters after it.
+    pub step: std::time::Duration,
+    /// The getters of the variables only the recorder reads.
+    pub recorded: std::time::Duration,
+}
+
+impl Clock {
+    pub fn total(&self) -> std::time::Duration {
+        self.step + self.recorded
+    }
 }
 
 impl Drop for Unit {

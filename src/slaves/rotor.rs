@@ -563,6 +563,24 @@ pub struct RotorSlave {
 }
 
 impl RotorSlave {
+    /// The outputs at the current time, rotor speed and disc motion: the cached ones if they are for
+    /// those, else computed and cached.
+    fn current_outputs(&mut self) -> SlaveResult<RotorOutputs> {
+        let omega = self.inputs.rotor_speed.value();
+        let disc = DiscMotion {
+            tilt_rate: self.inputs.tilt_rate.value(),
+            yaw_rate: self.inputs.yaw_rate.value(),
+        };
+        let cache = self.cache;
+        let b = self.ensure()?;
+        let out = match cache {
+            Some((t, w, d, out)) if t == b.model.time && w == omega && d == disc => out,
+            _ => b.model.outputs(omega, disc),
+        };
+        self.cache = Some((b.model.time, omega, disc, out));
+        Ok(out)
+    }
+
     /// A parameter change rebuilds the model; an input change only drops the cached outputs.
     fn changed(&mut self, what: Changed) {
         if what == Changed::Parameter {
@@ -621,40 +639,45 @@ impl Slave for RotorSlave {
     }
 
     fn get_real(&mut self, r: u32) -> SlaveResult<f64> {
-        if let Some(v) = xml::get_real(&self.params, &self.inputs, r) {
-            return Ok(v);
+        let mut value = [0.0];
+        self.get_reals(&[r], &mut value)?;
+        Ok(value[0])
+    }
+
+    /// The rotor's outputs at the current inputs computed (or taken from the cache) once for all the
+    /// values asked.
+    fn get_reals(&mut self, vrs: &[u32], values: &mut [f64]) -> SlaveResult<()> {
+        let mut outputs = None;
+        for (&r, value) in vrs.iter().zip(values) {
+            if let Some(v) = xml::get_real(&self.params, &self.inputs, r) {
+                *value = v;
+                continue;
+            }
+            let out = match outputs {
+                Some(out) => out,
+                None => *outputs.insert(self.current_outputs()?),
+            };
+            let omega = self.inputs.rotor_speed.value();
+            let b = self.ensure()?;
+            *value = match r {
+                vr::RATED_WIND_SPEED => b.rated_wind_speed,
+                vr::RATED_TIP_SPEED_RATIO => b.rated_tip_speed_ratio,
+                vr::RADIUS_USED => b.radius,
+                vr::RATED_ROTOR_TORQUE => b.rated_rotor_torque,
+                vr::TURBULENCE_SIGMA => b.sigma,
+                vr::ROTOR_TORQUE => out.torque,
+                vr::PITCHING_MOMENT => out.pitching_moment,
+                vr::BRAKE_COMMAND => b.model.brake_command(),
+                vr::PITCH => out.pitch,
+                vr::WIND_SPEED_HUB => out.wind_speed,
+                vr::THRUST => out.thrust,
+                vr::AERODYNAMIC_POWER => out.torque * omega,
+                vr::TILT_MOMENT => out.tilt_moment,
+                vr::YAW_MOMENT => out.yaw_moment,
+                _ => return Err(xml::no_getter(VarType::Real, r)),
+            };
         }
-        let omega = self.inputs.rotor_speed.value();
-        let disc = DiscMotion {
-            tilt_rate: self.inputs.tilt_rate.value(),
-            yaw_rate: self.inputs.yaw_rate.value(),
-        };
-        let cache = self.cache;
-        let b = self.ensure()?;
-        let out = match cache {
-            Some((t, w, d, out)) if t == b.model.time && w == omega && d == disc => out,
-            _ => b.model.outputs(omega, disc),
-        };
-        let time = b.model.time;
-        let value = match r {
-            vr::RATED_WIND_SPEED => b.rated_wind_speed,
-            vr::RATED_TIP_SPEED_RATIO => b.rated_tip_speed_ratio,
-            vr::RADIUS_USED => b.radius,
-            vr::RATED_ROTOR_TORQUE => b.rated_rotor_torque,
-            vr::TURBULENCE_SIGMA => b.sigma,
-            vr::ROTOR_TORQUE => out.torque,
-            vr::PITCHING_MOMENT => out.pitching_moment,
-            vr::BRAKE_COMMAND => b.model.brake_command(),
-            vr::PITCH => out.pitch,
-            vr::WIND_SPEED_HUB => out.wind_speed,
-            vr::THRUST => out.thrust,
-            vr::AERODYNAMIC_POWER => out.torque * omega,
-            vr::TILT_MOMENT => out.tilt_moment,
-            vr::YAW_MOMENT => out.yaw_moment,
-            _ => return Err(xml::no_getter(VarType::Real, r)),
-        };
-        self.cache = Some((time, omega, disc, out));
-        Ok(value)
+        Ok(())
     }
 
     fn set_real(&mut self, r: u32, value: f64, log: &mut dyn Log) -> SlaveResult<()> {

@@ -219,7 +219,7 @@ impl Source {
 
     /// The value now, at state `st` and the cut's (angle, speed) `cut` (a Declared source reads NaN:
     /// the caller reads those from the parameters and inputs).
-    #[inline]
+    #[inline(always)]
     fn value(self, b: &Built, st: &DynState, cut: (f64, f64)) -> f64 {
         match self {
             Self::Declared(_) => f64::NAN,
@@ -326,6 +326,37 @@ impl TorsionalSlave {
         }
     }
 
+    /// Reads `vrs` through the [`ReadPlan`] (resolved now unless it is the last long array read);
+    /// false, nothing read, if one of them is no Real variable with a value. Out of line: a coupling's
+    /// read of one or two values stays the small loop it was.
+    #[inline(never)]
+    fn read_planned(&mut self, vrs: &[u32], values: &mut [f64]) -> SlaveResult<bool> {
+        let cut = self.cut();
+        self.ensure()?;
+        let Self {
+            params,
+            inputs,
+            built: Some(b),
+            state: Some(st),
+            read_plan,
+            ..
+        } = self
+        else {
+            unreachable!("ensure built the model and its state")
+        };
+        if !(read_plan.fits(b, vrs) || read_plan.resolve(b, (params, inputs), vrs)) {
+            return Ok(false);
+        }
+        for (source, value) in read_plan.sources.iter().zip(values) {
+            *value = match *source {
+                // resolved because it has a value; NaN sends the host to the value-by-value path
+                Source::Declared(r) => xml::get_real(params, inputs, r).unwrap_or(f64::NAN),
+                s => s.value(b, st, cut),
+            };
+        }
+        Ok(true)
+    }
+
     /// A value the model computes from its state: a calculated parameter or an output.
     fn computed(b: &Built, st: &DynState, cut: (f64, f64), r: u32) -> SlaveResult<f64> {
         let source = Source::of(b, r).ok_or_else(|| xml::no_getter(VarType::Real, r))?;
@@ -413,31 +444,10 @@ impl Slave for TorsionalSlave {
     /// The model built (or checked) once for all the values asked; an array a host reads again and
     /// again (a recorder's row) is resolved once into where each value comes from ([`ReadPlan`]).
     fn get_reals(&mut self, vrs: &[u32], values: &mut [f64]) -> SlaveResult<()> {
-        let cut = self.cut();
-        if vrs.len() >= ReadPlan::MIN_LEN {
-            self.ensure()?;
-            let Self {
-                params,
-                inputs,
-                built: Some(b),
-                state: Some(st),
-                read_plan,
-                ..
-            } = self
-            else {
-                unreachable!("ensure built the model and its state")
-            };
-            if read_plan.fits(b, vrs) || read_plan.resolve(b, (params, inputs), vrs) {
-                for (source, value) in read_plan.sources.iter().zip(values) {
-                    *value = match *source {
-                        // resolved because it has a value; NaN sends the host to the value-by-value path
-                        Source::Declared(r) => xml::get_real(params, inputs, r).unwrap_or(f64::NAN),
-                        s => s.value(b, st, cut),
-                    };
-                }
-                return Ok(());
-            }
+        if vrs.len() >= ReadPlan::MIN_LEN && self.read_planned(vrs, values)? {
+            return Ok(());
         }
+        let cut = self.cut();
         for (&r, value) in vrs.iter().zip(values) {
             *value = match xml::get_real(&self.params, &self.inputs, r) {
                 Some(v) => v,

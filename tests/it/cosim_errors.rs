@@ -368,3 +368,43 @@ fn parquet_results_hold_the_csv_values_to_the_bit_even_after_a_failed_run() {
         );
     }
 }
+
+/// `run --profile` names every FMU with its steps and recorded reads, the recorder, the master and the
+/// writer thread's CPU (Parquet), after a summary that gives wall and CPU time; a run without it prints
+/// no profile. Shares are not checked: they are the machine's.
+#[test]
+fn a_profiled_run_says_where_its_time_went() {
+    let (_guard, dir) = common::scene_copy("d-grid-step");
+    let out = dir.join("out.parquet");
+    let args = [
+        "run",
+        dir.to_str().unwrap(),
+        "--stop-time",
+        "0.5",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let profiled = windrive(&[&args[..], &["--profile"]].concat());
+    assert!(
+        profiled.status.success(),
+        "{}",
+        String::from_utf8_lossy(&profiled.stderr)
+    );
+    let text = String::from_utf8_lossy(&profiled.stderr);
+    assert!(regex_like(&text, "s wall, ", " s CPU ("), "{text}");
+    let profile = &text[text.find("profile ").expect("a profile")..];
+    for row in ["torsional", "generator", "recorder", "master", "other threads"] {
+        assert!(profile.contains(row), "{row}: {profile}");
+    }
+    assert_eq!(profile.matches("recorded reads").count(), 2, "{profile}");
+    let plain = windrive(&args);
+    assert!(!String::from_utf8_lossy(&plain.stderr).contains("profile "));
+}
+
+/// Whether `text` has `a`, then a number, then `b`.
+fn regex_like(text: &str, a: &str, b: &str) -> bool {
+    text.split(a).skip(1).any(|rest| {
+        let digits = rest.trim_start_matches(|c: char| c.is_ascii_digit() || c == '.');
+        digits.len() < rest.len() && digits.starts_with(b)
+    })
+}
