@@ -5,7 +5,8 @@ generator; 1 ms macro steps) in our master, libcosim and fmpy's SSP support, in 
 
 Prints wall times (best of --repeat, FMU loading and initialisation left out for every master), real-time factors and
 ratios to ours, and what recording every output at every step costs against the simulation alone, as CSV and as
-Parquet (`--out FILE.parquet`), in wall time and in CPU time of the whole process (median of paired ratios). Our master runs Jacobi like libcosim's fixed-step algorithm, and the default
+Parquet (`--out FILE.parquet`), in wall time and in CPU time of the whole process (median of paired ratios),
+and where a Parquet run's time went (`windrive run --profile`). Our master runs Jacobi like libcosim's fixed-step algorithm, and the default
 Gauss–Seidel; recording every 1000th row (libcosim records nothing here), and every output at every
 step (fmpy records every connector at every step).
 
@@ -126,6 +127,12 @@ def main():
     for alg, ((csv_wall, csv_cpu), (pq_wall, pq_cpu)) in recording:
         print(f"  {alg:<13} wall: CSV {csv_wall:.2f}x   Parquet {pq_wall:.2f}x"
               f"     CPU: CSV {csv_cpu:.2f}x   Parquet {pq_cpu:.2f}x")
+    print()
+    print("where the time of a Parquet run went (windrive run --profile, Gauss-Seidel, one run):")
+    done = subprocess.run([str(WINDRIVE), "run", str(SCENE), "--out", str(parquet), "--profile"], check=True,
+                          cwd=ROOT, capture_output=True, text=True)
+    text = done.stdout + done.stderr
+    print(text[text.index("profile "):].rstrip())
     print(json.dumps({name: t for name, t in rows}))
 
 
