@@ -327,12 +327,15 @@ impl TorsionalSlave {
     }
 
     /// Reads `vrs` through the [`ReadPlan`] (resolved now unless it is the last long array read);
-    /// false, nothing read, if one of them is no Real variable with a value. Out of line: a coupling's
-    /// read of one or two values stays the small loop it was.
+    /// false, nothing read, if one of them is no Real variable with a value or the model cannot be
+    /// built (parameters still read then, value by value). Out of line: a coupling's read of one or two
+    /// values stays the small loop it was.
     #[inline(never)]
-    fn read_planned(&mut self, vrs: &[u32], values: &mut [f64]) -> SlaveResult<bool> {
+    fn read_planned(&mut self, vrs: &[u32], values: &mut [f64]) -> bool {
         let cut = self.cut();
-        self.ensure()?;
+        if self.ensure().is_err() {
+            return false;
+        }
         let Self {
             params,
             inputs,
@@ -345,7 +348,7 @@ impl TorsionalSlave {
             unreachable!("ensure built the model and its state")
         };
         if !(read_plan.fits(b, vrs) || read_plan.resolve(b, (params, inputs), vrs)) {
-            return Ok(false);
+            return false;
         }
         for (source, value) in read_plan.sources.iter().zip(values) {
             *value = match *source {
@@ -354,7 +357,7 @@ impl TorsionalSlave {
                 s => s.value(b, st, cut),
             };
         }
-        Ok(true)
+        true
     }
 
     /// A value the model computes from its state: a calculated parameter or an output.
@@ -444,7 +447,7 @@ impl Slave for TorsionalSlave {
     /// The model built (or checked) once for all the values asked; an array a host reads again and
     /// again (a recorder's row) is resolved once into where each value comes from ([`ReadPlan`]).
     fn get_reals(&mut self, vrs: &[u32], values: &mut [f64]) -> SlaveResult<()> {
-        if vrs.len() >= ReadPlan::MIN_LEN && self.read_planned(vrs, values)? {
+        if vrs.len() >= ReadPlan::MIN_LEN && self.read_planned(vrs, values) {
             return Ok(());
         }
         let cut = self.cut();

@@ -3,7 +3,7 @@
 //! and must resolve it again for a model built anew (another preset, another section).
 
 use windrive::fmi2::fmu::slave::{NoLog, Slave};
-use windrive::fmi2::fmu::variables::VarType;
+use windrive::fmi2::fmu::variables::{Causality, VarType};
 use windrive::models::torsional::vr;
 use windrive::slaves::torsional::TorsionalSlave;
 
@@ -51,4 +51,27 @@ fn an_array_reads_what_its_values_read_one_by_one_across_rebuilds() {
     vrs[4] = 99_999;
     assert!(s.get_reals(&vrs, &mut values).is_err());
     assert!(s.get_real(99_999).is_err());
+}
+
+/// Parameters read as a long array while the model cannot be built (a backlash below full fidelity)
+/// read as they do one by one; the outputs fail alike.
+#[test]
+fn parameters_read_as_an_array_while_the_model_cannot_be_built() {
+    let mut s = TorsionalSlave::instantiate(None);
+    s.set_string(vr::FIDELITY, "2", &mut NoLog).unwrap();
+    s.set_real(vr::MESH_BACKLASH, 1e-4, &mut NoLog).unwrap();
+    assert!(s.initialize(0.0, &mut NoLog).is_err());
+    let parameters: Vec<u32> = TorsionalSlave::VARIABLES
+        .iter()
+        .filter(|v| v.ty == VarType::Real && v.causality == Causality::Parameter)
+        .map(|v| v.vr)
+        .collect();
+    assert!(parameters.len() >= 8, "{} Real parameters", parameters.len());
+    let mut array = vec![0.0; parameters.len()];
+    s.get_reals(&parameters, &mut array).unwrap();
+    for (&r, a) in parameters.iter().zip(&array) {
+        assert_eq!(a.to_bits(), s.get_real(r).unwrap().to_bits(), "vr {r}");
+    }
+    let mut outputs = [0.0; 8];
+    assert!(s.get_reals(&[vr::HSS_TORQUE; 8], &mut outputs).is_err());
 }
