@@ -11,7 +11,7 @@
 //! Rows are kept as they come, one after the other in one buffer (a row costs one copy, not a push
 //! per column), and every [`ROW_GROUP_ROWS`] rows the full buffer goes to a writer thread, which
 //! turns it into a row group of columns (transpose, encoding, Snappy) while the simulation fills the
-//! next buffer; the two buffers are passed back and forth, never reallocated. The thread moves the
+//! next buffer; the buffers (three at most) go back and forth and are filled again. The thread moves the
 //! writer's work off the simulation's path, it does not remove it (a campaign running a case per core
 //! pays it all the same). Parquet places its index (the footer) at the end of the file: the file is
 //! complete once the run ends, fails or is stopped and the recorder is finished, flushed or dropped.
