@@ -42,9 +42,7 @@ fn run_scene(
     let scene = Scene::open(dir)?;
     let mut system = System::build(&scene, overrides, &Record::Only(channels.to_vec()))?;
     system.initialize(Some(stop))?;
-    for unit in &mut system.units {
-        unit.clock = Some(crate::cosim::unit::Clock::default());
-    }
+    crate::cosim::profile::start(&mut system);
     let mut cols: Vec<Vec<f64>> = vec![Vec::new(); channels.len()];
     let start = Instant::now();
     let mut master = Master::new(&mut system, Options::new(Algorithm::GaussSeidel, 1e-3, stop))?;

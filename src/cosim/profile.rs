@@ -1,8 +1,9 @@
 //! Where a run's time went, as `windrive run --profile` prints it: each FMU's steps (doStep and the
-//! coupled outputs' getters) and the reads of the variables only the recorder wants, the recorder's own
-//! work (gathering rows, handing them to the writer, CSV text, completing the file), the master's (inputs, extrapolation,
-//! bookkeeping: the loop's wall time less all of the above), and the CPU time of the threads beside
-//! the loop (the Parquet writer's encoding and compression), which adds to the cost, not to the wall.
+//! coupled outputs' getters) and the reads of the variables only the recorder wants, the recorder's
+//! own work (gathering rows, handing them to the writer, CSV text, completing the file), the
+//! master's (inputs, extrapolation, bookkeeping: the loop's wall time less all of the above), and the
+//! CPU time of the threads beside the loop (the Parquet writer's encoding and compression), which
+//! adds to the cost, not to the wall. `windrive bench gearbox` starts the same clocks.
 
 use super::system::System;
 use super::unit::Clock;
@@ -23,7 +24,7 @@ pub struct Profile {
     pub threads: usize,
 }
 
-/// Starts timing every unit of `system`.
+/// Starts timing every unit of `system` (its steps and its recorded reads apart).
 pub fn start(system: &mut System) {
     for unit in &mut system.units {
         unit.clock = Some(Clock::default());
