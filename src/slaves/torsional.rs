@@ -9,7 +9,7 @@ use crate::models::torsional::vr;
 use crate::physics::brake::DiskBrake;
 use crate::physics::drivetrain::Drivetrain;
 use crate::physics::torsional::{
-    Fidelity, INPUT_BRAKE_COMMAND, INPUT_COUNT, INPUT_CUT_ANGLE, INPUT_CUT_SPEED, INPUT_CUT_TORQUE,
+    ElementLoad, Fidelity, INPUT_BRAKE_COMMAND, INPUT_COUNT, INPUT_CUT_ANGLE, INPUT_CUT_SPEED, INPUT_CUT_TORQUE,
     INPUT_GENERATOR_TORQUE, INPUT_ROTOR_TORQUE, Lumping, ModelOptions, Section, TorsionalModel,
 };
 use crate::solver::alpha::Alpha;
@@ -172,8 +172,6 @@ impl Params {
 /// so that reading it costs what each value's physics costs, not a search for the variable.
 #[derive(Clone, Copy, Debug)]
 enum Source {
-    /// A parameter or an input (the generated getter).
-    Declared(u32),
     /// Fixed while the model is built (gear ratio, rated torques, RK4's limit, an absent body's 0).
     Constant(f64),
     /// factor × the DOF's angle or speed.
@@ -217,12 +215,9 @@ impl Source {
         })
     }
 
-    /// The value now, at state `st` and the cut's (angle, speed) `cut` (a Declared source reads NaN:
-    /// the caller reads those from the parameters and inputs).
-    #[inline(always)]
+    /// The value now, at state `st` and the cut's (angle, speed) `cut`.
     fn value(self, b: &Built, st: &DynState, cut: (f64, f64)) -> f64 {
         match self {
-            Self::Declared(_) => f64::NAN,
             Self::Constant(v) => v,
             Self::Body { dof, factor, speed } => factor * if speed { st.v[dof] } else { st.q[dof] },
             Self::Element(o) => b.model.element_output(o, &st.q, &st.v, cut),
@@ -233,12 +228,24 @@ impl Source {
 }
 
 /// The sources of the last long array read ([`Slave::get_reals`]), for the model they were resolved in
-/// (held, so that its address cannot be another model's).
+/// (held, so that its address cannot be another model's), sorted by kind: each kind is one tight
+/// loop over (position in the array, where its value comes from).
 #[derive(Clone, Default)]
 struct ReadPlan {
     vrs: Vec<u32>,
     built: Option<Arc<Built>>,
-    sources: Vec<Source>,
+    declared: Vec<(usize, u32)>,
+    constants: Vec<(usize, f64)>,
+    /// (position, DOF, factor): factor × the DOF's angle, or its speed.
+    angles: Vec<(usize, usize, f64)>,
+    speeds: Vec<(usize, usize, f64)>,
+    /// (position, element, factor): factor × the element's force.
+    elements: Vec<(usize, usize, f64)>,
+    brake_torque: Vec<usize>,
+    stored_energy: Vec<usize>,
+    /// Every element's force and energy at the read's state, evaluated once per read when an element
+    /// or the energy is read.
+    loads: Vec<ElementLoad>,
 }
 
 impl ReadPlan {
@@ -251,23 +258,69 @@ impl ReadPlan {
 
     /// Resolves `vrs` in `b`; false (and no plan) if one of them is no Real variable with a value.
     fn resolve(&mut self, b: &Arc<Built>, (params, inputs): (&Params, &Inputs), vrs: &[u32]) -> bool {
-        self.built = None;
-        self.sources.clear();
-        for &r in vrs {
-            let source = if xml::get_real(params, inputs, r).is_some() {
-                Source::Declared(r)
-            } else {
-                match Source::of(b, r) {
-                    Some(s) => s,
-                    None => return false,
+        *self = Self {
+            loads: std::mem::take(&mut self.loads),
+            ..Self::default()
+        };
+        for (i, &r) in vrs.iter().enumerate() {
+            if xml::get_real(params, inputs, r).is_some() {
+                self.declared.push((i, r));
+                continue;
+            }
+            match Source::of(b, r) {
+                Some(Source::Constant(c)) => self.constants.push((i, c)),
+                Some(Source::Body { dof, factor, speed }) => {
+                    if speed { &mut self.speeds } else { &mut self.angles }.push((i, dof, factor))
                 }
-            };
-            self.sources.push(source);
+                // an absent element reads 0 (`element_output`)
+                Some(Source::Element(None)) => self.constants.push((i, 0.0)),
+                Some(Source::Element(Some(o))) => self.elements.push((i, o.element, o.factor)),
+                Some(Source::BrakeTorque) => self.brake_torque.push(i),
+                Some(Source::StoredEnergy) => self.stored_energy.push(i),
+                // no plan: `built` stays None, so the next array is resolved afresh
+                None => return false,
+            }
         }
-        self.vrs.clear();
         self.vrs.extend_from_slice(vrs);
         self.built = Some(Arc::clone(b));
         true
+    }
+
+    /// The planned array's values at state `st`, the cut's (angle, speed) `cut`, into `values`.
+    fn read(
+        &mut self,
+        b: &Built,
+        (params, inputs): (&Params, &Inputs),
+        st: &DynState,
+        cut: (f64, f64),
+        values: &mut [f64],
+    ) {
+        if !(self.elements.is_empty() && self.stored_energy.is_empty()) {
+            b.model.element_loads(&st.q, &st.v, cut, &mut self.loads);
+        }
+        // resolved because it has a value; NaN sends the host to the value-by-value path
+        for &(i, r) in &self.declared {
+            values[i] = xml::get_real(params, inputs, r).unwrap_or(f64::NAN);
+        }
+        for &(i, c) in &self.constants {
+            values[i] = c;
+        }
+        // the same products as `Source::value`
+        for &(i, dof, factor) in &self.angles {
+            values[i] = factor * st.q[dof];
+        }
+        for &(i, dof, factor) in &self.speeds {
+            values[i] = factor * st.v[dof];
+        }
+        for &(i, element, factor) in &self.elements {
+            values[i] = factor * self.loads[element].force;
+        }
+        for &i in &self.brake_torque {
+            values[i] = -st.friction_force;
+        }
+        for &i in &self.stored_energy {
+            values[i] = b.model.stored_energy_of(&st.v, &self.loads);
+        }
     }
 }
 
@@ -350,13 +403,7 @@ impl TorsionalSlave {
         if !(read_plan.fits(b, vrs) || read_plan.resolve(b, (params, inputs), vrs)) {
             return false;
         }
-        for (source, value) in read_plan.sources.iter().zip(values) {
-            *value = match *source {
-                // resolved because it has a value; NaN sends the host to the value-by-value path
-                Source::Declared(r) => xml::get_real(params, inputs, r).unwrap_or(f64::NAN),
-                s => s.value(b, st, cut),
-            };
-        }
+        read_plan.read(b, (params, inputs), st, cut, values);
         true
     }
 

@@ -190,13 +190,31 @@ impl Element {
 
     /// Force for deflection and its rate with stiffness `k`: spring and damper act only in contact.
     pub fn force(&self, k: f64, delta: f64, rate: f64) -> f64 {
-        let (elastic, touching) = self.contact(delta);
+        self.force_in(k, self.contact(delta), rate)
+    }
+
+    /// [`Self::force`] from the deflection's [`Self::contact`].
+    #[inline]
+    pub fn force_in(&self, k: f64, (elastic, touching): (f64, bool), rate: f64) -> f64 {
         if touching {
             k * elastic + self.damping * rate
         } else {
             0.0
         }
     }
+
+    /// Elastic energy at stiffness `k` and elastic deflection `x` (beyond the backlash gap), J.
+    #[inline]
+    pub fn energy(k: f64, x: f64) -> f64 {
+        0.5 * k * x * x
+    }
+}
+
+/// One element's force and elastic energy at a state ([`TorsionalModel::element_loads`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ElementLoad {
+    pub force: f64,
+    pub energy: f64,
 }
 
 /// An output computed from one element's force: value = factor × force.

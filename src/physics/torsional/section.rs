@@ -2,7 +2,7 @@
 //! and the energy and element forces that account for it.
 
 use super::{
-    Element, ForceOutput, INPUT_CUT_ANGLE, INPUT_CUT_SPEED, INPUT_CUT_TORQUE, INPUT_GENERATOR_TORQUE,
+    Element, ElementLoad, ForceOutput, INPUT_CUT_ANGLE, INPUT_CUT_SPEED, INPUT_CUT_TORQUE, INPUT_GENERATOR_TORQUE,
     INPUT_ROTOR_TORQUE, Section, TorsionalModel,
 };
 use crate::solver::system::InputLoad;
@@ -108,16 +108,19 @@ impl TorsionalModel {
     /// Kinetic energy plus the elastic energy of every element in contact, J; `boundary` is the
     /// cut's (angle, speed) for [`Section::Drivetrain`] (ignored otherwise).
     pub fn stored_energy(&self, q: &[f64], v: &[f64], boundary: (f64, f64)) -> f64 {
-        let kinetic: f64 = self.mass.iter().zip(v).map(|(m, w)| 0.5 * m * w * w).sum();
         let elastic: f64 = self
             .elements
             .iter()
             .map(|e| {
                 let (x, _) = e.contact(e.deflection(q) + Self::boundary_share(e, boundary).0);
-                0.5 * e.stiffness_at(q) * x * x
+                Element::energy(e.stiffness_at(q), x)
             })
             .sum();
-        kinetic + elastic
+        self.kinetic_energy(v) + elastic
+    }
+
+    fn kinetic_energy(&self, v: &[f64]) -> f64 {
+        self.mass.iter().zip(v).map(|(m, w)| 0.5 * m * w * w).sum()
     }
 
     /// Force in element `o` (times its output factor) at the state (q, v) and the cut's (angle,
@@ -127,5 +130,27 @@ impl TorsionalModel {
         let e = &self.elements[o.element];
         let (angle, speed) = Self::boundary_share(e, boundary);
         o.factor * e.force(e.stiffness_at(q), e.deflection(q) + angle, e.deflection(v) + speed)
+    }
+
+    /// Every element's force and elastic energy at (q, v) and the cut's `boundary`, one entry per
+    /// element into `out`: for a reader of many outputs, each element's deflection, stiffness and
+    /// contact once instead of once per output and again for the energy. The same operations as
+    /// [`Self::element_output`] and [`Self::stored_energy`] per element, so the same bits.
+    pub fn element_loads(&self, q: &[f64], v: &[f64], boundary: (f64, f64), out: &mut Vec<ElementLoad>) {
+        out.clear();
+        out.extend(self.elements.iter().map(|e| {
+            let (angle, speed) = Self::boundary_share(e, boundary);
+            let k = e.stiffness_at(q);
+            let contact = e.contact(e.deflection(q) + angle);
+            ElementLoad {
+                force: e.force_in(k, contact, e.deflection(v) + speed),
+                energy: Element::energy(k, contact.0),
+            }
+        }));
+    }
+
+    /// [`Self::stored_energy`] from [`Self::element_loads`]' `loads` at the same state, speeds `v`.
+    pub fn stored_energy_of(&self, v: &[f64], loads: &[ElementLoad]) -> f64 {
+        self.kinetic_energy(v) + loads.iter().map(|l| l.energy).sum::<f64>()
     }
 }
