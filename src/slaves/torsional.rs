@@ -494,7 +494,9 @@ impl Slave for TorsionalSlave {
     /// The model built (or checked) once for all the values asked; an array a host reads again and
     /// again (a recorder's row) is resolved once into where each value comes from ([`ReadPlan`]).
     fn get_reals(&mut self, vrs: &[u32], values: &mut [f64]) -> SlaveResult<()> {
-        if vrs.len() >= ReadPlan::MIN_LEN && self.read_planned(vrs, values) {
+        // the plan writes by position, so only where both arrays have one length (the value-by-value
+        // path pairs them as far as both go)
+        if vrs.len() >= ReadPlan::MIN_LEN && vrs.len() == values.len() && self.read_planned(vrs, values) {
             return Ok(());
         }
         let cut = self.cut();

@@ -51,6 +51,20 @@ fn an_array_reads_what_its_values_read_one_by_one_across_rebuilds() {
     vrs[4] = 99_999;
     assert!(s.get_reals(&vrs, &mut values).is_err());
     assert!(s.get_real(99_999).is_err());
+    // fewer values than references: the values there are, as one by one, and no panic
+    let vrs = [
+        vr::HSS_TORQUE,
+        vr::LSS_TORQUE,
+        vr::STORED_ENERGY,
+        vr::GEAR_RATIO,
+        vr::ROTOR_SPEED,
+    ]
+    .repeat(2);
+    let mut short = [0.0; 9];
+    s.get_reals(&vrs, &mut short).unwrap();
+    for (&r, v) in vrs.iter().zip(&short) {
+        assert_eq!(v.to_bits(), s.get_real(r).unwrap().to_bits(), "vr {r}");
+    }
 }
 
 /// Parameters read as a long array while the model cannot be built (a backlash below full fidelity)
