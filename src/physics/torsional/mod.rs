@@ -202,12 +202,6 @@ impl Element {
             0.0
         }
     }
-
-    /// Elastic energy at stiffness `k` and elastic deflection `x` (beyond the backlash gap), J.
-    #[inline]
-    pub fn energy(k: f64, x: f64) -> f64 {
-        0.5 * k * x * x
-    }
 }
 
 /// One element's force and elastic energy at a state ([`TorsionalModel::element_loads`]).

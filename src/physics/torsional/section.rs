@@ -105,16 +105,25 @@ impl TorsionalModel {
         (e.boundary * boundary.0, e.boundary * boundary.1)
     }
 
+    /// Element `e`'s force and elastic energy at the state (q, v) and the cut's (angle, speed)
+    /// `boundary`: the one definition the outputs below read, alone or for every element at once.
+    fn element_load(e: &Element, q: &[f64], v: &[f64], boundary: (f64, f64)) -> ElementLoad {
+        let (angle, speed) = Self::boundary_share(e, boundary);
+        let k = e.stiffness_at(q);
+        let contact = e.contact(e.deflection(q) + angle);
+        ElementLoad {
+            force: e.force_in(k, contact, e.deflection(v) + speed),
+            energy: 0.5 * k * contact.0 * contact.0,
+        }
+    }
+
     /// Kinetic energy plus the elastic energy of every element in contact, J; `boundary` is the
     /// cut's (angle, speed) for [`Section::Drivetrain`] (ignored otherwise).
     pub fn stored_energy(&self, q: &[f64], v: &[f64], boundary: (f64, f64)) -> f64 {
         let elastic: f64 = self
             .elements
             .iter()
-            .map(|e| {
-                let (x, _) = e.contact(e.deflection(q) + Self::boundary_share(e, boundary).0);
-                Element::energy(e.stiffness_at(q), x)
-            })
+            .map(|e| Self::element_load(e, q, v, boundary).energy)
             .sum();
         self.kinetic_energy(v) + elastic
     }
@@ -126,27 +135,17 @@ impl TorsionalModel {
     /// Force in element `o` (times its output factor) at the state (q, v) and the cut's (angle,
     /// speed) `boundary`.
     pub fn element_output(&self, o: Option<ForceOutput>, q: &[f64], v: &[f64], boundary: (f64, f64)) -> f64 {
-        let Some(o) = o else { return 0.0 };
-        let e = &self.elements[o.element];
-        let (angle, speed) = Self::boundary_share(e, boundary);
-        o.factor * e.force(e.stiffness_at(q), e.deflection(q) + angle, e.deflection(v) + speed)
+        o.map_or(0.0, |o| {
+            o.factor * Self::element_load(&self.elements[o.element], q, v, boundary).force
+        })
     }
 
     /// Every element's force and elastic energy at (q, v) and the cut's `boundary`, one entry per
-    /// element into `out`: for a reader of many outputs, each element's deflection, stiffness and
-    /// contact once instead of once per output and again for the energy. The same operations as
-    /// [`Self::element_output`] and [`Self::stored_energy`] per element, so the same bits.
+    /// element into `out`: for a reader of many outputs, each element once instead of once per
+    /// output and again for the energy.
     pub fn element_loads(&self, q: &[f64], v: &[f64], boundary: (f64, f64), out: &mut Vec<ElementLoad>) {
         out.clear();
-        out.extend(self.elements.iter().map(|e| {
-            let (angle, speed) = Self::boundary_share(e, boundary);
-            let k = e.stiffness_at(q);
-            let contact = e.contact(e.deflection(q) + angle);
-            ElementLoad {
-                force: e.force_in(k, contact, e.deflection(v) + speed),
-                energy: Element::energy(k, contact.0),
-            }
-        }));
+        out.extend(self.elements.iter().map(|e| Self::element_load(e, q, v, boundary)));
     }
 
     /// [`Self::stored_energy`] from [`Self::element_loads`]' `loads` at the same state, speeds `v`.
