@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 #[derive(clap::Args)]
 pub struct BenchArgs {
     /// What to benchmark: torsional (the FMU), gearbox (the 6-DOF gearbox in drivetrain D's shutdown
-    /// scene with lamina bearings and 35, 11 and 5 slices, the main shaft as one element or rigid, and linear bearings, against torsional and RK4), rainflow (counting and DELs), solvers (explicit
+    /// scene with lamina bearings (their law by loop and by table) and 35, 11 and 5 slices, the main shaft as one element or rigid, and linear bearings, against torsional and RK4), rainflow (counting and DELs), solvers (explicit
     /// inverse, dense LU and sparse LU on gearbox-shaped iteration matrices), coupling (every
     /// co-simulation algorithm on scenes/d-grid-step against its exact solution), states (each FMU's
     /// state size and cost, iterative against gauss-seidel on scenes/c-shutdown-spring), master (our

@@ -22,7 +22,7 @@ pub struct GearboxArgs {
     /// Rotor speed over the rated speed (the frames' centripetal and gyroscopic loads)
     #[arg(long, default_value_t = 1.0)]
     pub speed_ratio: f64,
-    /// Bearing model: linear or lamina (default: the description's)
+    /// Bearing model: linear, lamina or lamina-table (default: the description's)
     #[arg(long)]
     pub bearings: Option<String>,
     /// Rotor pitching (tilt) moment on the main shaft, N·m (positive: about the housing's horizontal axis)
@@ -76,7 +76,8 @@ fn description(args: &GearboxArgs) -> anyhow::Result<Description> {
         None => {}
         Some("linear") => d.model.bearings = BearingModel::Linear,
         Some("lamina") => d.model.bearings = BearingModel::Lamina,
-        Some(other) => return Err(anyhow!("--bearings {other:?}: use linear or lamina")),
+        Some("lamina-table") => d.model.bearings = BearingModel::LaminaTable,
+        Some(other) => return Err(anyhow!("--bearings {other:?}: use linear, lamina or lamina-table")),
     }
     if let Some(g) = args.gravity {
         d.model.gravity = g;

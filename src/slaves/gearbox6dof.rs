@@ -98,8 +98,14 @@ impl Params {
             "" => {}
             "linear" => d.model.bearings = BearingModel::Linear,
             "lamina" => d.model.bearings = BearingModel::Lamina,
+            "lamina-table" => d.model.bearings = BearingModel::LaminaTable,
             other => {
-                return Err(ParameterError::invalid("bearing_model", &other, "use linear or lamina (or empty)").into());
+                return Err(ParameterError::invalid(
+                    "bearing_model",
+                    &other,
+                    "use linear, lamina or lamina-table (or empty)",
+                )
+                .into());
             }
         }
         let rho = self.spectral_radius;

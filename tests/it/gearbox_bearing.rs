@@ -16,6 +16,11 @@ fn unit(i: usize) -> Row {
 
 /// A bearing on six coordinates: the five relative ones and the cage angle.
 fn bearing(r: &Rollers) -> RollerBearing {
+    mounted(r, 0.0, false)
+}
+
+/// The same with a damping time and, with `tabulated`, the roller sums by table.
+fn mounted(r: &Rollers, damping_time: f64, tabulated: bool) -> RollerBearing {
     RollerBearing::new(
         r,
         Mounting {
@@ -25,7 +30,8 @@ fn bearing(r: &Rollers) -> RollerBearing {
             offset: [0.0; 2],
             sign: 1.0,
         },
-        0.0,
+        damping_time,
+        tabulated,
     )
 }
 
@@ -52,7 +58,7 @@ fn crb(count: u32, clearance_um: f64, laminae: u32) -> Rollers {
 /// Loads and the 5×5 stiffness at x (no motion, cage at 0).
 fn at(b: &RollerBearing, x: [f64; 5]) -> (RollerLoads, [[f64; 5]; 5]) {
     let (mut k, mut c) = ([[0.0; 5]; 5], [[0.0; 5]; 5]);
-    let l = b.evaluate(&x, &[0.0; 5], 0.0, Some((&mut k, &mut c)));
+    let l = b.evaluate(&x, &[0.0; 5], 0.0, true, Some((&mut k, &mut c)));
     (l, k)
 }
 
@@ -286,4 +292,93 @@ fn race_stresses_match_the_hertz_example() {
         "{}",
         s.max_shear_depth
     );
+}
+
+/// `lamina-table` against `lamina` on the GRC's roller sets (a CRB with clearance, a tapered row,
+/// damping at the GRC's 0.1 ms): forces, moments, the tangents' stiffness and damping within 1e-9 of
+/// their scale over poses from a touch to edge loading with tilts either way, rates that unload
+/// laminae by damping (where the table hands the roller to the loop) and every cage angle; the peaks
+/// a host reads (rollers in contact, the largest lamina's load) the loop's. The table's rounding is
+/// not the loop's, so most poses must differ in their last bits: the table is what is tested.
+#[test]
+fn a_tabulated_set_gives_the_lamina_loops_loads_and_tangents() {
+    let crb = crb(20, 60.0, 10);
+    let mut tapered = crb;
+    (tapered.count, tapered.contact_angle_deg, tapered.axial_clearance_um) = (22, 13.0, 30.0);
+    let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut uniform = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for r in [crb, tapered] {
+        let (exact, table) = (mounted(&r, 1e-4, false), mounted(&r, 1e-4, true));
+        assert!(table.tabulated() && !exact.tabulated());
+        let (mut poses, mut different) = (0, 0);
+        for _ in 0..4000 {
+            let radial = 10e-6 + 60e-6 * uniform();
+            let angle = std::f64::consts::TAU * uniform();
+            let tilt = 10f64.powf(-7.0 + 4.0 * uniform());
+            let x = [
+                radial * angle.cos(),
+                radial * angle.sin(),
+                20e-6 * (uniform() - 0.5),
+                tilt * (uniform() - 0.5),
+                tilt * (uniform() - 0.5),
+            ];
+            let rate = 10f64.powf(-4.0 + 3.0 * uniform());
+            let xd: [f64; 5] = std::array::from_fn(|i| rate * (uniform() - 0.5) * if i > 2 { 10.0 } else { 1.0 });
+            let cage = std::f64::consts::TAU * uniform();
+            let eval = |b: &RollerBearing| {
+                let (mut k, mut c) = ([[0.0; 5]; 5], [[0.0; 5]; 5]);
+                let l = b.evaluate(&x, &xd, cage, true, Some((&mut k, &mut c)));
+                (l, k, c)
+            };
+            let ((le, ke, ce), (lt, kt, ct)) = (eval(&exact), eval(&table));
+            if le.rollers_in_contact == 0 {
+                assert_eq!(lt, le);
+                continue;
+            }
+            poses += 1;
+            let largest = |m: &[[f64; 5]; 5]| m.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs()));
+            let force = le.force.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            for i in 0..5 {
+                assert!(
+                    (lt.force[i] - le.force[i]).abs() <= 1e-9 * force,
+                    "force {i}: {lt:?} vs {le:?}"
+                );
+                for j in 0..5 {
+                    assert!(
+                        (kt[i][j] - ke[i][j]).abs() <= 1e-9 * largest(&ke),
+                        "K[{i}][{j}] at {x:?}"
+                    );
+                    assert!(
+                        (ct[i][j] - ce[i][j]).abs() <= 1e-9 * largest(&ce),
+                        "C[{i}][{j}] at {x:?}"
+                    );
+                }
+            }
+            assert!((lt.max_roller_load - le.max_roller_load).abs() <= 1e-9 * le.max_roller_load);
+            assert_eq!(lt.max_lamina_load, le.max_lamina_load, "at {x:?}, {xd:?}");
+            assert_eq!(lt.rollers_in_contact, le.rollers_in_contact, "at {x:?}, {xd:?}");
+            different += usize::from(lt.force != le.force);
+        }
+        assert!(
+            poses > 1000 && 2 * different > poses,
+            "{different} of {poses} poses differ from the loop"
+        );
+    }
+}
+
+/// Roller sets the table cannot sum keep the lamina loop: crowned rollers and point contact.
+#[test]
+fn crowned_and_point_contact_sets_keep_the_lamina_loop() {
+    let mut crowned = crb(20, 60.0, 10);
+    crowned.crowning_um = 5.0;
+    assert!(!mounted(&crowned, 1e-4, true).tabulated());
+    let mut point = crb(20, 60.0, 10);
+    (point.contact, point.roller_stiffness) = (Contact::Point, Some(1e9));
+    assert!(!mounted(&point, 1e-4, true).tabulated());
+    assert!(mounted(&crb(20, 60.0, 1), 1e-4, true).tabulated());
 }

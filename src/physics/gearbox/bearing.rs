@@ -9,6 +9,7 @@
 use super::description::{Contact, Rollers};
 use super::mesh::KeyBits;
 use super::ninth_root::ninth_root;
+use super::roller_table::RollerTable;
 use super::row::{Row, add_outer};
 use crate::physics::hertz::{EllipticContact, LineContact, effective_modulus, subsurface_peaks};
 use nalgebra::DMatrix;
@@ -41,10 +42,11 @@ fn power_less_one(delta: f64, exponent: f64) -> f64 {
 }
 
 /// The unit vectors (cos ψ_j, sin ψ_j) of the rollers of one row, by rotation rather than a
-/// `sin_cos` per roller (the rounding after 200 rotations stays below 1e-13).
-fn roller_angles(cage: f64, count: usize) -> impl Iterator<Item = (f64, f64)> {
+/// `sin_cos` per roller (the rounding after 200 rotations stays below 1e-13); `pitch` is
+/// (sin, cos) of the angle between rollers, 2π/count, taken once per bearing.
+fn roller_angles(cage: f64, pitch: (f64, f64), count: usize) -> impl Iterator<Item = (f64, f64)> {
     let (s0, c0) = cage.sin_cos();
-    let (sp, cp) = (TAU / count as f64).sin_cos();
+    let (sp, cp) = pitch;
     (0..count).scan((c0, s0), move |(c, s), _| {
         let out = (*c, *s);
         (*c, *s) = (*c * cp - *s * sp, *s * cp + *c * sp);
@@ -100,6 +102,8 @@ pub struct RollerBearing {
     /// the rows are the linear springs' (body minus the other side) times this.
     pub sign: f64,
     count: usize,
+    /// (sin, cos) of 2π/count.
+    pitch: (f64, f64),
     pitch_radius: f64,
     roller_rows: Vec<RollerRow>,
     /// Lamina offsets from the roller's centre along the axis, m, and their profile drop, m.
@@ -117,6 +121,20 @@ pub struct RollerBearing {
     /// Subsurface Tresca shear peak per unit p_max and its depth per unit (semi-minor) half-width,
     /// at the inner race.
     shear_peak: (f64, f64),
+    /// The roller's sums by table instead of the lamina loop (`bearing_model = lamina-table`; line
+    /// contact without crowning only).
+    table: Option<&'static RollerTable>,
+    /// Half the roller's length, m.
+    half_roller: f64,
+}
+
+/// A loaded roller's load, moment about the row's centre and the sums of its laminae's stiffness and
+/// damping times 1, z, z².
+struct RollerSums {
+    load: f64,
+    moment: f64,
+    stiffness: [f64; 3],
+    damping: [f64; 3],
 }
 
 /// How a roller meets its races, for their pressures.
@@ -144,7 +162,9 @@ pub struct Mounting {
 }
 
 impl RollerBearing {
-    pub fn new(r: &Rollers, m: Mounting, damping_time: f64) -> Self {
+    /// With `tabulated`, a roller set with line contact and no crowning sums its rollers' laminae by
+    /// [`RollerTable`] (within 2e-10 of the loop's sums); any other keeps the lamina loop.
+    pub fn new(r: &Rollers, m: Mounting, damping_time: f64, tabulated: bool) -> Self {
         let mm = 1e-3;
         let (length, dm) = (r.length_mm * mm, r.pitch_diameter_mm * mm);
         let alpha = r.contact_angle_deg.to_radians();
@@ -215,6 +235,10 @@ impl RollerBearing {
             RaceContacts::Point { inner, .. } => inner.max_shear(STEEL_NU),
             _ => subsurface_peaks(STEEL_NU).max_shear,
         };
+        let uncrowned = crown == 0.0;
+        let table = (tabulated && uncrowned && exponent == LINE_EXPONENT)
+            .then(|| RollerTable::shared(n))
+            .flatten();
         RollerBearing {
             bearing: m.bearing,
             rows: m.rows,
@@ -222,6 +246,7 @@ impl RollerBearing {
             offset: m.offset,
             sign: m.sign,
             count: r.count as usize,
+            pitch: (TAU / r.count as f64).sin_cos(),
             pitch_radius: 0.5 * dm,
             roller_rows,
             laminae,
@@ -233,7 +258,14 @@ impl RollerBearing {
             lamina_width: width,
             hertz,
             shear_peak,
+            table,
+            half_roller: 0.5 * length,
         }
+    }
+
+    /// Whether the roller sums come from the table.
+    pub fn tabulated(&self) -> bool {
+        self.table.is_some()
     }
 
     /// The five relative coordinates, their rates and the cage angle at (q, v).
@@ -245,7 +277,9 @@ impl RollerBearing {
 
     /// Loads at relative displacement x, rate xd and cage angle ψ_c. With `tangent`, also adds
     /// ∂f/∂x to the first and ∂f/∂ẋ to the second matrix (the cage angle held: the load zone
-    /// moves slowly against the contact stiffness).
+    /// moves slowly against the contact stiffness). `max_lamina_load` is the largest lamina's load
+    /// only with `peaks` (a tabulated roller set has no lamina loads of its own: it evaluates them
+    /// when asked, once per reported step); without, it is a lower bound.
     ///
     /// Inlined, so a caller without a tangent (every force evaluation) compiles without the six
     /// stiffness and damping sums per lamina.
@@ -255,13 +289,31 @@ impl RollerBearing {
         x: &[f64; 5],
         xd: &[f64; 5],
         cage: f64,
+        peaks: bool,
+        tangent: Option<(&mut Matrix5, &mut Matrix5)>,
+    ) -> RollerLoads {
+        // chosen once, so the lamina loop's copy has no table test per roller
+        match self.table {
+            Some(table) => self.evaluate_by(x, xd, cage, peaks, tangent, Some(table)),
+            None => self.evaluate_by(x, xd, cage, peaks, tangent, None),
+        }
+    }
+
+    #[inline(always)]
+    fn evaluate_by(
+        &self,
+        x: &[f64; 5],
+        xd: &[f64; 5],
+        cage: f64,
+        peaks: bool,
         mut tangent: Option<(&mut Matrix5, &mut Matrix5)>,
+        table: Option<&RollerTable>,
     ) -> RollerLoads {
         let mut out = RollerLoads::default();
         let half_length = self.laminae.last().map_or(0.0, |l| l.0.abs());
         for row in &self.roller_rows {
             let gap = row.cos * 0.5 * self.clearance + row.sin.abs() * 0.5 * self.axial_clearance;
-            for (cs, sn) in roller_angles(cage, self.count) {
+            for (cs, sn) in roller_angles(cage, self.pitch, self.count) {
                 // approach along the roller's normal at the row's centre, and its change per metre
                 // along the axis (the tilt)
                 let radial = x[0] * cs + x[1] * sn;
@@ -279,34 +331,26 @@ impl RollerBearing {
                 let w = [0.0, 0.0, 0.0, -row.cos * sn, row.cos * cs];
                 let rate_u: f64 = u.iter().zip(xd).map(|(g, v)| g * v).sum();
                 let rate_w: f64 = w.iter().zip(xd).map(|(g, v)| g * v).sum();
-                let (mut roller, mut moment) = (0.0, 0.0);
-                let (mut k0, mut k1, mut k2, mut c0, mut c1, mut c2) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-                for &(s, drop) in &self.laminae {
-                    let delta = centre + spread * s - drop;
-                    if delta <= 0.0 {
-                        continue;
-                    }
-                    let z = row.z + s;
-                    // the secant stiffness q/δ, so neither load nor tangent divides by δ
-                    let secant = self.k_lamina * power_less_one(delta, self.exponent);
-                    let elastic = secant * delta;
-                    let stiffness = self.exponent * secant;
-                    let damping = self.damping_time * stiffness;
-                    let q = elastic + damping * (rate_u + z * rate_w);
-                    // a contact pushes, never pulls: damping cannot make it sticky
-                    if q <= 0.0 {
-                        continue;
-                    }
-                    roller += q;
-                    moment += q * z;
-                    out.max_lamina_load = out.max_lamina_load.max(q);
-                    (k0, k1, k2) = (k0 + stiffness, k1 + stiffness * z, k2 + stiffness * z * z);
-                    (c0, c1, c2) = (c0 + damping, c1 + damping * z, c2 + damping * z * z);
-                }
+                let sums = match table {
+                    Some(table) => match self.by_table(table, row, centre, spread, rate_u, rate_w) {
+                        Some(sums) => {
+                            if peaks {
+                                out.max_lamina_load = out
+                                    .max_lamina_load
+                                    .max(self.largest_lamina_load(row, centre, spread, rate_u, rate_w));
+                            }
+                            sums
+                        }
+                        None => self.by_laminae(row, centre, spread, rate_u, rate_w, &mut out.max_lamina_load),
+                    },
+                    None => self.by_laminae(row, centre, spread, rate_u, rate_w, &mut out.max_lamina_load),
+                };
+                let (roller, moment) = (sums.load, sums.moment);
                 for i in 0..5 {
                     out.force[i] += roller * u[i] + moment * w[i];
                 }
                 if let Some((k, c)) = tangent.as_mut() {
+                    let ([k0, k1, k2], [c0, c1, c2]) = (sums.stiffness, sums.damping);
                     for a in 0..5 {
                         for b in 0..5 {
                             let (uu, uw, ww) = (u[a] * u[b], u[a] * w[b] + w[a] * u[b], w[a] * w[b]);
@@ -324,6 +368,142 @@ impl RollerBearing {
         out
     }
 
+    /// A roller's sums lamina by lamina, the largest lamina load into `max_lamina`.
+    #[inline(always)]
+    fn by_laminae(
+        &self,
+        row: &RollerRow,
+        centre: f64,
+        spread: f64,
+        rate_u: f64,
+        rate_w: f64,
+        max_lamina: &mut f64,
+    ) -> RollerSums {
+        let (mut roller, mut moment) = (0.0, 0.0);
+        let (mut k0, mut k1, mut k2, mut c0, mut c1, mut c2) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        for &(s, drop) in &self.laminae {
+            let delta = centre + spread * s - drop;
+            if delta <= 0.0 {
+                continue;
+            }
+            let z = row.z + s;
+            // the secant stiffness q/δ, so neither load nor tangent divides by δ
+            let secant = self.k_lamina * power_less_one(delta, self.exponent);
+            let elastic = secant * delta;
+            let stiffness = self.exponent * secant;
+            let damping = self.damping_time * stiffness;
+            let q = elastic + damping * (rate_u + z * rate_w);
+            // a contact pushes, never pulls: damping cannot make it sticky
+            if q <= 0.0 {
+                continue;
+            }
+            roller += q;
+            moment += q * z;
+            *max_lamina = max_lamina.max(q);
+            (k0, k1, k2) = (k0 + stiffness, k1 + stiffness * z, k2 + stiffness * z * z);
+            (c0, c1, c2) = (c0 + damping, c1 + damping * z, c2 + damping * z * z);
+        }
+        RollerSums {
+            load: roller,
+            moment,
+            stiffness: [k0, k1, k2],
+            damping: [c0, c1, c2],
+        }
+    }
+
+    /// A roller's sums from the table (line contact, no crowning), or None where the loop has to
+    /// decide: a lamina the damping would unload (its load's sign is affine along the roller, so the
+    /// two extreme loaded laminae tell), or signs of the laminae that contradict each other.
+    #[inline(always)]
+    fn by_table(
+        &self,
+        table: &RollerTable,
+        row: &RollerRow,
+        centre: f64,
+        spread: f64,
+        rate_u: f64,
+        rate_w: f64,
+    ) -> Option<RollerSums> {
+        let n = self.laminae.len();
+        // laminae counted from the more loaded end, their approaches as the loop computes them
+        let offset = |j: usize| {
+            if spread >= 0.0 {
+                self.laminae[n - 1 - j].0
+            } else {
+                self.laminae[j].0
+            }
+        };
+        let approach = |j: usize| centre + spread * offset(j);
+        let m = approach(0);
+        if m <= 0.0 {
+            return None;
+        }
+        let u = m / (spread.abs() * self.lamina_width);
+        // ⌈u⌉ without libm's ceil (baseline x86_64 has no rounding instruction): u > 0
+        let whole = u as usize;
+        let mut count = if u >= n as f64 {
+            n
+        } else {
+            (whole + usize::from((whole as f64) < u)).clamp(1, n)
+        };
+        if count < n && approach(count) > 0.0 {
+            count += 1;
+        } else if count > 1 && approach(count - 1) <= 0.0 {
+            count -= 1;
+        }
+        if (count < n && approach(count) > 0.0) || (count > 1 && approach(count - 1) <= 0.0) {
+            return None;
+        }
+        let last = count - 1;
+        let (s_last, d_last) = (offset(last), approach(last));
+        // no lamina unloaded by its damping: δ + e·τ·(ṙ_u + z·ṙ_w) > 0 at both ends of the loaded ones
+        let kept = |d: f64, s: f64| d + self.exponent * self.damping_time * (rate_u + (row.z + s) * rate_w) > 0.0;
+        if !(kept(m, offset(0)) && kept(d_last, s_last)) {
+            return None;
+        }
+        let rest = table.rest(last, u);
+        let h = if spread >= 0.0 {
+            self.half_roller
+        } else {
+            -self.half_roller
+        };
+        let (mb, b) = (ninth_root(m), ninth_root(d_last));
+        let (me, e) = (mb * m, b * d_last);
+        // Σδ^(10/9)·{1, s} and Σδ^(1/9)·{1, s, s²} over the loaded laminae
+        let e0 = me * rest[0] + e;
+        let e1 = h * me * rest[1] + e * s_last;
+        let s0 = mb * rest[2] + b;
+        let s1 = h * mb * rest[3] + b * s_last;
+        let s2 = h * h * mb * rest[4] + b * s_last * s_last;
+        // about z = z_row + s
+        let zr = row.z;
+        let (sz1, sz2, ez1) = (zr * s0 + s1, zr * zr * s0 + 2.0 * zr * s1 + s2, zr * e0 + e1);
+        let k = self.exponent * self.k_lamina;
+        let stiffness = [k * s0, k * sz1, k * sz2];
+        let damping = stiffness.map(|x| self.damping_time * x);
+        Some(RollerSums {
+            load: self.k_lamina * e0 + rate_u * damping[0] + rate_w * damping[1],
+            moment: self.k_lamina * ez1 + rate_u * damping[1] + rate_w * damping[2],
+            stiffness,
+            damping,
+        })
+    }
+
+    /// The largest lamina load of a roller the table summed (the Hertz pressures follow from it).
+    fn largest_lamina_load(&self, row: &RollerRow, centre: f64, spread: f64, rate_u: f64, rate_w: f64) -> f64 {
+        let mut largest = 0.0f64;
+        for &(s, drop) in &self.laminae {
+            let delta = centre + spread * s - drop;
+            if delta > 0.0 {
+                let secant = self.k_lamina * power_less_one(delta, self.exponent);
+                // the loop's arithmetic, so the peak is its bits
+                let damping = self.damping_time * (self.exponent * secant);
+                largest = largest.max(secant * delta + damping * (rate_u + (row.z + s) * rate_w));
+            }
+        }
+        largest
+    }
+
     /// The contact pattern the integrators key their factorisations by: per row, how many rollers
     /// approach their races (6 bits) and the octant the radial approach points to (3 bits). The
     /// lamina law is nearly linear between patterns (its stiffness goes as δ^(1/9): a load twice as
@@ -335,7 +515,7 @@ impl RollerBearing {
         let octant = ((x[1].atan2(x[0]) / TAU * 8.0).floor() as i64).rem_euclid(8) as u64;
         for row in &self.roller_rows {
             let gap = row.cos * 0.5 * self.clearance + row.sin.abs() * 0.5 * self.axial_clearance;
-            let touching = roller_angles(cage, self.count)
+            let touching = roller_angles(cage, self.pitch, self.count)
                 .filter(|&(cs, sn)| {
                     let axial = x[2] + self.pitch_radius * (x[3] * sn - x[4] * cs);
                     row.cos * (x[0] * cs + x[1] * sn) + row.sin * axial > gap
@@ -351,10 +531,11 @@ impl RollerBearing {
         }
     }
 
-    /// f_int += the bearing's force at (q, v); returns its loads.
-    pub fn add_forces(&self, q: &[f64], v: &[f64], out: &mut [f64]) -> RollerLoads {
+    /// f_int += the bearing's force at (q, v); returns its loads (`max_lamina_load` only with `peaks`:
+    /// see [`Self::evaluate`]).
+    pub fn add_forces(&self, q: &[f64], v: &[f64], peaks: bool, out: &mut [f64]) -> RollerLoads {
         let (x, xd, cage) = self.kinematics(q, v);
-        let loads = self.evaluate(&x, &xd, cage, None);
+        let loads = self.evaluate(&x, &xd, cage, peaks, None);
         for (row, f) in self.rows.iter().zip(loads.force) {
             if f != 0.0 {
                 row.axpy(f, out);
@@ -367,7 +548,7 @@ impl RollerBearing {
     pub fn add_tangent(&self, q: &[f64], v: &[f64], c_c: f64, c_k: f64, j: &mut DMatrix<f64>) {
         let (x, xd, cage) = self.kinematics(q, v);
         let (mut k, mut c) = ([[0.0; 5]; 5], [[0.0; 5]; 5]);
-        self.evaluate(&x, &xd, cage, Some((&mut k, &mut c)));
+        self.evaluate(&x, &xd, cage, false, Some((&mut k, &mut c)));
         for a in 0..5 {
             for b in 0..5 {
                 add_outer(j, c_k * k[a][b] + c_c * c[a][b], &self.rows[a], &self.rows[b]);
@@ -410,7 +591,7 @@ impl RollerBearing {
     pub fn radial_stiffness(&self, q: &[f64], v: &[f64]) -> f64 {
         let (x, xd, cage) = self.kinematics(q, v);
         let (mut k, mut c) = ([[0.0; 5]; 5], [[0.0; 5]; 5]);
-        let l = self.evaluate(&x, &xd, cage, Some((&mut k, &mut c)));
+        let l = self.evaluate(&x, &xd, cage, false, Some((&mut k, &mut c)));
         let f = l.force[0].hypot(l.force[1]);
         if f == 0.0 {
             return 0.0;

@@ -44,7 +44,7 @@ impl Gearbox {
         let mut slices = vec![0.0; self.slice_count()];
         let mut flank = Vec::with_capacity(self.meshes.len());
         let mut sets = vec![RollerLoads::default(); self.rollers.len()];
-        self.state_forces(q, v, forces, Some(&mut slices), |i, l| sets[i] = l, |l| flank.push(l));
+        self.state_forces(q, v, forces, Some(&mut slices), Some(&mut sets), |l| flank.push(l));
         let meshes = self
             .meshes
             .iter()

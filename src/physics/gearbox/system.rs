@@ -9,17 +9,26 @@ use crate::solver::system::{Friction, InputLoad, Linearisation, Linearity, Mass,
 use nalgebra::DMatrix;
 
 impl Gearbox {
-    /// Springs' forces (bearings, shafts) and the roller sets' into `out` (added), each roller set's
-    /// loads handed to `each_set` with its index.
-    fn add_spring_forces(&self, q: &[f64], v: &[f64], out: &mut [f64], mut each_set: impl FnMut(usize, RollerLoads)) {
+    /// Springs' forces (bearings, shafts) and the roller sets' into `out` (added); with `sets`, each
+    /// roller set's loads, its largest lamina load included, written to it.
+    fn add_spring_forces(&self, q: &[f64], v: &[f64], out: &mut [f64], sets: Option<&mut [RollerLoads]>) {
         for s in self.springs.iter().filter(|s| !s.lamina) {
             let f = s.force(q, v);
             if f != 0.0 {
                 s.row.axpy(f, out);
             }
         }
-        for (i, r) in self.rollers.iter().enumerate() {
-            each_set(i, r.add_forces(q, v, out));
+        match sets {
+            Some(sets) => {
+                for (r, set) in self.rollers.iter().zip(sets) {
+                    *set = r.add_forces(q, v, true, out);
+                }
+            }
+            None => {
+                for r in &self.rollers {
+                    r.add_forces(q, v, false, out);
+                }
+            }
         }
     }
 
@@ -79,20 +88,20 @@ impl Gearbox {
         out[f + UZ] -= self.thrust;
     }
 
-    /// f_int less the rotor's loads ([`Self::add_rotor_loads`]) into `out`, handing each roller set's
-    /// loads to `each_set` and each mesh's flank loads to `each_mesh` and, when given, writing the
-    /// per-slice loads of every mesh to `slices` (mesh after mesh).
+    /// f_int less the rotor's loads ([`Self::add_rotor_loads`]) into `out`, writing each roller set's
+    /// loads to `sets` when given and handing each mesh's flank loads to `each_mesh` and, when given,
+    /// writing the per-slice loads of every mesh to `slices` (mesh after mesh).
     pub(super) fn state_forces(
         &self,
         q: &[f64],
         v: &[f64],
         out: &mut [f64],
         slices: Option<&mut [f64]>,
-        each_set: impl FnMut(usize, RollerLoads),
+        sets: Option<&mut [RollerLoads]>,
         each_mesh: impl FnMut([FlankLoad; 2]),
     ) {
         out.iter_mut().for_each(|x| *x = 0.0);
-        self.add_spring_forces(q, v, out, each_set);
+        self.add_spring_forces(q, v, out, sets);
         self.add_frame_forces(q, v, out);
         self.add_mesh_forces(q, v, out, slices, each_mesh);
     }
@@ -107,7 +116,7 @@ impl Gearbox {
         slices: Option<&mut [f64]>,
         each: impl FnMut([FlankLoad; 2]),
     ) {
-        self.state_forces(q, v, out, slices, |_, _| {}, each);
+        self.state_forces(q, v, out, slices, None, each);
         self.add_rotor_loads(q, out);
     }
 

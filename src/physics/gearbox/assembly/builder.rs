@@ -171,7 +171,8 @@ impl Builder<'_> {
             idx[dir] = self.spring(row, k[dir], c[dir], offset);
         }
         let geometry = rollers.copied();
-        let lamina = self.d.model.bearings == BearingModel::Lamina;
+        let lamina = self.d.model.bearings != BearingModel::Linear;
+        let tabulated = self.d.model.bearings == BearingModel::LaminaTable;
         let rollers = rollers.filter(|_| lamina).map(|r| {
             let angled = r.contact_angle_deg != 0.0;
             for dir in [UX, UY, UZ, TX, TY] {
@@ -180,8 +181,12 @@ impl Builder<'_> {
                 }
             }
             let mounting = self.mounting(b, other, idx, r, error);
-            self.rollers
-                .push(RollerBearing::new(r, mounting, self.d.model.bearing_damping_time));
+            self.rollers.push(RollerBearing::new(
+                r,
+                mounting,
+                self.d.model.bearing_damping_time,
+                tabulated,
+            ));
             self.rollers.len() - 1
         });
         self.bearings.push(BearingSprings {

@@ -111,6 +111,10 @@ pub enum BearingModel {
     #[default]
     Linear,
     Lamina,
+    /// The lamina model with each roller's sums over its laminae by table (line contact without
+    /// crowning; its sums within 2e-10 of `lamina`'s).
+    #[serde(rename = "lamina-table")]
+    LaminaTable,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
