@@ -388,7 +388,7 @@ impl Driver {
         {
             match mass {
                 Mass::Diagonal(m) => st.a[fr.dof] += force / m[fr.dof],
-                Mass::Dense(_) => {
+                Mass::Dense(_) | Mass::Sparse(..) => {
                     // the force vector and its accelerations in the driver's scratch buffers
                     self.f.clear();
                     self.f.resize(n, 0.0);

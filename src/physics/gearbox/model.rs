@@ -20,7 +20,7 @@ use super::description::{self as desc};
 use super::involute::PairGeometry;
 use super::mesh::Mesh;
 use super::row::Row;
-use crate::solver::system::InputLoad;
+use crate::solver::system::{InputLoad, SparseColumns};
 use nalgebra::DMatrix;
 
 pub const UX: usize = 0;
@@ -114,6 +114,9 @@ pub struct Gearbox {
     pub shafts: Vec<ShaftSpring>,
     pub meshes: Vec<Mesh>,
     pub(super) mass: DMatrix<f64>,
+    /// Its nonzero entries (six a body and the planets' orbit couplings), which the integrators'
+    /// products and solves visit instead of all of it.
+    pub(super) mass_entries: SparseColumns,
     pub(super) input_loads: Vec<InputLoad>,
     /// Spin of every body when the input turns one radian (translations 0), if the chain is free.
     pub rigid: Option<Vec<f64>>,

@@ -209,7 +209,7 @@ impl SecondOrderSystem for Gearbox {
     }
 
     fn mass(&self) -> Mass<'_> {
-        Mass::Dense(&self.mass)
+        Mass::Sparse(&self.mass, &self.mass_entries)
     }
 
     fn input_loads(&self) -> &[InputLoad] {

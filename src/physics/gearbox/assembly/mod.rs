@@ -6,7 +6,7 @@ use crate::physics::gearbox::description::{self as desc, Description, ForceLaw};
 use crate::physics::gearbox::model::{
     BodyKind, Gearbox, INPUT_BRAKE_COMMAND, INPUT_GENERATOR_TORQUE, INPUT_ROTOR_TORQUE, SPIN,
 };
-use crate::solver::system::InputLoad;
+use crate::solver::system::{InputLoad, SparseColumns};
 use builder::{Builder, MeshSpec, inertia};
 use meshes::{add_mesh, rigid_mode};
 use shafts::{add_beam_nodes, finish};
@@ -207,6 +207,7 @@ impl Gearbox {
             rollers: b.rollers,
             shafts,
             meshes: b.meshes,
+            mass_entries: SparseColumns::of(&mass),
             mass,
             input_loads,
             rigid,
