@@ -19,9 +19,9 @@ fn vr(name: &str) -> u32 {
         .vr
 }
 
-fn instance() -> Gearbox6dofSlave {
+fn instance(bearing_model: &str) -> Gearbox6dofSlave {
     let mut s = Gearbox6dofSlave::instantiate(None);
-    s.set_string(vr("bearing_model"), "lamina", &mut NoLog).unwrap();
+    s.set_string(vr("bearing_model"), bearing_model, &mut NoLog).unwrap();
     s.set_integer(vr("slices"), 5, &mut NoLog).unwrap();
     s.initialize(0.0, &mut NoLog).unwrap();
     s
@@ -43,9 +43,17 @@ fn step(s: &mut Gearbox6dofSlave, k: usize) {
     s.do_step(t, 1e-3, &mut NoLog).unwrap();
 }
 
+/// Both lamina laws: the table's reported loads evaluate each lamina's load besides its sums, which
+/// must leave the forces they hand on the bits a step evaluates.
 #[test]
 fn handed_start_forces_give_the_evaluated_bits() {
-    let (mut reading, mut quiet) = (instance(), instance());
+    for model in ["lamina", "lamina-table"] {
+        handed_start_forces_with(model);
+    }
+}
+
+fn handed_start_forces_with(model: &str) {
+    let (mut reading, mut quiet) = (instance(model), instance(model));
     let mut read = Vec::new();
     for k in 0..120 {
         step(&mut reading, k);
@@ -55,12 +63,12 @@ fn handed_start_forces_give_the_evaluated_bits() {
     assert_eq!(real_output_bits(&mut quiet), read[read.len() - 1]);
     // the same run with every state restored into the instance before its step: a restore drops the
     // held forces, so every step evaluates its own
-    let mut restored = instance();
+    let mut restored = instance(model);
     for (k, expected) in read.iter().enumerate() {
         let snap = restored.snapshot();
         restored.restore(&snap);
         step(&mut restored, k);
-        assert_eq!(&real_output_bits(&mut restored), expected, "step {k}");
+        assert_eq!(&real_output_bits(&mut restored), expected, "{model}, step {k}");
     }
 }
 
