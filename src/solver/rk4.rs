@@ -74,19 +74,16 @@ impl MassSolver {
                     *o = fi / mi;
                 }
             }
-            Mass::Dense(m) => match self.factor(m) {
-                Some(c) => {
-                    out.copy_from_slice(f);
-                    cholesky_solve(c.l_dirty(), out);
-                }
-                None => out.iter_mut().for_each(|x| *x = f64::NAN),
-            },
-            Mass::Sparse(m, _) => {
+            Mass::Dense(m) | Mass::Sparse(m, _) => {
                 self.factor(m);
                 match &self.factor {
                     Some(c) => {
                         out.copy_from_slice(f);
-                        cholesky_solve_sparse(c.l_dirty(), &self.below, out);
+                        if matches!(mass, Mass::Sparse(..)) {
+                            cholesky_solve_sparse(c.l_dirty(), &self.below, out);
+                        } else {
+                            cholesky_solve(c.l_dirty(), out);
+                        }
                     }
                     None => out.iter_mut().for_each(|x| *x = f64::NAN),
                 }

@@ -331,18 +331,15 @@ impl RollerBearing {
                 let w = [0.0, 0.0, 0.0, -row.cos * sn, row.cos * cs];
                 let rate_u: f64 = u.iter().zip(xd).map(|(g, v)| g * v).sum();
                 let rate_w: f64 = w.iter().zip(xd).map(|(g, v)| g * v).sum();
-                let sums = match table {
-                    Some(table) => match self.by_table(table, row, centre, spread, rate_u, rate_w) {
-                        Some(sums) => {
-                            if peaks {
-                                out.max_lamina_load = out
-                                    .max_lamina_load
-                                    .max(self.largest_lamina_load(row, centre, spread, rate_u, rate_w));
-                            }
-                            sums
+                let tabulated = table.and_then(|t| self.by_table(t, row, centre, spread, rate_u, rate_w));
+                let sums = match tabulated {
+                    Some(sums) => {
+                        // the table has no lamina loads: the loop gives the largest (its sums unused)
+                        if peaks {
+                            self.by_laminae(row, centre, spread, rate_u, rate_w, &mut out.max_lamina_load);
                         }
-                        None => self.by_laminae(row, centre, spread, rate_u, rate_w, &mut out.max_lamina_load),
-                    },
+                        sums
+                    }
                     None => self.by_laminae(row, centre, spread, rate_u, rate_w, &mut out.max_lamina_load),
                 };
                 let (roller, moment) = (sums.load, sums.moment);
@@ -487,21 +484,6 @@ impl RollerBearing {
             stiffness,
             damping,
         })
-    }
-
-    /// The largest lamina load of a roller the table summed (the Hertz pressures follow from it).
-    fn largest_lamina_load(&self, row: &RollerRow, centre: f64, spread: f64, rate_u: f64, rate_w: f64) -> f64 {
-        let mut largest = 0.0f64;
-        for &(s, drop) in &self.laminae {
-            let delta = centre + spread * s - drop;
-            if delta > 0.0 {
-                let secant = self.k_lamina * power_less_one(delta, self.exponent);
-                // the loop's arithmetic, so the peak is its bits
-                let damping = self.damping_time * (self.exponent * secant);
-                largest = largest.max(secant * delta + damping * (rate_u + (row.z + s) * rate_w));
-            }
-        }
-        largest
     }
 
     /// The contact pattern the integrators key their factorisations by: per row, how many rollers

@@ -18,16 +18,11 @@ impl Gearbox {
                 s.row.axpy(f, out);
             }
         }
-        match sets {
-            Some(sets) => {
-                for (r, set) in self.rollers.iter().zip(sets) {
-                    *set = r.add_forces(q, v, true, out);
-                }
-            }
-            None => {
-                for r in &self.rollers {
-                    r.add_forces(q, v, false, out);
-                }
+        let mut sets = sets;
+        for (i, r) in self.rollers.iter().enumerate() {
+            let loads = r.add_forces(q, v, sets.is_some(), out);
+            if let Some(sets) = sets.as_deref_mut() {
+                sets[i] = loads;
             }
         }
     }
