@@ -81,7 +81,8 @@ pub struct Newton {
     /// patterns (same step size) while the iteration contracts (θ ≤ [`THETA_REFRESH`]), refreshed
     /// at the iterate when it does not, and the step retaken the default way from Δ = 0 when even the
     /// fresh J stalls (counted in `Statistics::newton_restarts`). The increment tolerance then
-    /// bounds the iterate's error θ/(1 − θ)·‖δ‖ (Hairer and Wanner's test), not the increment ‖δ‖.
+    /// bounds the iterate's error θ/(1 − θ)·‖δ‖ (Hairer and Wanner's test), not the increment ‖δ‖,
+    /// and no contact pattern is compared: a pattern is taken only to cache a fresh factorisation.
     /// The kept J is history: a clone starts without it, and a state restored into an instance meets
     /// the J that instance last kept, so a rerun from a snapshot agrees with the first run to the
     /// Newton tolerance, not to the bit.
@@ -284,8 +285,6 @@ struct Work {
     padded: Vec<f64>,
     key: Vec<u64>,
     key_new: Vec<u64>,
-    /// [`Newton::keep`]: the iterate before the last increment, whose pattern the next test may need.
-    before: Vec<f64>,
     /// What a linear step's map multiplies: [x; v; a; u], the positions less the rigid rotation,
     /// the speeds, the accelerations and the inputs interpolated to the α-point (sized by the step).
     z: Vec<f64>,
@@ -318,7 +317,6 @@ impl Work {
                 padded: vec![0.0; padded(n)],
                 key: Vec::new(),
                 key_new: Vec::new(),
-                before: z.clone(),
                 z,
             };
         }
@@ -494,11 +492,13 @@ impl AlphaIntegrator {
                     w.f0[f] += st.friction_force;
                 }
             }
-            sys.factor_key(t, &st.q, &mut w.key);
         }
         let nearly = sys.linearity() == Linearity::NearlyPiecewiseLinear;
         let keep = nearly && self.newton.keep;
         let predict = nearly && self.newton.predict;
+        if !keep {
+            sys.factor_key(t, &st.q, &mut self.work.key);
+        }
         let mut outcome = None;
         if keep {
             self.work.start(st, c, predict);
@@ -628,23 +628,21 @@ impl AlphaIntegrator {
                 }
                 i
             }
-            None => self.factor(sys, c, (t1, &st.q, &st.v), true, friction_dof, stats)?,
+            None => {
+                sys.factor_key(t, &st.q, &mut self.work.key);
+                self.factor(sys, c, (t1, &st.q, &st.v), true, friction_dof, stats)?
+            }
         };
         let mut fresh = false;
         let mut on_factor = 0;
         // ‖δ‖∞ of the previous iteration on this factorisation (NaN: none yet)
         let mut previous = f64::NAN;
         let (mut force, mut held) = (0.0, false);
-        // whether the work's key is the previous iterate's (the start's at first, as the default
-        // iteration has it): the pattern is taken only when an increment passes its test, from the
-        // iterate kept in `before` when the last iteration did not take it
-        let mut key_of_previous = true;
         for _ in 0..2 * KEPT_ITERATIONS {
             stats.newton_iterations += 1;
             let AlphaIntegrator { cache, work: w, .. } = self;
             let factor = cache.get(idx);
             let residual = w.residual(sys, st, c, t1, friction_dof, force);
-            w.before.copy_from_slice(&w.delta);
             (force, held) = w.increment(factor, c, friction, st, false, (force, held));
             on_factor += 1;
             let size = w.step.iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -661,17 +659,12 @@ impl AlphaIntegrator {
                 f64::INFINITY
             };
             let fraction = NEARLY_LINEAR_INCREMENT_TOLERANCE / eta;
+            // no pattern test: the forces are continuous across a change of contact pattern, so an
+            // increment small enough here moves the residual as little whether or not it changed one
+            // (the default iteration compares patterns because its J is the pattern's)
             if w.settled(residual, 1.0) || small_increment(w, st, c, fraction) {
-                if !key_of_previous {
-                    w.key_at_before(sys, st, t1);
-                }
-                key_of_previous = true;
-                if w.same_pattern(sys, st, t1) {
-                    self.kept = Some(idx);
-                    return Ok(Some((force, held)));
-                }
-            } else {
-                key_of_previous = false;
+                self.kept = Some(idx);
+                return Ok(Some((force, held)));
             }
             let stalled = on_factor == KEPT_ITERATIONS;
             if fresh && (stalled || theta >= 1.0) {
@@ -679,12 +672,7 @@ impl AlphaIntegrator {
             }
             if !fresh && (stalled || theta > THETA_REFRESH) {
                 // the fresh factorisation is cached under the iterate's own pattern
-                if !key_of_previous {
-                    let w = &mut self.work;
-                    w.before.copy_from_slice(&w.delta);
-                    w.key_at_before(sys, st, t1);
-                    key_of_previous = true;
-                }
+                self.work.key_at_iterate(sys, st, t1);
                 idx = self.factor_at_iterate(sys, st, c, t1, friction_dof, true, stats)?;
                 fresh = true;
                 on_factor = 0;
@@ -811,9 +799,9 @@ impl Work {
         }
     }
 
-    /// The pattern of the iterate in `before` into the key, as [`Self::same_pattern`] leaves it.
-    fn key_at_before<S: SecondOrderSystem>(&mut self, sys: &S, st: &DynState, t1: f64) {
-        for ((q1, q), d) in self.q1.iter_mut().zip(&st.q).zip(&self.before) {
+    /// The pattern of the iterate Δ into the key.
+    fn key_at_iterate<S: SecondOrderSystem>(&mut self, sys: &S, st: &DynState, t1: f64) {
+        for ((q1, q), d) in self.q1.iter_mut().zip(&st.q).zip(&self.delta) {
             *q1 = q + d;
         }
         sys.factor_key(t1, &self.q1, &mut self.key);

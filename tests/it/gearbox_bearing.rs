@@ -298,7 +298,9 @@ fn race_stresses_match_the_hertz_example() {
 /// damping at the GRC's 0.1 ms): forces, moments, the tangents' stiffness and damping within 1e-9 of
 /// their scale over poses from a touch to edge loading with tilts either way, rates that unload
 /// laminae by damping (where the table hands the roller to the loop) and every cage angle; the peaks
-/// a host reads (rollers in contact, the largest lamina's load) the loop's. The table's rounding is
+/// a host reads (rollers in contact, the largest lamina's load) the loop's to the bit, the largest
+/// lamina's load from the more loaded end's lamina or, where a tilting rate's damping loads the other
+/// end more, from the loop (a table that always took the end fails here). The table's rounding is
 /// not the loop's, so most poses must differ in their last bits: the table is what is tested.
 #[test]
 fn a_tabulated_set_gives_the_lamina_loops_loads_and_tangents() {

@@ -334,9 +334,15 @@ impl RollerBearing {
                 let tabulated = table.and_then(|t| self.by_table(t, row, centre, spread, rate_u, rate_w));
                 let sums = match tabulated {
                     Some(sums) => {
-                        // the table has no lamina loads: the loop gives the largest (its sums unused)
+                        // the table has no lamina loads: the more loaded end's where it is the
+                        // largest, else the loop's (its sums unused)
                         if peaks {
-                            self.by_laminae(row, centre, spread, rate_u, rate_w, &mut out.max_lamina_load);
+                            match self.end_lamina_load(row, centre, spread, rate_u, rate_w) {
+                                Some(q) => out.max_lamina_load = out.max_lamina_load.max(q),
+                                None => {
+                                    self.by_laminae(row, centre, spread, rate_u, rate_w, &mut out.max_lamina_load);
+                                }
+                            }
                         }
                         sums
                     }
@@ -384,12 +390,7 @@ impl RollerBearing {
                 continue;
             }
             let z = row.z + s;
-            // the secant stiffness q/δ, so neither load nor tangent divides by δ
-            let secant = self.k_lamina * power_less_one(delta, self.exponent);
-            let elastic = secant * delta;
-            let stiffness = self.exponent * secant;
-            let damping = self.damping_time * stiffness;
-            let q = elastic + damping * (rate_u + z * rate_w);
+            let (q, stiffness, damping) = self.lamina(delta, z, rate_u, rate_w);
             // a contact pushes, never pulls: damping cannot make it sticky
             if q <= 0.0 {
                 continue;
@@ -406,6 +407,33 @@ impl RollerBearing {
             stiffness: [k0, k1, k2],
             damping: [c0, c1, c2],
         }
+    }
+
+    /// A lamina's load, stiffness and damping at approach `delta` > 0, `z` along the axis from the
+    /// bearing's centre.
+    #[inline(always)]
+    fn lamina(&self, delta: f64, z: f64, rate_u: f64, rate_w: f64) -> (f64, f64, f64) {
+        // the secant stiffness q/δ, so neither load nor tangent divides by δ
+        let secant = self.k_lamina * power_less_one(delta, self.exponent);
+        let stiffness = self.exponent * secant;
+        let damping = self.damping_time * stiffness;
+        (secant * delta + damping * (rate_u + z * rate_w), stiffness, damping)
+    }
+
+    /// The load of a tabulated roller's lamina at its more loaded end, when that lamina carries the
+    /// largest load: q = k·δ^(1/9)·(δ + e·τ·ṙ), δ falls away from that end and so does δ + e·τ·ṙ
+    /// unless the tilting rate's damping rises faster (then None: the loop decides). Both factors
+    /// are positive over the loaded laminae, where the table was used.
+    #[inline(always)]
+    fn end_lamina_load(&self, row: &RollerRow, centre: f64, spread: f64, rate_u: f64, rate_w: f64) -> Option<f64> {
+        let falls = spread + self.exponent * self.damping_time * rate_w;
+        let (&(s, drop), falling) = if spread >= 0.0 {
+            (self.laminae.last()?, falls >= 0.0)
+        } else {
+            (self.laminae.first()?, falls <= 0.0)
+        };
+        // the loop's arithmetic for that lamina, so the same bits where the loop finds it largest
+        falling.then(|| self.lamina(centre + spread * s - drop, row.z + s, rate_u, rate_w).0)
     }
 
     /// A roller's sums from the table (line contact, no crowning), or None where the loop has to
