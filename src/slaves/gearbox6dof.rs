@@ -310,6 +310,61 @@ const FAMILIES: [u32; 8] = [
 /// Outputs per bearing, in value-reference order from `<first bearing>_radial_load` on.
 const BEARING_OUTPUTS: usize = 9;
 
+/// The outputs that need no loads, read straight off the model and state; None for the others.
+fn state_output(b: &Built, st: &DynState, r: u32) -> Option<f64> {
+    let m = &b.model;
+    let rated = m.rated_rotor_torque.unwrap_or(0.0);
+    Some(match r {
+        vr::GEAR_RATIO => m.gear_ratio,
+        vr::RATED_ROTOR_TORQUE => rated,
+        vr::RATED_GENERATOR_TORQUE => rated / m.gear_ratio,
+        vr::ROTOR_SPEED => m.speed(m.input_body, &st.v),
+        vr::GENERATOR_SPEED => m.speed(m.output_body, &st.v),
+        vr::MAIN_SHAFT_TILT_RATE => m.input_tilt_rates(&st.q, &st.v)[0],
+        vr::MAIN_SHAFT_YAW_RATE => m.input_tilt_rates(&st.q, &st.v)[1],
+        vr::BRAKE_TORQUE => -st.friction_force * m.output_sign,
+        _ => return None,
+    })
+}
+
+/// The outputs of the loads: shaft torques, load sharing, each bearing's and each mesh's.
+fn load_output(b: &Built, loads: &Loads, r: u32) -> SlaveResult<f64> {
+    let slot_mesh = |slot: usize| b.meshes[slot].map(|i| loads.meshes[i]);
+    Ok(match r {
+        vr::LSS_TORQUE..=vr::HSS_TORQUE => b.shafts[(r - vr::LSS_TORQUE) as usize].map_or(0.0, |i| loads.shafts[i]),
+        vr::LOAD_SHARING_FACTOR => b.model.load_sharing(loads, "").unwrap_or(0.0),
+        vr::LOAD_SHARING_FACTOR_2 => b.model.load_sharing(loads, "2").unwrap_or(0.0),
+        r if r >= vr::MAIN_RADIAL_LOAD => {
+            let k = (r - vr::MAIN_RADIAL_LOAD) as usize;
+            let slot = k / BEARING_OUTPUTS;
+            match b.bearings.get(slot).copied().flatten().map(|i| &loads.bearings[i]) {
+                Some(l) => bearing_output(l, k % BEARING_OUTPUTS),
+                None if slot < b.bearings.len() => 0.0,
+                None => return Err(xml::no_getter(VarType::Real, r)),
+            }
+        }
+        r => {
+            let Some((family, first)) = FAMILIES
+                .iter()
+                .enumerate()
+                .find(|(_, f)| (**f..**f + MESH_SLOTS.len() as u32).contains(&r))
+            else {
+                return Err(xml::no_getter(VarType::Real, r));
+            };
+            slot_mesh((r - first) as usize).map_or(0.0, |m| match family {
+                0 => m.force,
+                1 => m.max_slice,
+                2 => m.max_position,
+                3 => m.face_load_factor,
+                4 => m.transmission_error,
+                5 => m.contact.pressure,
+                6 => m.contact.max_shear,
+                _ => m.contact.max_shear_depth,
+            })
+        }
+    })
+}
+
 fn bearing_output(l: &BearingLoad, k: usize) -> f64 {
     let s = &l.stresses;
     [
@@ -387,58 +442,46 @@ impl Slave for Gearbox6dofSlave {
         if let Some(v) = xml::get_real(&self.params, &self.inputs, r) {
             return Ok(v);
         }
-        // the outputs that need no loads, read straight off the model and state
         let (b, st) = self.ensure()?;
-        let m = &b.model;
-        let rated = m.rated_rotor_torque.unwrap_or(0.0);
-        match r {
-            vr::GEAR_RATIO => return Ok(m.gear_ratio),
-            vr::RATED_ROTOR_TORQUE => return Ok(rated),
-            vr::RATED_GENERATOR_TORQUE => return Ok(rated / m.gear_ratio),
-            vr::ROTOR_SPEED => return Ok(m.speed(m.input_body, &st.v)),
-            vr::GENERATOR_SPEED => return Ok(m.speed(m.output_body, &st.v)),
-            vr::MAIN_SHAFT_TILT_RATE => return Ok(m.input_tilt_rates(&st.q, &st.v)[0]),
-            vr::MAIN_SHAFT_YAW_RATE => return Ok(m.input_tilt_rates(&st.q, &st.v)[1]),
-            vr::BRAKE_TORQUE => return Ok(-st.friction_force * m.output_sign),
-            _ => {}
+        if let Some(v) = state_output(b, st, r) {
+            return Ok(v);
         }
         // the shared model, while the loads borrow the instance
         let b = Arc::clone(self.built.as_ref().expect("built by ensure"));
         let loads = self.current_loads()?;
-        let slot_mesh = |slot: usize| b.meshes[slot].map(|i| loads.meshes[i]);
-        Ok(match r {
-            vr::LSS_TORQUE..=vr::HSS_TORQUE => b.shafts[(r - vr::LSS_TORQUE) as usize].map_or(0.0, |i| loads.shafts[i]),
-            vr::LOAD_SHARING_FACTOR => b.model.load_sharing(loads, "").unwrap_or(0.0),
-            vr::LOAD_SHARING_FACTOR_2 => b.model.load_sharing(loads, "2").unwrap_or(0.0),
-            r if r >= vr::MAIN_RADIAL_LOAD => {
-                let k = (r - vr::MAIN_RADIAL_LOAD) as usize;
-                let slot = k / BEARING_OUTPUTS;
-                match b.bearings.get(slot).copied().flatten().map(|i| &loads.bearings[i]) {
-                    Some(l) => bearing_output(l, k % BEARING_OUTPUTS),
-                    None if slot < b.bearings.len() => 0.0,
-                    None => return Err(xml::no_getter(VarType::Real, r)),
+        load_output(&b, loads, r)
+    }
+
+    /// A recorder's row: the model and the loads are checked once for the array instead of once per
+    /// value (the loads still only when a value needs them); each value from the functions
+    /// `get_real` takes it from, so the same bits.
+    fn get_reals(&mut self, vrs: &[u32], values: &mut [f64]) -> SlaveResult<()> {
+        let mut ensured = false;
+        for (&r, value) in vrs.iter().zip(values) {
+            if let Some(v) = xml::get_real(&self.params, &self.inputs, r) {
+                *value = v;
+                continue;
+            }
+            if !ensured {
+                self.ensure()?;
+                ensured = true;
+            }
+            let (b, st) = (
+                self.built.as_deref().expect("built by ensure"),
+                self.state.as_ref().expect("by ensure"),
+            );
+            *value = match state_output(b, st, r) {
+                Some(v) => v,
+                None => {
+                    if self.loads.is_none() {
+                        self.current_loads()?;
+                    }
+                    let b = self.built.as_deref().expect("built by ensure");
+                    load_output(b, self.loads.as_ref().expect("by current_loads"), r)?
                 }
-            }
-            r => {
-                let Some((family, first)) = FAMILIES
-                    .iter()
-                    .enumerate()
-                    .find(|(_, f)| (**f..**f + MESH_SLOTS.len() as u32).contains(&r))
-                else {
-                    return Err(xml::no_getter(VarType::Real, r));
-                };
-                slot_mesh((r - first) as usize).map_or(0.0, |m| match family {
-                    0 => m.force,
-                    1 => m.max_slice,
-                    2 => m.max_position,
-                    3 => m.face_load_factor,
-                    4 => m.transmission_error,
-                    5 => m.contact.pressure,
-                    6 => m.contact.max_shear,
-                    _ => m.contact.max_shear_depth,
-                })
-            }
-        })
+            };
+        }
+        Ok(())
     }
 
     fn set_real(&mut self, r: u32, value: f64, log: &mut dyn Log) -> SlaveResult<()> {

@@ -1,10 +1,12 @@
 //! A host reading a long array of Real variables (a recorder's row) gets what it gets reading them one
 //! by one, to the bit: the torsional FMU resolves such an array once into where each value comes from,
-//! and must resolve it again for a model built anew (another preset, another section).
+//! and must resolve it again for a model built anew (another preset, another section); the gearbox FMU
+//! checks its model and loads once per array.
 
 use windrive::fmi2::fmu::slave::{NoLog, Slave};
 use windrive::fmi2::fmu::variables::{Causality, VarType};
 use windrive::models::torsional::vr;
+use windrive::slaves::gearbox6dof::Gearbox6dofSlave;
 use windrive::slaves::torsional::TorsionalSlave;
 
 /// Every Real variable with a value, as an array and one by one, as bits.
@@ -88,4 +90,52 @@ fn parameters_read_as_an_array_while_the_model_cannot_be_built() {
     }
     let mut outputs = [0.0; 8];
     assert!(s.get_reals(&[vr::HSS_TORQUE; 8], &mut outputs).is_err());
+}
+
+/// The gearbox FMU's every Real variable as one array and one by one, to the bit, after every step of
+/// a torque ramp and a brake application, across a rebuild (lamina-table bearings, then linear ones),
+/// and before the model is built (parameters alone).
+#[test]
+fn a_gearbox_array_reads_what_its_values_read_one_by_one() {
+    use windrive::models::gearbox6dof::vr;
+    let vrs: Vec<u32> = Gearbox6dofSlave::VARIABLES
+        .iter()
+        .filter(|v| v.ty == VarType::Real)
+        .map(|v| v.vr)
+        .collect();
+    assert!(vrs.len() > 300, "{} Real variables", vrs.len());
+    let both_ways = |g: &mut Gearbox6dofSlave| {
+        let mut array = vec![0.0; vrs.len()];
+        g.get_reals(&vrs, &mut array).unwrap();
+        let one_by_one: Vec<u64> = vrs.iter().map(|&r| g.get_real(r).unwrap().to_bits()).collect();
+        (array.into_iter().map(f64::to_bits).collect::<Vec<u64>>(), one_by_one)
+    };
+    let mut g = Gearbox6dofSlave::instantiate(None);
+    g.set_integer(vr::SLICES, 5, &mut NoLog).unwrap();
+    let (array, one_by_one) = both_ways(&mut g);
+    assert_eq!(array, one_by_one, "before initialisation");
+    g.initialize(0.0, &mut NoLog).unwrap();
+    let rated = g.get_real(vr::INITIAL_ROTOR_TORQUE).unwrap();
+    let ratio = g.get_real(vr::GEAR_RATIO).unwrap();
+    let mut t: f64 = 0.0;
+    for model in ["lamina-table", "linear"] {
+        g.set_string(vr::BEARING_MODEL, model, &mut NoLog).unwrap();
+        for k in 0..40 {
+            let (array, one_by_one) = both_ways(&mut g);
+            assert_eq!(array, one_by_one, "{model}, step {k}");
+            g.set_real(vr::ROTOR_TORQUE, rated * (1.0 - 0.01 * k as f64), &mut NoLog)
+                .unwrap();
+            g.set_real(vr::GENERATOR_TORQUE, rated / ratio, &mut NoLog).unwrap();
+            g.set_real(vr::BRAKE_COMMAND, if k > 20 { 1.0 } else { 0.0 }, &mut NoLog)
+                .unwrap();
+            g.do_step(t, 1e-3, &mut NoLog).unwrap();
+            t += 1e-3;
+        }
+    }
+    // a reference that is no Real variable fails the array as it fails alone
+    let mut values = [0.0; 9];
+    let mut refs = [vr::HSS_TORQUE; 9];
+    refs[4] = 99_999;
+    assert!(g.get_reals(&refs, &mut values).is_err());
+    assert!(g.get_real(99_999).is_err());
 }
