@@ -662,9 +662,9 @@ impl AlphaIntegrator {
             // no pattern test: the forces are continuous across a change of contact pattern, so an
             // increment small enough here moves the residual as little whether or not it changed one
             // (the default iteration compares patterns because its J is the pattern's). A varying
-            // mesh stiffness steps with the teeth's roll: an increment at the tolerance straddles
-            // such a step about once in 10⁹ iterations, and the next step starts from the forces at
-            // the state accepted
+            // mesh stiffness steps with the teeth's roll: an increment at the tolerance (some 10⁻⁸
+            // of a base pitch) seldom straddles such a step, and the next step starts from the
+            // forces at the state accepted
             if w.settled(residual, 1.0) || small_increment(w, st, c, fraction) {
                 self.kept = Some(idx);
                 return Ok(Some((force, held)));
