@@ -200,7 +200,11 @@ fn step_and_fetch(unit: &mut Unit, t: f64, h: f64) -> Result<(), MasterError> {
         time: t,
         error,
     };
+    let start = unit.clock.is_some().then(std::time::Instant::now);
     unit.instance.do_step(t, h).map_err(fail)?;
+    if let (Some(start), Some(clock)) = (start, &mut unit.clock) {
+        clock.do_step += start.elapsed();
+    }
     unit.fetch().map_err(|error| MasterError::Step {
         component: unit.name.clone(),
         time: t + h,

@@ -140,6 +140,7 @@ mod tests {
                 Some(Clock {
                     step: ms(20),
                     recorded: ms(5),
+                    ..Clock::default()
                 }),
             ),
             (
@@ -147,6 +148,7 @@ mod tests {
                 Some(Clock {
                     step: ms(30),
                     recorded: ms(25),
+                    ..Clock::default()
                 }),
             ),
             ("generator", None),
@@ -168,6 +170,7 @@ mod tests {
                 Some(Clock {
                     step: ms(9),
                     recorded: ms(3),
+                    ..Clock::default()
                 }),
             )],
             0.005,

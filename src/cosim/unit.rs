@@ -129,6 +129,8 @@ pub struct Unit {
 pub struct Clock {
     /// doStep and the coupled outputs' getters after it.
     pub step: std::time::Duration,
+    /// Of `step`, the doStep calls alone (the rest are the coupled outputs' getters).
+    pub do_step: std::time::Duration,
     /// The getters of the variables only the recorder reads.
     pub recorded: std::time::Duration,
 }
