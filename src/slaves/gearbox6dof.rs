@@ -438,23 +438,15 @@ impl Slave for Gearbox6dofSlave {
         }
     }
 
+    /// An array of one.
     fn get_real(&mut self, r: u32) -> SlaveResult<f64> {
-        if let Some(v) = xml::get_real(&self.params, &self.inputs, r) {
-            return Ok(v);
-        }
-        let (b, st) = self.ensure()?;
-        if let Some(v) = state_output(b, st, r) {
-            return Ok(v);
-        }
-        // the shared model, while the loads borrow the instance
-        let b = Arc::clone(self.built.as_ref().expect("built by ensure"));
-        let loads = self.current_loads()?;
-        load_output(&b, loads, r)
+        let mut value = [0.0];
+        self.get_reals(&[r], &mut value)?;
+        Ok(value[0])
     }
 
     /// A recorder's row: the model and the loads are checked once for the array instead of once per
-    /// value (the loads still only when a value needs them); each value from the functions
-    /// `get_real` takes it from, so the same bits.
+    /// value, the loads taken only when a value needs them.
     fn get_reals(&mut self, vrs: &[u32], values: &mut [f64]) -> SlaveResult<()> {
         let mut ensured = false;
         for (&r, value) in vrs.iter().zip(values) {
@@ -473,9 +465,7 @@ impl Slave for Gearbox6dofSlave {
             *value = match state_output(b, st, r) {
                 Some(v) => v,
                 None => {
-                    if self.loads.is_none() {
-                        self.current_loads()?;
-                    }
+                    self.current_loads()?;
                     let b = self.built.as_deref().expect("built by ensure");
                     load_output(b, self.loads.as_ref().expect("by current_loads"), r)?
                 }

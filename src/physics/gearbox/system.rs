@@ -11,14 +11,13 @@ use nalgebra::DMatrix;
 impl Gearbox {
     /// Springs' forces (bearings, shafts) and the roller sets' into `out` (added); with `sets`, each
     /// roller set's loads, its largest lamina load included, written to it.
-    fn add_spring_forces(&self, q: &[f64], v: &[f64], out: &mut [f64], sets: Option<&mut [RollerLoads]>) {
+    fn add_spring_forces(&self, q: &[f64], v: &[f64], out: &mut [f64], mut sets: Option<&mut [RollerLoads]>) {
         for s in self.springs.iter().filter(|s| !s.lamina) {
             let f = s.force(q, v);
             if f != 0.0 {
                 s.row.axpy(f, out);
             }
         }
-        let mut sets = sets;
         for (i, r) in self.rollers.iter().enumerate() {
             let loads = r.add_forces(q, v, sets.is_some(), out);
             if let Some(sets) = sets.as_deref_mut() {
