@@ -61,6 +61,15 @@ pub struct Built {
     pub unreported: Vec<String>,
 }
 
+impl Built {
+    /// A driver of this build's method and Newton iteration.
+    fn driver(&self) -> Driver {
+        let mut d = Driver::new(self.method);
+        d.set_newton(self.newton);
+        d
+    }
+}
+
 impl Params {
     /// The description named by `gearbox`: a preset, an absolute path, or a path under resources/.
     fn description(&self, resources: Option<&Path>) -> SlaveResult<Description> {
@@ -241,8 +250,7 @@ impl Gearbox6dofSlave {
     pub fn ensure(&mut self) -> SlaveResult<(&Built, &mut DynState)> {
         if self.built.is_none() {
             let built = self.params.build(self.resources.as_deref())?;
-            self.driver = Driver::new(built.method);
-            self.driver.set_newton(built.newton);
+            self.driver = built.driver();
             self.built = Some(Arc::new(built));
             self.loads = None;
             self.state_forces.valid = false;
@@ -412,16 +420,21 @@ impl Slave for Gearbox6dofSlave {
         into.stepped = self.stepped;
     }
 
-    /// Keeps this instance's integrator while the model is the snapshot's own (the same build).
+    /// Keeps this instance's integrator while the model is the snapshot's own (the same build), less the
+    /// factorisation `newton = kept` carries from step to step, which no state holds.
     fn restore(&mut self, snap: &Self) {
         let same_model = super::same_build(&self.built, &snap.built);
         snap.snapshot_into(self);
-        if !same_model {
-            self.driver = self
-                .built
-                .as_ref()
-                .map_or_else(implicit_driver, |b| Driver::new(b.method));
+        if same_model {
+            self.driver.forget_kept();
+        } else {
+            self.driver = self.built.as_ref().map_or_else(implicit_driver, |b| b.driver());
         }
+    }
+
+    /// The run goes on from the factorisation a restored state starts from (see `restore`).
+    fn state_taken(&mut self) {
+        self.driver.forget_kept();
     }
 
     fn instantiate(resources: Option<&Path>) -> Self {

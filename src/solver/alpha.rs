@@ -83,9 +83,10 @@ pub struct Newton {
     /// fresh J stalls (counted in `Statistics::newton_restarts`). The increment tolerance then
     /// bounds the iterate's error θ/(1 − θ)·‖δ‖ (Hairer and Wanner's test), not the increment ‖δ‖,
     /// and no contact pattern is compared: a pattern is taken only to cache a fresh factorisation.
-    /// The kept J is history: a clone starts without it, and a state restored into an instance meets
-    /// the J that instance last kept, so a rerun from a snapshot agrees with the first run to the
-    /// Newton tolerance, not to the bit.
+    /// The kept J is history no state holds: a clone starts without it, and the gearbox FMU drops it
+    /// whenever a state is taken or restored ([`AlphaIntegrator::forget_kept`]), so the run that goes
+    /// on and every rerun from the state start from the same factorisation (their pattern's, a function
+    /// of the pattern and the step size) and repeat bit for bit.
     pub keep: bool,
     /// Start from the constant-acceleration predictor Δ = h·v + ½h²·a (a₁ = a under every member of
     /// the family) instead of Δ = 0, whose first iterate has v₁ ≈ −v.
@@ -93,7 +94,8 @@ pub struct Newton {
 }
 
 impl Newton {
-    /// The FMU parameter's spelling: `pattern` (the default), `kept`, `predicted` or `kept+predicted`.
+    /// The FMU parameter's spelling: `pattern` (this type's default), `kept`, `predicted` or `kept+predicted`
+    /// (the gearbox FMU's default).
     pub fn parse(s: &str) -> Option<Self> {
         let (keep, predict) = match s.trim().to_ascii_lowercase().as_str() {
             "" | "pattern" => (false, false),
@@ -355,6 +357,11 @@ impl AlphaIntegrator {
             cache: Cache::default(),
             work: Work::default(),
         }
+    }
+
+    /// Drops the factorisation [`Newton::keep`] carries from step to step.
+    pub fn forget_kept(&mut self) {
+        self.kept = None;
     }
 
     /// A cached factorisation for this key and step size that already holds the friction response

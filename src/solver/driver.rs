@@ -106,6 +106,12 @@ impl Driver {
         self.alpha.newton = newton;
     }
 
+    /// Drops the factorisation [`Newton::keep`] carries from step to step: the next step starts from its
+    /// own pattern's, as after a rebuild (an FMU state taken or restored; see [`Newton::keep`]).
+    pub fn forget_kept(&mut self) {
+        self.alpha.forget_kept();
+    }
+
     /// The internal forces at the state the next [`Self::advance`] starts from, from a caller that has
     /// them (the 6-DOF gearbox evaluates them for the loads it reports at a communication point):
     /// that advance takes them for its consistent accelerations instead of evaluating them again.

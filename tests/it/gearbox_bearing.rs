@@ -5,6 +5,7 @@
 
 use windrive::physics::gearbox::bearing::{Mounting, RollerBearing, RollerLoads};
 use windrive::physics::gearbox::description::{Contact, Rollers};
+use windrive::physics::gearbox::roller_table::RollerTables;
 use windrive::physics::gearbox::row::Row;
 
 fn unit(i: usize) -> Row {
@@ -21,6 +22,7 @@ fn bearing(r: &Rollers) -> RollerBearing {
 
 /// The same with a damping time and, with `tabulated`, the roller sums by table.
 fn mounted(r: &Rollers, damping_time: f64, tabulated: bool) -> RollerBearing {
+    let mut tables = RollerTables::default();
     RollerBearing::new(
         r,
         Mounting {
@@ -31,7 +33,7 @@ fn mounted(r: &Rollers, damping_time: f64, tabulated: bool) -> RollerBearing {
             sign: 1.0,
         },
         damping_time,
-        tabulated,
+        tabulated.then_some(&mut tables),
     )
 }
 

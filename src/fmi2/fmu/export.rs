@@ -865,6 +865,7 @@ pub unsafe fn get_fmu_state<S: Slave>(c: Fmi2Component, state: *mut Fmi2FmuState
                     into.last_successful_time = inst.last_successful_time;
                     inst.slave.snapshot_into(&mut into.slave);
                 }
+                inst.slave.state_taken();
                 Ok(Fmi2Status::Ok)
             },
         )

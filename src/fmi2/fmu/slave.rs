@@ -184,6 +184,11 @@ pub trait Slave: Sized + Clone + Send + Serialize + DeserializeOwned + 'static {
         *self = snap.clone();
     }
 
+    /// Called when fmi2GetFMUstate has taken a state: a slave whose next step would depend on history
+    /// the state leaves out (a factorisation kept from step to step) drops it here, as its `restore`
+    /// does, so the run that goes on and every run restored from the state take the same path.
+    fn state_taken(&mut self) {}
+
     /// Checks the parameters and builds the model; called by fmi2ExitInitializationMode.
     fn initialize(&mut self, start_time: f64, log: &mut dyn Log) -> SlaveResult<()>;
 

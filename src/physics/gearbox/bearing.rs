@@ -9,11 +9,12 @@
 use super::description::{Contact, Rollers};
 use super::mesh::KeyBits;
 use super::ninth_root::ninth_root;
-use super::roller_table::RollerTable;
+use super::roller_table::{RollerTable, RollerTables};
 use super::row::{Row, add_outer};
 use crate::physics::hertz::{EllipticContact, LineContact, effective_modulus, subsurface_peaks};
 use nalgebra::DMatrix;
 use std::f64::consts::TAU;
+use std::sync::Arc;
 
 /// A 5×5 block on the relative coordinates (stiffness or damping).
 pub type Matrix5 = [[f64; 5]; 5];
@@ -123,7 +124,7 @@ pub struct RollerBearing {
     shear_peak: (f64, f64),
     /// The roller's sums by table instead of the lamina loop (`bearing_model = lamina-table`; line
     /// contact without crowning only).
-    table: Option<&'static RollerTable>,
+    table: Option<Arc<RollerTable>>,
     /// Half the roller's length, m.
     half_roller: f64,
 }
@@ -162,9 +163,9 @@ pub struct Mounting {
 }
 
 impl RollerBearing {
-    /// With `tabulated`, a roller set with line contact and no crowning sums its rollers' laminae by
-    /// [`RollerTable`] (within 2e-10 of the loop's sums); any other keeps the lamina loop.
-    pub fn new(r: &Rollers, m: Mounting, damping_time: f64, tabulated: bool) -> Self {
+    /// With `tables` (the model's), a roller set with line contact and no crowning sums its rollers'
+    /// laminae by [`RollerTable`] (within 2e-10 of the loop's sums); any other keeps the lamina loop.
+    pub fn new(r: &Rollers, m: Mounting, damping_time: f64, tables: Option<&mut RollerTables>) -> Self {
         let mm = 1e-3;
         let (length, dm) = (r.length_mm * mm, r.pitch_diameter_mm * mm);
         let alpha = r.contact_angle_deg.to_radians();
@@ -236,9 +237,9 @@ impl RollerBearing {
             _ => subsurface_peaks(STEEL_NU).max_shear,
         };
         let uncrowned = crown == 0.0;
-        let table = (tabulated && uncrowned && exponent == LINE_EXPONENT)
-            .then(|| RollerTable::shared(n))
-            .flatten();
+        let table = tables
+            .filter(|_| uncrowned && exponent == LINE_EXPONENT)
+            .and_then(|t| t.for_laminae(n));
         RollerBearing {
             bearing: m.bearing,
             rows: m.rows,
@@ -293,7 +294,7 @@ impl RollerBearing {
         tangent: Option<(&mut Matrix5, &mut Matrix5)>,
     ) -> RollerLoads {
         // chosen once, so the lamina loop's copy has no table test per roller
-        match self.table {
+        match self.table.as_deref() {
             Some(table) => self.evaluate_by(x, xd, cage, peaks, tangent, Some(table)),
             None => self.evaluate_by(x, xd, cage, peaks, tangent, None),
         }

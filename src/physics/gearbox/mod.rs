@@ -11,7 +11,7 @@ pub mod loads;
 pub mod mesh;
 pub mod model;
 mod ninth_root;
-mod roller_table;
+pub mod roller_table;
 pub mod row;
 pub mod statics;
 mod system;

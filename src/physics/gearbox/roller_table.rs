@@ -14,7 +14,7 @@
 //! a uniform roller to single-lamina edge loading, within 1e-14 of every kink, the sums are within 2e-10
 //! of the lamina loop's (tests below; benches/roller_table/study.py derived the layout).
 
-use std::sync::OnceLock;
+use std::sync::Arc;
 
 /// The polynomial degree per cell.
 const DEGREE: usize = 7;
@@ -114,15 +114,30 @@ fn interpolate(f: impl Fn(f64) -> Sums) -> Cell {
     Cell { coef }
 }
 
-impl RollerTable {
-    /// The table for rollers of `n` laminae, built once per process.
-    pub fn shared(n: usize) -> Option<&'static RollerTable> {
-        static TABLES: [OnceLock<RollerTable>; MAX_LAMINAE + 1] = [const { OnceLock::new() }; MAX_LAMINAE + 1];
-        (1..=MAX_LAMINAE)
-            .contains(&n)
-            .then(|| TABLES[n].get_or_init(|| RollerTable::new(n)))
-    }
+/// The tables of one model, one per lamina count, shared by its roller sets. The model owns them (a
+/// build takes microseconds): tables held by a process-wide static were lost at every unloading of
+/// the FMU's library, which a host that loads and frees it per case repeats.
+#[derive(Debug, Default)]
+pub struct RollerTables {
+    built: Vec<Option<Arc<RollerTable>>>,
+}
 
+impl RollerTables {
+    /// The table for rollers of `n` laminae (None outside the lamina counts a description allows).
+    pub fn for_laminae(&mut self, n: usize) -> Option<Arc<RollerTable>> {
+        if !(1..=MAX_LAMINAE).contains(&n) {
+            return None;
+        }
+        if self.built.len() <= n {
+            self.built.resize(n + 1, None);
+        }
+        Some(Arc::clone(
+            self.built[n].get_or_insert_with(|| Arc::new(RollerTable::new(n))),
+        ))
+    }
+}
+
+impl RollerTable {
     fn new(n: usize) -> RollerTable {
         let u_end = (2 * n).max(16) as f64;
         let per = CELLS_PER_UNIT as f64;
@@ -248,7 +263,7 @@ mod tests {
     /// Worst error of each sum over poses from a uniform roller to single-lamina edge loading and
     /// within 1e-14 of every kink, relative to the sum (the odd moments to the sum times L/2).
     fn worst_errors(n: usize, poses: usize) -> Sums {
-        let table = RollerTable::shared(n).unwrap();
+        let table = &*RollerTables::default().for_laminae(n).unwrap();
         let mut worst = [0.0f64; 5];
         let mut seed = 0x2545_f491_4f6c_dd1d_u64;
         let mut uniform = || {
@@ -306,8 +321,12 @@ mod tests {
 
     #[test]
     fn a_table_is_built_for_every_lamina_count_the_descriptions_allow_and_no_other() {
-        assert!(RollerTable::shared(0).is_none());
-        assert!(RollerTable::shared(MAX_LAMINAE + 1).is_none());
-        assert_eq!(RollerTable::shared(10).unwrap().laminae, 10);
+        let mut tables = RollerTables::default();
+        assert!(tables.for_laminae(0).is_none());
+        assert!(tables.for_laminae(MAX_LAMINAE + 1).is_none());
+        let ten = tables.for_laminae(10).unwrap();
+        assert_eq!(ten.laminae, 10);
+        // one table per lamina count, shared
+        assert!(Arc::ptr_eq(&ten, &tables.for_laminae(10).unwrap()));
     }
 }

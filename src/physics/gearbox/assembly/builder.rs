@@ -6,6 +6,7 @@ use crate::physics::gearbox::description::{self as desc, BearingModel, Descripti
 use crate::physics::gearbox::involute::{Pair, PairGeometry};
 use crate::physics::gearbox::mesh::Mesh;
 use crate::physics::gearbox::model::{BearingSprings, Body, BodyKind, SPIN, Spring, TX, TY, UX, UY, UZ};
+use crate::physics::gearbox::roller_table::RollerTables;
 use crate::physics::gearbox::row::Row;
 use std::f64::consts::PI;
 
@@ -16,6 +17,8 @@ pub(super) struct Builder<'a> {
     pub(super) springs: Vec<Spring>,
     pub(super) bearings: Vec<BearingSprings>,
     pub(super) rollers: Vec<RollerBearing>,
+    /// The lamina law's tables (`bearings = "lamina-table"`), shared by the roller sets.
+    pub(super) tables: RollerTables,
     pub(super) meshes: Vec<Mesh>,
     pub(super) geometry: Vec<PairGeometry>,
     /// (upstream body, downstream body, shaft spec, name)
@@ -185,7 +188,7 @@ impl Builder<'_> {
                 r,
                 mounting,
                 self.d.model.bearing_damping_time,
-                tabulated,
+                tabulated.then_some(&mut self.tables),
             ));
             self.rollers.len() - 1
         });

@@ -27,6 +27,7 @@ impl Gearbox {
             springs: Vec::new(),
             bearings: Vec::new(),
             rollers: Vec::new(),
+            tables: Default::default(),
             downwind_plate: None,
             webs: Vec::new(),
             beam_nodes: Vec::new(),
