@@ -236,7 +236,8 @@ pub fn targets(rows: &[VariantRow], stop: f64) -> String {
     format!(
         "targets for the gearbox FMU alone (the fastest full-model row at 1 ms): 35 slices with lamina bearings \
          {lamina:.1}× real time ({lamina_row:?}; ≥ {LAMINA_TARGET}×: {}), linear bearings {linear:.1}× ({linear_row:?}; \
-         ≥ {LINEAR_TARGET}×: {})\n",
+         ≥ {LINEAR_TARGET}×: {})\nthe gearbox FMU's defaults are the row \"same, table, kept+pred.\" (grc750's lamina-table \
+         bearings, newton = kept+predicted); rows that name neither take the lamina loop and newton = pattern\n",
         verdict(lamina, LAMINA_TARGET),
         verdict(linear, LINEAR_TARGET),
     )
@@ -304,8 +305,9 @@ pub fn torsional_baseline(dir: &Path, stop: f64) -> anyhow::Result<Baseline> {
 pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyhow::Result<()> {
     let mut reference: Option<Vec<Vec<f64>>> = None;
     // the reference is the full model at a quarter of the FMU's default internal step (1 ms): its
-    // differences are the errors of each row, the step's included; rows take the default Newton
-    // iteration (`pattern`) or, at the FMU's default step and integrator, another (`newton`)
+    // differences are the errors of each row, the step's included; rows take the lamina loop and the
+    // `pattern` iteration (the reference's, and the FMU's defaults until 2026-11-30) unless they name
+    // others: "same, table, kept+pred." is the FMU's defaults
     let pattern = |label, slices, bearings, step, integrator, shaft| {
         (label, slices, bearings, step, integrator, shaft, "pattern")
     };
