@@ -148,9 +148,9 @@ def test_what_gearbox_md_says_beside_the_thesis_for_the_grc():
 def test_what_gearbox_md_says_beside_the_thesis_for_c2mw():
     """docs/GEARBOX.md's c2mw rows beside the thesis, from the committed c-6dof-life report: with a_ISO·L10 the
     upwind planet bearings the most damaged; the events at most about a per cent of every bearing's damage
-    under ISO 281 and a_ISO and a few per cent of every tooth's; under the thesis's count about half of the
-    HSS bearings' (the figures the page gives), below half of every other bearing's, a few per cent of the
-    planet bearings'."""
+    under ISO 281 and a_ISO and a few per cent of every tooth's; under the thesis's count the largest share
+    the HSS bearings' (the figures the page gives), at most about two fifths of any bearing's, a few per
+    cent of the planet bearings'."""
     folder = ROOT / "docs" / "campaigns" / "c-6dof-life"
     b = pd.read_csv(folder / "lifetime_bearings.csv").set_index("bearing")
     assert b.modified_damage.idxmax().startswith("planet_") and b.modified_damage.idxmax().endswith("_uw")
@@ -159,15 +159,15 @@ def test_what_gearbox_md_says_beside_the_thesis_for_c2mw():
     assert thesis.idxmax().startswith("hss_")
     hss = thesis[b.index.str.startswith("hss_")]
     page = " ".join((ROOT / "docs" / "GEARBOX.md").read_text().split())
-    assert f"largest for the HSS bearings at about half ({100 * hss.min():.0f}–{100 * hss.max():.0f} %)" in page
-    assert (thesis[~b.index.str.startswith("hss_")] < 0.5).all()
+    assert f"largest for the HSS bearings, {100 * hss.min():.0f}–{100 * hss.max():.0f} %" in page
+    assert thesis.max() < 0.45, "at most about two fifths"
     assert (thesis[b.index.str.startswith("planet_")] < 0.1).all()
     g = pd.read_csv(folder / "lifetime_gears.csv")
     assert (g[[c for c in g.columns if c.startswith("share:shutdown")]].sum(axis=1) < 0.05).all()
     # README's first screen says the same
     readme = " ".join((ROOT / "README.md").read_text().split())
-    assert "under the thesis's own count of load swings about half of the HSS bearings' damage, and less than " \
-           "half of every other bearing's" in readme
+    assert "under the thesis's own count of load swings at most about two fifths of any bearing's damage, the " \
+           "HSS bearings' the largest" in readme
 
 
 def test_what_campaigns_md_says_of_iecs_six_seeds():
