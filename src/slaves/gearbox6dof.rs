@@ -420,21 +420,21 @@ impl Slave for Gearbox6dofSlave {
         into.stepped = self.stepped;
     }
 
-    /// Keeps this instance's integrator while the model is the snapshot's own (the same build), less the
-    /// factorisation `newton = kept` carries from step to step, which no state holds.
+    /// Keeps this instance's integrator while the model is the snapshot's own (the same build), less its
+    /// factorisations, which no state holds (where a J was assembled is history).
     fn restore(&mut self, snap: &Self) {
         let same_model = super::same_build(&self.built, &snap.built);
         snap.snapshot_into(self);
         if same_model {
-            self.driver.forget_kept();
+            self.driver.forget_factorisations();
         } else {
             self.driver = self.built.as_ref().map_or_else(implicit_driver, |b| b.driver());
         }
     }
 
-    /// The run goes on from the factorisation a restored state starts from (see `restore`).
+    /// The run goes on without factorisations, as a run restored from the state starts (see `restore`).
     fn state_taken(&mut self) {
-        self.driver.forget_kept();
+        self.driver.forget_factorisations();
     }
 
     fn instantiate(resources: Option<&Path>) -> Self {

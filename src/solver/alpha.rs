@@ -83,10 +83,11 @@ pub struct Newton {
     /// fresh J stalls (counted in `Statistics::newton_restarts`). The increment tolerance then
     /// bounds the iterate's error θ/(1 − θ)·‖δ‖ (Hairer and Wanner's test), not the increment ‖δ‖,
     /// and no contact pattern is compared: a pattern is taken only to cache a fresh factorisation.
-    /// The kept J is history no state holds: a clone starts without it, and the gearbox FMU drops it
-    /// whenever a state is taken or restored ([`AlphaIntegrator::forget_kept`]), so the run that goes
-    /// on and every rerun from the state start from the same factorisation (their pattern's, a function
-    /// of the pattern and the step size) and repeat bit for bit.
+    /// The kept J is history no state holds, and so are the cached ones: a pattern's J is assembled at
+    /// the point where it was first needed, so which point that was decides a later step's J too. A
+    /// clone starts without any, and the gearbox FMU drops them whenever a state is taken or restored
+    /// ([`AlphaIntegrator::forget_factorisations`]): the run that goes on and every rerun from the
+    /// state then build the same ones at the same points and repeat bit for bit.
     pub keep: bool,
     /// Start from the constant-acceleration predictor Δ = h·v + ½h²·a (a₁ = a under every member of
     /// the family) instead of Δ = 0, whose first iterate has v₁ ≈ −v.
@@ -326,7 +327,9 @@ impl Work {
 }
 
 /// The integrator with its cache of factorisations and scratch vectors. Cloning gives an empty
-/// cache, refilled on demand with identical factors, so snapshots stay cheap and bit-identical.
+/// cache, refilled on demand: with identical factors where J does not depend on the point it is
+/// assembled at (the linear classes), so their snapshots stay cheap and bit-identical; the nearly
+/// piecewise-linear class's depend on it ([`Newton::keep`] says what its owner does about that).
 pub struct AlphaIntegrator {
     pub params: Alpha,
     /// The nearly piecewise-linear class's iteration (default: as every class).
@@ -359,9 +362,11 @@ impl AlphaIntegrator {
         }
     }
 
-    /// Drops the factorisation [`Newton::keep`] carries from step to step.
-    pub fn forget_kept(&mut self) {
+    /// Drops every factorisation, the one [`Newton::keep`] carries from step to step with the cached
+    /// ones: the next step builds its own where it needs them, as a clone does.
+    pub fn forget_factorisations(&mut self) {
         self.kept = None;
+        self.cache = Cache::default();
     }
 
     /// A cached factorisation for this key and step size that already holds the friction response

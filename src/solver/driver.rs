@@ -106,10 +106,10 @@ impl Driver {
         self.alpha.newton = newton;
     }
 
-    /// Drops the factorisation [`Newton::keep`] carries from step to step: the next step starts from its
-    /// own pattern's, as after a rebuild (an FMU state taken or restored; see [`Newton::keep`]).
-    pub fn forget_kept(&mut self) {
-        self.alpha.forget_kept();
+    /// Drops every factorisation the integrator holds, kept or cached: the next step builds the ones it
+    /// needs, as after a rebuild (an FMU state taken or restored; see [`Newton::keep`]).
+    pub fn forget_factorisations(&mut self) {
+        self.alpha.forget_factorisations();
     }
 
     /// The internal forces at the state the next [`Self::advance`] starts from, from a caller that has

@@ -184,8 +184,8 @@ pub trait Slave: Sized + Clone + Send + Serialize + DeserializeOwned + 'static {
         *self = snap.clone();
     }
 
-    /// Called when fmi2GetFMUstate has taken a state: a slave whose next step would depend on history
-    /// the state leaves out (a factorisation kept from step to step) drops it here, as its `restore`
+    /// Called when fmi2GetFMUstate has taken a state: a slave whose next steps would depend on history
+    /// the state leaves out (factorisations assembled at earlier points) drops it here, as its `restore`
     /// does, so the run that goes on and every run restored from the state take the same path.
     fn state_taken(&mut self) {}
 
