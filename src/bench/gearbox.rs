@@ -213,7 +213,9 @@ pub fn variants_foot(stop: f64, base: &Baseline) -> String {
          FMU's steps and output reads alone, reads the ms per s of its output reads among them (the loads it \
          evaluates after each step for them included), ÷ torsional the scene against the torsional scene, peak differences against \
          the reference (min rollr: fewest rollers carrying planet 1's upwind bearing in normal operation, the \
-         reference's in brackets; linear bearings report none)\n",
+         reference's in brackets; linear bearings report none); the gearbox FMU's defaults are the row \"same, table, \
+         kept+pred.\" (grc750's lamina-table bearings, newton = kept+predicted), rows that name neither take the \
+         lamina loop and newton = pattern\n",
         ms(base.wall_s),
         stop / base.wall_s,
         split.join(", "),
@@ -236,8 +238,7 @@ pub fn targets(rows: &[VariantRow], stop: f64) -> String {
     format!(
         "targets for the gearbox FMU alone (the fastest full-model row at 1 ms): 35 slices with lamina bearings \
          {lamina:.1}× real time ({lamina_row:?}; ≥ {LAMINA_TARGET}×: {}), linear bearings {linear:.1}× ({linear_row:?}; \
-         ≥ {LINEAR_TARGET}×: {})\nthe gearbox FMU's defaults are the row \"same, table, kept+pred.\" (grc750's lamina-table \
-         bearings, newton = kept+predicted); rows that name neither take the lamina loop and newton = pattern\n",
+         ≥ {LINEAR_TARGET}×: {})\n",
         verdict(lamina, LAMINA_TARGET),
         verdict(linear, LINEAR_TARGET),
     )
