@@ -270,6 +270,7 @@ impl RollerBearing {
     }
 
     /// The five relative coordinates, their rates and the cage angle at (q, v).
+    #[inline(always)]
     pub fn kinematics(&self, q: &[f64], v: &[f64]) -> ([f64; 5], [f64; 5], f64) {
         let x = std::array::from_fn(|i| self.rows[i].dot(q) - self.offset.get(i).copied().unwrap_or(0.0));
         let xd = std::array::from_fn(|i| self.rows[i].dot(v));
@@ -544,6 +545,7 @@ impl RollerBearing {
 
     /// f_int += the bearing's force at (q, v); returns its loads (`max_lamina_load` only with `peaks`:
     /// see [`Self::evaluate`]).
+    #[inline(always)]
     pub fn add_forces(&self, q: &[f64], v: &[f64], peaks: bool, out: &mut [f64]) -> RollerLoads {
         let (x, xd, cage) = self.kinematics(q, v);
         let loads = self.evaluate(&x, &xd, cage, peaks, None);

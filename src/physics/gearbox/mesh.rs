@@ -159,6 +159,7 @@ impl Mesh {
     }
 
     /// Calls `each(j, force)` for every slice of one flank (0 drive, 1 back) in contact.
+    #[inline(always)]
     fn each_slice(&self, flank: usize, roll: Option<f64>, q: &[f64], v: &[f64], mut each: impl FnMut(usize, f64)) {
         let (rows, errors, gap) = self.flank_parts(flank);
         let (d0, d1, r0, r1) = self.flank(rows, q, v);
@@ -173,6 +174,7 @@ impl Mesh {
 
     /// Adds the mesh's forces to f_int; per-slice loads into `slice` when given (drive positive,
     /// back negative; a slice whose flanks both touch, possible only without backlash, nets them).
+    #[inline(always)]
     pub fn add_forces(&self, q: &[f64], v: &[f64], f_int: &mut [f64], mut slice: Option<&mut [f64]>) -> [FlankLoad; 2] {
         let roll = self.roll(q);
         if let Some(out) = slice.as_deref_mut() {
