@@ -138,9 +138,12 @@ impl Params {
                 );
             }
         };
-        let newton = Newton::parse(&self.newton).ok_or_else(|| {
-            ParameterError::invalid("newton", &self.newton, "use pattern, kept, predicted or kept+predicted")
-        })?;
+        let newton = Newton {
+            tolerance: self.newton_tolerance,
+            ..Newton::parse(&self.newton).ok_or_else(|| {
+                ParameterError::invalid("newton", &self.newton, "use pattern, kept, predicted or kept+predicted")
+            })?
+        };
         let mut model = Gearbox::new(&d).map_err(|e| ParameterError::Model(format!("gearbox {:?}: {e}", d.name)))?;
         let rated_generator = model.rated_rotor_torque.map(|t| t / model.gear_ratio);
         let brake_torque_max = match (self.brake_torque_max > 0.0, rated_generator) {

@@ -45,7 +45,7 @@ const INCREMENT_TOLERANCE: f64 = 1e-10;
 /// (on the GRC 8e-10 m and rad, the HSS turning 0.08 rad a step) take 3.9 iterations a step instead
 /// of 5.2, and change the shutdown scene's bearing loads and contact pressures by under 1e-4 of
 /// their peaks and the HSS torque by 0.13 % RMS, less than the step's own error (0.5 against 0.25 ms: 0.33 %).
-const NEARLY_LINEAR_INCREMENT_TOLERANCE: f64 = 1e-8;
+pub const NEARLY_LINEAR_INCREMENT_TOLERANCE: f64 = 1e-8;
 
 /// Iterations of the nearly piecewise-linear class after which each increment is halved. Its
 /// iterates can settle into a two-cycle across a kink (a roller or lamina at the edge of contact, a
@@ -75,7 +75,7 @@ pub const ETA_FLOOR: f64 = 0.1;
 /// false) is the iteration every other class takes: Δ = 0, the pattern's factorisation, a new one
 /// whenever an iterate's pattern changes. Either option changes the iteration's path, so outputs move
 /// at the Newton tolerance; the converged iterates meet the same tests.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Newton {
     /// Modified Newton on a kept factorisation: the last step's J is reused across steps and
     /// patterns (same step size) while the iteration contracts (θ ≤ [`THETA_REFRESH`]), refreshed
@@ -92,9 +92,26 @@ pub struct Newton {
     /// Start from the constant-acceleration predictor Δ = h·v + ½h²·a (a₁ = a under every member of
     /// the family) instead of Δ = 0, whose first iterate has v₁ ≈ −v.
     pub predict: bool,
+    /// The nearly piecewise-linear class's increment tolerance, a fraction of the step's motion
+    /// ([`NEARLY_LINEAR_INCREMENT_TOLERANCE`] unless set; docs/PERFORMANCE.md measures what a looser
+    /// one saves and moves).
+    pub tolerance: f64,
+}
+
+impl Default for Newton {
+    fn default() -> Self {
+        Self::PATTERN
+    }
 }
 
 impl Newton {
+    /// The iteration every class takes (see [`Newton`]), at the default tolerance.
+    pub const PATTERN: Self = Self {
+        keep: false,
+        predict: false,
+        tolerance: NEARLY_LINEAR_INCREMENT_TOLERANCE,
+    };
+
     /// The FMU parameter's spelling: `pattern` (this type's default), `kept`, `predicted` or `kept+predicted`
     /// (the gearbox FMU's default).
     pub fn parse(s: &str) -> Option<Self> {
@@ -105,7 +122,11 @@ impl Newton {
             "kept+predicted" => (true, true),
             _ => return None,
         };
-        Some(Self { keep, predict })
+        Some(Self {
+            keep,
+            predict,
+            ..Self::PATTERN
+        })
     }
 }
 
@@ -598,7 +619,7 @@ impl AlphaIntegrator {
                 Linearity::PiecewiseLinear => w.same_pattern(sys, st, t1),
                 Linearity::NearlyPiecewiseLinear => {
                     w.same_pattern(sys, st, t1)
-                        && (w.settled(residual, floor) || small_increment(w, st, c, NEARLY_LINEAR_INCREMENT_TOLERANCE))
+                        && (w.settled(residual, floor) || small_increment(w, st, c, self.newton.tolerance))
                 }
                 Linearity::Nonlinear => w.settled(residual, floor) || small_increment(w, st, c, INCREMENT_TOLERANCE),
             };
@@ -670,7 +691,7 @@ impl AlphaIntegrator {
             } else {
                 f64::INFINITY
             };
-            let fraction = NEARLY_LINEAR_INCREMENT_TOLERANCE / eta;
+            let fraction = self.newton.tolerance / eta;
             // no pattern test: the forces are continuous across a change of contact pattern, so an
             // increment small enough here moves the residual as little whether or not it changed one
             // (the default iteration compares patterns because its J is the pattern's). A varying

@@ -16,10 +16,12 @@ use windrive::solver::{
 const KEPT: Newton = Newton {
     keep: true,
     predict: false,
+    ..Newton::PATTERN
 };
 const KEPT_PREDICTED: Newton = Newton {
     keep: true,
     predict: true,
+    ..Newton::PATTERN
 };
 
 /// The GRC at rated torque and speed, lamina bearings, 35 slices; its rotor torque drops by a fifth
