@@ -14,7 +14,7 @@ use crate::cosim::{Algorithm, Master, Options, Record, Scene, System, param};
 use crate::linear::modes::eigenpairs_of;
 use crate::physics::gearbox::statics::equilibrium;
 use crate::physics::gearbox::{Description, Gearbox};
-use crate::solver::alpha::Alpha;
+use crate::solver::alpha::{Alpha, NEARLY_LINEAR_INCREMENT_TOLERANCE};
 use crate::solver::{Driver, DynState, Method, rk4};
 use std::fmt;
 use std::path::Path;
@@ -215,7 +215,8 @@ pub fn variants_foot(stop: f64, base: &Baseline) -> String {
          the reference (min rollr: fewest rollers carrying planet 1's upwind bearing in normal operation, the \
          reference's in brackets; linear bearings report none); the gearbox FMU's defaults are the row \"same, table, \
          kept+pred.\" (grc750's lamina-table bearings, newton = kept+predicted), rows that name neither take the \
-         lamina loop and newton = pattern\n",
+         lamina loop and newton = pattern, the rows \"same, tolerance 1e-7\" the row above's with newton_tolerance = \
+         1e-7 instead of the default 1e-8\n",
         ms(base.wall_s),
         stop / base.wall_s,
         split.join(", "),
@@ -302,18 +303,36 @@ pub fn torsional_baseline(dir: &Path, stop: f64) -> anyhow::Result<Baseline> {
     })
 }
 
+/// One row's settings: label, slices, bearing model, internal step, integrator, main shaft, Newton iteration
+/// and its tolerance.
+type Variant = (
+    &'static str,
+    usize,
+    &'static str,
+    f64,
+    &'static str,
+    MainShaft,
+    &'static str,
+    f64,
+);
+
 /// The variants in d-shutdown-6dof (the folder `six`) over `stop` s; `row` after each.
 pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyhow::Result<()> {
     let mut reference: Option<Vec<Vec<f64>>> = None;
     // the reference is the full model at a quarter of the FMU's default internal step (1 ms): its
     // differences are the errors of each row, the step's included; rows take the lamina loop and the
     // `pattern` iteration (the reference's, and the FMU's defaults until 2026-11-30) unless they name
-    // others: "same, table, kept+pred." is the FMU's defaults
+    // others: "same, table, kept+pred." is the FMU's defaults; the rows ending in 1e-7 take a looser
+    // Newton tolerance (`newton_tolerance`) than the default
+    let tol = NEARLY_LINEAR_INCREMENT_TOLERANCE;
     let pattern = |label, slices, bearings, step, integrator, shaft| {
-        (label, slices, bearings, step, integrator, shaft, "pattern")
+        (label, slices, bearings, step, integrator, shaft, "pattern", tol)
     };
-    let newton = |label, bearings, newton| (label, 35, bearings, 1e-3, "hht", MainShaft::Preset, newton);
-    let variants: [(&str, usize, &str, f64, &str, MainShaft, &str); 15] = [
+    let at =
+        |label, bearings, newton, tolerance| (label, 35, bearings, 1e-3, "hht", MainShaft::Preset, newton, tolerance);
+    let newton = |label, bearings, newton| at(label, bearings, newton, tol);
+    let looser = |label, bearings| at(label, bearings, "kept+predicted", 1e-7);
+    let variants: [Variant; 17] = [
         pattern(
             "reference: 0.25 ms",
             35,
@@ -328,6 +347,7 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         newton("same, kept+predicted", "lamina", "kept+predicted"),
         newton("same, lamina-table", "lamina-table", "pattern"),
         newton("same, table, kept+pred.", "lamina-table", "kept+predicted"),
+        looser("same, tolerance 1e-7", "lamina-table"),
         pattern("same, Newmark", 35, "lamina", 1e-3, "implicit", MainShaft::Preset),
         pattern("same, 0.5 ms", 35, "lamina", 5e-4, "hht", MainShaft::Preset),
         pattern("11 slices, lamina", 11, "lamina", 1e-3, "hht", MainShaft::Preset),
@@ -336,14 +356,16 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         pattern("rigid main shaft", 35, "lamina", 1e-3, "hht", MainShaft::Rigid),
         pattern("35 slices, linear", 35, "linear", 1e-3, "hht", MainShaft::Preset),
         newton("same, kept+predicted", "linear", "kept+predicted"),
+        looser("same, tolerance 1e-7", "linear"),
     ];
-    for (label, slices, bearings, step, integrator, shaft, newton) in variants {
+    for (label, slices, bearings, step, integrator, shaft, newton, tolerance) in variants {
         let mut o = vec![
             param("gearbox", "slices", slices),
             param("gearbox", "bearing_model", bearings),
             param("gearbox", "max_internal_step", step),
             param("gearbox", "integrator", integrator),
             param("gearbox", "newton", newton),
+            param("gearbox", "newton_tolerance", tolerance),
         ];
         if let Some(file) = shaft.description()? {
             o.push(param("gearbox", "gearbox", file.display()));
