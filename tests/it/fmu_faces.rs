@@ -38,6 +38,12 @@ fn defaults_are_the_xml_start_values() {
         (p.preset.as_str(), p.contact_ratio, p.max_internal_step),
         ("D", 1.6, 1e-3)
     );
+    // the gearbox FMU's Newton tolerance starts at the solver's own default, so the FMU and the bare
+    // model's commands iterate to the same tolerance
+    assert_eq!(
+        windrive::slaves::gearbox6dof::Params::default().newton_tolerance,
+        windrive::solver::alpha::NEARLY_LINEAR_INCREMENT_TOLERANCE
+    );
 }
 
 /// Each bounded Real or Integer parameter: just outside a bound is refused naming the parameter and
