@@ -15,6 +15,7 @@ use super::acceleration::{Acceleration, Accelerator};
 use super::system::System;
 use super::unit::{DiscreteInputs, Unit};
 use crate::fmi2::host::error::ImportError;
+use crate::fmi2::values::first_non_finite;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Algorithm {
@@ -210,7 +211,7 @@ fn step_and_fetch(unit: &mut Unit, t: f64, h: f64) -> Result<(), MasterError> {
         time: t + h,
         error,
     })?;
-    if let Some(i) = unit.values.iter().position(|v| !v.is_finite()) {
+    if let Some(i) = first_non_finite(&unit.values) {
         return Err(MasterError::NonFinite {
             component: unit.name.clone(),
             variable: unit.fetch_names[i].clone(),
@@ -233,7 +234,7 @@ pub fn read_recorded(sys: &mut System, time: f64) -> Result<(), MasterError> {
             error,
         })?;
         let range = unit.recorded_only.offset..unit.values.len();
-        if let Some(i) = unit.values[range.clone()].iter().position(|v| !v.is_finite()) {
+        if let Some(i) = first_non_finite(&unit.values[range.clone()]) {
             let i = range.start + i;
             return Err(MasterError::NonFinite {
                 component: unit.name.clone(),

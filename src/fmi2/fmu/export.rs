@@ -15,6 +15,7 @@ use super::error::SlaveResult;
 use super::slave::{Log, Slave};
 use super::variables::{Causality, VarType, Variability, Variable};
 use crate::fmi2::types::*;
+use crate::fmi2::values::first_non_finite;
 use std::ffi::{CStr, CString, c_int};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
@@ -677,7 +678,7 @@ pub unsafe fn get_real<S: Slave>(
                     }
                     true
                 };
-            if all_known && inst.slave.get_reals(vrs, out).is_ok() && out.iter().all(|v| v.is_finite()) {
+            if all_known && inst.slave.get_reals(vrs, out).is_ok() && first_non_finite(out).is_none() {
                 return Ok(Fmi2Status::Ok);
             }
             read_each(&mut inst.slave, VarType::Real, vrs, out, |s, r| s.get_real(r), |v| v)
