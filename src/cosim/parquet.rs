@@ -8,35 +8,50 @@
 //! it pulls in was the longest compilation of the build (parquet's `arrow` feature: 250 s of CPU of a
 //! 470 s release build on 2 cores, measured 2026-11-29 with `cargo build --timings`).
 //!
-//! Rows are kept as they come, one after the other in one buffer (a row costs one copy, not a push
-//! per column), and every [`ROW_GROUP_ROWS`] rows the full buffer goes to a writer thread, which
-//! turns it into a row group of columns (transpose, encoding, Snappy) while the simulation fills the
-//! next buffer; the buffers (three at most) go back and forth and are filled again. The thread moves the
-//! writer's work off the simulation's path, it does not remove it (a campaign running a case per core
-//! pays it all the same). Parquet places its index (the footer) at the end of the file: the file is
-//! complete once the run ends, fails or is stopped and the recorder is finished, flushed or dropped.
+//! Rows are kept as they come, one after the other in a small buffer (a row costs one copy, not a push
+//! per column), and every [`CHUNK_ROWS`] rows the buffer goes to a writer thread, which transposes it
+//! and encodes and compresses it into the open row group's columns (each chunk a page of every column)
+//! while the simulation fills the next; the buffers go back and forth and are filled again. Every
+//! [`ROW_GROUP_ROWS`] rows the thread closes the group and appends its columns to the file. The
+//! thread moves the writer's work off the simulation's path, it does not remove it (a campaign running
+//! a case per core pays it all the same), and closing the file waits for one chunk, not a group.
+//! Parquet places its index (the footer) at the end of the file: the file is complete once the run
+//! ends, fails or is stopped and the recorder is finished, flushed or dropped.
 //! A process killed outright (SIGKILL, a crashing FMU without `--isolate`) leaves a file no reader
 //! opens; CSV keeps the rows up to its last quarter-second flush there.
 
 use parquet::basic::{Compression, Repetition, Type as PhysicalType};
+use parquet::column::writer::{ColumnWriterImpl, get_column_writer, get_typed_column_writer};
 use parquet::data_type::DoubleType;
-use parquet::file::properties::{EnabledStatistics, WriterProperties};
-use parquet::file::writer::SerializedFileWriter;
-use parquet::schema::types::{ColumnPath, Type};
+use parquet::file::properties::{EnabledStatistics, WriterProperties, WriterPropertiesPtr};
+use parquet::file::writer::{SerializedFileWriter, SerializedPageWriter, TrackedWrite};
+use parquet::schema::types::{ColumnDescPtr, ColumnPath, Type};
 use std::io::{BufWriter, Write};
 use std::path::Path;
 use std::sync::Arc;
+use std::sync::mpsc::{Receiver, Sender};
 
-/// Rows per row group: a reader that needs a time range skips whole groups. 8192 rows of 67
-/// channels are 4.4 MB of buffered rows, reused for the next group.
+/// Rows per row group: a reader that needs a time range skips whole groups (its time column has page
+/// statistics besides).
 pub const ROW_GROUP_ROWS: usize = 1 << 13;
+
+/// Rows per hand-over to the writer thread and per page. Measured on c-shutdown-spring, every output
+/// at every step (2026-12-01, docs/PERFORMANCE.md): handing the thread a whole group at once, the
+/// simulation filled 4.4 MB of fresh pages per group and completing the file waited for the last
+/// group's encoding; in chunks the full recording's wall time fell from 1.98 to 1.79 times the
+/// simulation's (medians of 21 paired runs), for 9 % more instructions in the writer thread (eight
+/// pages a column chunk instead of one) and a file 0.7 % larger.
+pub const CHUNK_ROWS: usize = 1 << 10;
+
+/// Chunks handed over and not yet written: the simulation runs at most this far ahead of the file.
+const CHUNKS_AHEAD: usize = 4;
 
 /// Writes a Parquet file with a `time` column and one DOUBLE column per name.
 pub struct ParquetWriter {
     /// The rows not yet handed to the writer thread, row after row: the time, then each named
     /// column's value.
     rows: Vec<f64>,
-    /// Full buffers to the writer thread (an empty one: the last group was sent, finish the file);
+    /// Full buffers to the writer thread (an empty one: the last chunk was sent, finish the file);
     /// None once closed.
     to_thread: Option<std::sync::mpsc::SyncSender<Vec<f64>>>,
     /// Written buffers back from the thread, to be filled again.
@@ -84,39 +99,32 @@ impl ParquetWriter {
         }
         let file = std::fs::File::create(path).map_err(|e| std::io::Error::new(e.kind(), format!("{shown}: {e}")))?;
         // Dictionary encoding finds nothing to share in simulated floats and costs a hash per value.
-        // Min/max statistics only for the time column, where they let a reader skip row groups
-        // outside a time range; a channel's cost a comparison pair per value (a quarter of the
-        // writer's work, callgrind) for a filter no analysis asks.
+        // Min/max statistics only for the time column, where they let a reader skip pages and row
+        // groups outside a time range; a channel's cost a comparison pair per value (a quarter of the
+        // writer's work, callgrind) for a filter no analysis asks. A page per chunk: each is compressed
+        // as it comes instead of all of a group's when it closes.
         let properties = WriterProperties::builder()
             .set_compression(Compression::SNAPPY)
             .set_dictionary_enabled(false)
             .set_statistics_enabled(EnabledStatistics::None)
             .set_column_statistics_enabled(ColumnPath::from("time"), EnabledStatistics::Page)
+            .set_write_batch_size(CHUNK_ROWS)
+            .set_data_page_row_count_limit(CHUNK_ROWS)
             .build();
         let writer = SerializedFileWriter::new(BufWriter::new(file), Arc::new(schema), Arc::new(properties))
             .map_err(|e| io_error(&shown, e))?;
-        // one buffer in the channel at most: the simulation runs at most a group ahead of the file
-        let (to_thread, groups) = std::sync::mpsc::sync_channel::<Vec<f64>>(1);
+        let (to_thread, chunks) = std::sync::mpsc::sync_channel::<Vec<f64>>(CHUNKS_AHEAD);
         let (give_back, from_thread) = std::sync::mpsc::channel();
-        let mut file = GroupWriter {
+        let file = GroupWriter {
+            descriptors: writer.schema_descr().columns().to_vec(),
+            properties: Arc::clone(writer.properties()),
             writer,
             columns: vec![Vec::new(); width],
             path: shown.clone(),
         };
         let thread = std::thread::Builder::new()
             .name("parquet-writer".into())
-            .spawn(move || {
-                for mut rows in groups {
-                    if rows.is_empty() {
-                        break;
-                    }
-                    file.write_group(&rows)?;
-                    rows.clear();
-                    // the simulation may have finished meanwhile: nobody to give it back to
-                    let _ = give_back.send(rows);
-                }
-                file.finish()
-            })
+            .spawn(move || file.run(chunks, give_back))
             .map_err(|e| io_error(&shown, e))?;
         Ok(Self {
             rows: Vec::new(),
@@ -132,12 +140,12 @@ impl ParquetWriter {
     pub fn row(&mut self, time: f64, values: impl IntoIterator<Item = f64>) -> std::io::Result<()> {
         let start = self.rows.len();
         if start == 0 && self.rows.capacity() == 0 {
-            // the whole group at once: growing it would copy every row kept so far, repeatedly;
+            // the whole chunk at once: growing it would copy every row kept so far, repeatedly;
             // a buffer the writer thread has written comes back with its capacity
             self.rows = self
                 .from_thread
                 .try_recv()
-                .unwrap_or_else(|_| Vec::with_capacity(ROW_GROUP_ROWS * self.width));
+                .unwrap_or_else(|_| Vec::with_capacity(CHUNK_ROWS * self.width));
         }
         self.rows.push(time);
         self.rows.extend(values.into_iter().take(self.width - 1));
@@ -149,14 +157,13 @@ impl ParquetWriter {
                 format!("a row of {count} values for {} columns", self.width - 1),
             ));
         }
-        if self.rows.len() >= ROW_GROUP_ROWS * self.width {
+        if self.rows.len() >= CHUNK_ROWS * self.width {
             self.send_buffered()?;
         }
         Ok(())
     }
 
-    /// Hands the buffered rows to the writer thread as one row group; a thread that stopped on an
-    /// error answers with it.
+    /// Hands the buffered rows to the writer thread; a thread that stopped on an error answers with it.
     fn send_buffered(&mut self) -> std::io::Result<()> {
         let Some(to_thread) = &self.to_thread else {
             return Err(io_error(&self.path, "written after it was closed"));
@@ -200,39 +207,75 @@ impl Drop for ParquetWriter {
     }
 }
 
-/// The writer thread's side: the file and the column buffers a group is transposed into.
+/// The writer thread's side: the file, what a column writer is made of, and the columns a chunk is
+/// transposed into.
 struct GroupWriter {
     writer: SerializedFileWriter<BufWriter<std::fs::File>>,
-    /// The group's rows as columns, reused group after group.
+    descriptors: Vec<ColumnDescPtr>,
+    properties: WriterPropertiesPtr,
+    /// A chunk's rows as columns, reused chunk after chunk.
     columns: Vec<Vec<f64>>,
     path: String,
 }
 
 impl GroupWriter {
-    /// Writes `rows` (whole rows, one after the other) as one row group, column after column.
-    fn write_group(&mut self, rows: &[f64]) -> std::io::Result<()> {
-        transpose(rows, &mut self.columns);
-        let path = &self.path;
-        let mut group = self.writer.next_row_group().map_err(|e| io_error(path, e))?;
-        for values in &self.columns {
-            let mut column = group
-                .next_column()
-                .map_err(|e| io_error(path, e))?
-                .ok_or_else(|| io_error(path, "the schema has fewer columns than a row"))?;
-            column
-                .typed::<DoubleType>()
-                .write_batch(values, None, None)
-                .map_err(|e| io_error(path, e))?;
-            column.close().map_err(|e| io_error(path, e))?;
+    /// Writes the chunks as they come, [`ROW_GROUP_ROWS`] rows a group, until an empty chunk or a
+    /// closed channel ends the file; each chunk's buffer goes back, emptied.
+    fn run(mut self, chunks: Receiver<Vec<f64>>, give_back: Sender<Vec<f64>>) -> std::io::Result<()> {
+        let path = self.path.clone();
+        let fail = |e: parquet::errors::ParquetError| io_error(&path, e);
+        let mut ended = false;
+        while !ended {
+            // the open group's columns, encoded into memory and appended to the file when it closes
+            // sized for a group's values uncompressed: no reallocation as the pages come
+            let mut sinks: Vec<TrackedWrite<Vec<u8>>> = self
+                .descriptors
+                .iter()
+                .map(|_| TrackedWrite::new(Vec::with_capacity(ROW_GROUP_ROWS * 8 + 4096)))
+                .collect();
+            let mut columns: Vec<ColumnWriterImpl<'_, DoubleType>> = self
+                .descriptors
+                .iter()
+                .zip(sinks.iter_mut())
+                .map(|(d, sink)| {
+                    let pages = Box::new(SerializedPageWriter::new(sink));
+                    get_typed_column_writer(get_column_writer(Arc::clone(d), Arc::clone(&self.properties), pages))
+                })
+                .collect();
+            let mut rows = 0;
+            while rows < ROW_GROUP_ROWS {
+                let mut chunk = match chunks.recv() {
+                    Ok(chunk) if !chunk.is_empty() => chunk,
+                    _ => {
+                        ended = true;
+                        break;
+                    }
+                };
+                transpose(&chunk, &mut self.columns);
+                for (column, values) in columns.iter_mut().zip(&self.columns) {
+                    column.write_batch(values, None, None).map_err(fail)?;
+                }
+                rows += chunk.len() / self.columns.len();
+                chunk.clear();
+                // the simulation may have finished meanwhile: nobody to give it back to
+                let _ = give_back.send(chunk);
+            }
+            let closed = columns
+                .into_iter()
+                .map(ColumnWriterImpl::close)
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(fail)?;
+            if rows == 0 {
+                continue;
+            }
+            let mut group = self.writer.next_row_group().map_err(fail)?;
+            for (sink, close) in sinks.into_iter().zip(closed) {
+                let bytes = bytes::Bytes::from(sink.into_inner().map_err(fail)?);
+                group.append_column(&bytes, close).map_err(fail)?;
+            }
+            group.close().map_err(fail)?;
         }
-        group.close().map_err(|e| io_error(path, e))?;
-        Ok(())
-    }
-
-    /// Writes the footer and flushes the file.
-    fn finish(self) -> std::io::Result<()> {
-        let path = self.path;
-        let mut file = self.writer.into_inner().map_err(|e| io_error(&path, e))?;
+        let mut file = self.writer.into_inner().map_err(fail)?;
         file.flush().map_err(|e| io_error(&path, e))
     }
 }
@@ -273,7 +316,7 @@ pub fn is_parquet(path: &Path) -> bool {
 
 #[cfg(test)]
 mod tests {
-    use super::{ParquetWriter, ROW_GROUP_ROWS, transpose};
+    use super::{CHUNK_ROWS, ParquetWriter, ROW_GROUP_ROWS, transpose};
     use crate::analysis::signal::series::read_channels;
 
     /// Rows across several groups handed to the writer thread, the last one partial, come back in
@@ -285,6 +328,9 @@ mod tests {
         for (rows, close) in [
             (2 * ROW_GROUP_ROWS + 17, true),
             (ROW_GROUP_ROWS + 1, false),
+            (ROW_GROUP_ROWS, true),
+            (CHUNK_ROWS + 1, true),
+            (CHUNK_ROWS, false),
             (3, false),
             (0, true),
         ] {
@@ -304,6 +350,18 @@ mod tests {
                 assert!(std::fs::metadata(&path).unwrap().len() > 0);
                 continue;
             }
+            // whole groups but the last
+            let file = std::fs::File::open(&path).unwrap();
+            let metadata = parquet::file::reader::SerializedFileReader::new(file).unwrap();
+            let groups: Vec<i64> = parquet::file::reader::FileReader::metadata(&metadata)
+                .row_groups()
+                .iter()
+                .map(|g| g.num_rows())
+                .collect();
+            let expected: Vec<i64> = (0..rows.div_ceil(ROW_GROUP_ROWS))
+                .map(|g| (rows - g * ROW_GROUP_ROWS).min(ROW_GROUP_ROWS) as i64)
+                .collect();
+            assert_eq!(groups, expected, "{rows} rows");
             let (t, x) = read_channels(&path, &["a", "b"]).unwrap();
             assert_eq!(t.len(), rows);
             for i in 0..rows {
