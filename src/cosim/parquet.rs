@@ -137,9 +137,14 @@ impl ParquetWriter {
     }
 
     /// Adds one row: the time, then the values in the columns' order.
-    pub fn row(&mut self, time: f64, values: impl IntoIterator<Item = f64>) -> std::io::Result<()> {
-        let start = self.rows.len();
-        if start == 0 && self.rows.capacity() == 0 {
+    pub fn row(&mut self, time: f64, values: &[f64]) -> std::io::Result<()> {
+        if values.len() != self.width - 1 {
+            return Err(io_error(
+                &self.path,
+                format!("a row of {} values for {} columns", values.len(), self.width - 1),
+            ));
+        }
+        if self.rows.capacity() == 0 {
             // the whole chunk at once: growing it would copy every row kept so far, repeatedly;
             // a buffer the writer thread has written comes back with its capacity
             self.rows = self
@@ -148,15 +153,7 @@ impl ParquetWriter {
                 .unwrap_or_else(|_| Vec::with_capacity(CHUNK_ROWS * self.width));
         }
         self.rows.push(time);
-        self.rows.extend(values.into_iter().take(self.width - 1));
-        let count = self.rows.len() - start - 1;
-        if count != self.width - 1 {
-            self.rows.truncate(start);
-            return Err(io_error(
-                &self.path,
-                format!("a row of {count} values for {} columns", self.width - 1),
-            ));
-        }
+        self.rows.extend_from_slice(values);
         if self.rows.len() >= CHUNK_ROWS * self.width {
             self.send_buffered()?;
         }
@@ -337,9 +334,9 @@ mod tests {
             let path = dir.join(format!("{rows}-{close}.parquet"));
             let mut w = ParquetWriter::create(&path, ["a", "b"]).unwrap();
             for i in 0..rows {
-                w.row(i as f64 * 1e-3, [value(i, 0), value(i, 1)]).unwrap();
+                w.row(i as f64 * 1e-3, &[value(i, 0), value(i, 1)]).unwrap();
             }
-            let refused = w.row(1.0, [1.0]).unwrap_err().to_string();
+            let refused = w.row(1.0, &[1.0]).unwrap_err().to_string();
             assert!(refused.contains("a row of 1 values for 2 columns"), "{refused}");
             if close {
                 w.close().unwrap();

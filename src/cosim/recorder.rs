@@ -96,9 +96,9 @@ impl Sink {
         })
     }
 
-    fn row(&mut self, time: f64, values: impl IntoIterator<Item = f64>) -> std::io::Result<()> {
+    fn row(&mut self, time: f64, values: &[f64]) -> std::io::Result<()> {
         match self {
-            Sink::Csv(w) => w.row(time, values),
+            Sink::Csv(w) => w.row(time, values.iter().copied()),
             Sink::Parquet(w) => w.row(time, values),
         }
     }
@@ -204,13 +204,12 @@ impl Recorder {
         for &(u, start, n) in &self.runs {
             self.row.extend_from_slice(&system.units[u].values[start..start + n]);
         }
-        let values = self.row.iter().copied();
         if let Some(m) = &mut self.memory {
             m.time.push(time);
-            m.columns.iter_mut().zip(values.clone()).for_each(|(c, v)| c.push(v));
+            m.columns.iter_mut().zip(&self.row).for_each(|(c, &v)| c.push(v));
         }
         if let Some((out, _)) = &mut self.out {
-            out.row(time, values)?;
+            out.row(time, &self.row)?;
         }
         self.rows += 1;
         self.last_time = time;
