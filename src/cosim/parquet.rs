@@ -223,8 +223,8 @@ impl GroupWriter {
         let fail = |e: parquet::errors::ParquetError| io_error(&path, e);
         let mut ended = false;
         while !ended {
-            // the open group's columns, encoded into memory and appended to the file when it closes
-            // sized for a group's values uncompressed: no reallocation as the pages come
+            // the open group's columns, encoded into memory (room for a group's values uncompressed:
+            // no reallocation as the pages come) and appended to the file when the group closes
             let mut sinks: Vec<TrackedWrite<Vec<u8>>> = self
                 .descriptors
                 .iter()
@@ -316,8 +316,9 @@ mod tests {
     use super::{CHUNK_ROWS, ParquetWriter, ROW_GROUP_ROWS, transpose};
     use crate::analysis::signal::series::read_channels;
 
-    /// Rows across several groups handed to the writer thread, the last one partial, come back in
-    /// order to the bit, whether the file is closed or only dropped; a wrong row is refused at once.
+    /// Rows across several chunks and groups handed to the writer thread, the last ones partial, come
+    /// back in order to the bit, in whole groups but the last, whether the file is closed or only
+    /// dropped; a wrong row is refused at once.
     #[test]
     fn every_row_reaches_the_file_through_the_writer_thread() {
         let dir = std::env::temp_dir().join(format!("windrive-parquet-{}", std::process::id()));
