@@ -215,8 +215,8 @@ pub fn variants_foot(stop: f64, base: &Baseline) -> String {
          the reference (min rollr: fewest rollers carrying planet 1's upwind bearing in normal operation, the \
          reference's in brackets; linear bearings report none); the gearbox FMU's defaults are the row \"same, table, \
          kept+pred.\" (grc750's lamina-table bearings, newton = kept+predicted), rows that name neither take the \
-         lamina loop and newton = pattern, the rows \"same, tolerance 1e-7\" the row above's with newton_tolerance = \
-         1e-7 instead of the default 1e-8\n",
+         lamina loop and newton = pattern, the rows \"same, tolerance {LOOSER_TOLERANCE:e}\" the row above's with \
+         newton_tolerance = {LOOSER_TOLERANCE:e} instead of the default {NEARLY_LINEAR_INCREMENT_TOLERANCE:e}\n",
         ms(base.wall_s),
         stop / base.wall_s,
         split.join(", "),
@@ -303,6 +303,9 @@ pub fn torsional_baseline(dir: &Path, stop: f64) -> anyhow::Result<Baseline> {
     })
 }
 
+/// The looser Newton tolerance of the rows "same, tolerance 1e-7" (their labels spell it).
+const LOOSER_TOLERANCE: f64 = 1e-7;
+
 /// One row's settings: label, slices, bearing model, internal step, integrator, main shaft, Newton iteration
 /// and its tolerance.
 type Variant = (
@@ -331,7 +334,7 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
     let at =
         |label, bearings, newton, tolerance| (label, 35, bearings, 1e-3, "hht", MainShaft::Preset, newton, tolerance);
     let newton = |label, bearings, newton| at(label, bearings, newton, tol);
-    let looser = |label, bearings| at(label, bearings, "kept+predicted", 1e-7);
+    let looser = |label, bearings| at(label, bearings, "kept+predicted", LOOSER_TOLERANCE);
     let variants: [Variant; 17] = [
         pattern(
             "reference: 0.25 ms",

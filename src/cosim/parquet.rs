@@ -228,7 +228,7 @@ impl GroupWriter {
             let mut sinks: Vec<TrackedWrite<Vec<u8>>> = self
                 .descriptors
                 .iter()
-                .map(|_| TrackedWrite::new(Vec::with_capacity(ROW_GROUP_ROWS * 8 + 4096)))
+                .map(|_| TrackedWrite::new(Vec::with_capacity(ROW_GROUP_ROWS * size_of::<f64>() + 4096)))
                 .collect();
             let mut columns: Vec<ColumnWriterImpl<'_, DoubleType>> = self
                 .descriptors
