@@ -9,8 +9,8 @@ use crate::models::torsional::vr;
 use crate::physics::brake::DiskBrake;
 use crate::physics::drivetrain::Drivetrain;
 use crate::physics::torsional::{
-    ElementLoad, Fidelity, INPUT_BRAKE_COMMAND, INPUT_COUNT, INPUT_CUT_ANGLE, INPUT_CUT_SPEED, INPUT_CUT_TORQUE,
-    INPUT_GENERATOR_TORQUE, INPUT_ROTOR_TORQUE, Lumping, ModelOptions, Section, TorsionalModel,
+    ElementLoad, ElementTable, Fidelity, INPUT_BRAKE_COMMAND, INPUT_COUNT, INPUT_CUT_ANGLE, INPUT_CUT_SPEED,
+    INPUT_CUT_TORQUE, INPUT_GENERATOR_TORQUE, INPUT_ROTOR_TORQUE, Lumping, ModelOptions, Section, TorsionalModel,
 };
 use crate::solver::alpha::Alpha;
 use crate::solver::{Driver, DynState, Method, Statistics, rk4};
@@ -48,6 +48,8 @@ pub struct Built {
     pub method: Method,
     pub brake_torque_max: f64,
     pub rk4_step_limit: f64,
+    /// The model's elements packed for reading their loads (every element output reads through it).
+    pub elements: ElementTable,
 }
 
 #[derive(Clone, Serialize, Deserialize)]
@@ -152,6 +154,7 @@ impl Params {
         }
         Ok(Built {
             drivetrain,
+            elements: ElementTable::new(&model),
             model,
             method,
             brake_torque_max,
@@ -220,7 +223,10 @@ impl Source {
         match self {
             Self::Constant(v) => v,
             Self::Body { dof, factor, speed } => factor * if speed { st.v[dof] } else { st.q[dof] },
-            Self::Element(o) => b.model.element_output(o, &st.q, &st.v, cut),
+            // `element_output`'s product, the element's load from the packed table
+            Self::Element(o) => o.map_or(0.0, |o| {
+                o.factor * b.elements.load(&b.model, o.element, &st.q, &st.v, cut).force
+            }),
             Self::BrakeTorque => -st.friction_force,
             Self::StoredEnergy => b.model.stored_energy(&st.q, &st.v, cut),
         }
@@ -296,7 +302,7 @@ impl ReadPlan {
         values: &mut [f64],
     ) {
         if !(self.elements.is_empty() && self.stored_energy.is_empty()) {
-            b.model.element_loads(&st.q, &st.v, cut, &mut self.loads);
+            b.elements.loads(&b.model, &st.q, &st.v, cut, &mut self.loads);
         }
         // resolved because it has a value; NaN sends the host to the value-by-value path
         for &(i, r) in &self.declared {

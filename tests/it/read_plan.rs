@@ -30,10 +30,18 @@ fn an_array_reads_what_its_values_read_one_by_one_across_rebuilds() {
     s.initialize(0.0, &mut NoLog).unwrap();
     let mut t: f64 = 0.0;
     let h = 1e-3;
-    // D whole, then C cut at its LSS (other bodies, the cut's inputs in the shaft torque), then D again
-    for (preset, section) in [("D", "whole"), ("C", "drivetrain"), ("D", "whole")] {
+    // D whole, then C cut at its LSS (other bodies, the cut's inputs in the shaft torque), then D again,
+    // then D with its meshes' stiffness following their roll (the elements whose stiffness the packed
+    // loads ask of the element itself)
+    for (preset, section, variation) in [
+        ("D", "whole", 0.0),
+        ("C", "drivetrain", 0.0),
+        ("D", "whole", 0.0),
+        ("D", "whole", 0.2),
+    ] {
         s.set_string(vr::PRESET, preset, &mut NoLog).unwrap();
         s.set_string(vr::SECTION, section, &mut NoLog).unwrap();
+        s.set_real(vr::MESH_STIFFNESS_VARIATION, variation, &mut NoLog).unwrap();
         for k in 0..300 {
             let (array, one_by_one) = both_ways(&mut s);
             assert_eq!(array, one_by_one, "{preset} {section}, step {k}");
@@ -126,4 +134,73 @@ fn a_gearbox_array_reads_what_its_values_read_one_by_one() {
     refs[4] = 99_999;
     assert!(g.get_reals(&refs, &mut values).is_err());
     assert!(g.get_real(99_999).is_err());
+}
+
+/// Every element output of the torsional FMU reads through the packed element table: its loads are the
+/// model's own element loads (`element_output`, `stored_energy`) to the bit, for every preset, fidelity
+/// and section, with backlash and with the meshes' stiffness following their roll.
+#[test]
+fn the_packed_element_loads_are_the_models_to_the_bit() {
+    use windrive::physics::drivetrain::Drivetrain;
+    use windrive::physics::torsional::{ElementTable, Fidelity, ForceOutput, ModelOptions, Section, TorsionalModel};
+    // xorshift: reproducible states in [-1, 1)
+    let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+    let mut random = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let mut models = 0;
+    for preset in ["A", "B", "C", "D"] {
+        for fidelity in [Fidelity::Two, Fidelity::Five, Fidelity::Full] {
+            for (mesh_backlash, mesh_stiffness_variation) in [(0.0, 0.0), (1e-4, 0.0), (0.0, 0.2), (1e-4, 0.2)] {
+                for section in [Section::Whole, Section::Drivetrain] {
+                    let options = ModelOptions {
+                        mesh_backlash,
+                        mesh_stiffness_variation,
+                        ..ModelOptions::default()
+                    };
+                    let drivetrain = Drivetrain::preset(preset).unwrap();
+                    // backlash and varying stiffness need the full model
+                    let Ok(model) = TorsionalModel::new(&drivetrain, fidelity, &options) else {
+                        continue;
+                    };
+                    let model = model.into_section(section);
+                    let table = ElementTable::new(&model);
+                    let mut loads = Vec::new();
+                    for _ in 0..40 {
+                        // a rigid rotation of up to a thousand radians with deflections of up to 1e-3 rad
+                        // (inside and outside the backlash) and speeds about it
+                        let (turn, spin) = (1000.0 * random(), 2.0 * random());
+                        let q: Vec<f64> = model.speed_ratio.iter().map(|r| r * turn + 1e-3 * random()).collect();
+                        let v: Vec<f64> = model.speed_ratio.iter().map(|r| r * spin + 1e-2 * random()).collect();
+                        let boundary = (1e-3 * random(), 1e-2 * random());
+                        table.loads(&model, &q, &v, boundary, &mut loads);
+                        assert_eq!(loads.len(), model.elements.len());
+                        for (e, load) in loads.iter().enumerate() {
+                            let output = Some(ForceOutput {
+                                element: e,
+                                factor: 1.0,
+                            });
+                            let expected = model.element_output(output, &q, &v, boundary).to_bits();
+                            let what = format!("{preset} {fidelity:?} {section:?} {options:?}, element {e}");
+                            assert_eq!(load.force.to_bits(), expected, "{what}");
+                            assert_eq!(
+                                table.load(&model, e, &q, &v, boundary).force.to_bits(),
+                                expected,
+                                "{what}"
+                            );
+                        }
+                        assert_eq!(
+                            model.stored_energy_of(&v, &loads).to_bits(),
+                            model.stored_energy(&q, &v, boundary).to_bits()
+                        );
+                    }
+                    models += 1;
+                }
+            }
+        }
+    }
+    assert!(models >= 30, "{models} models");
 }

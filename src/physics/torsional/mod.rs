@@ -17,6 +17,8 @@ use crate::solver::system::InputLoad;
 use serde::{Deserialize, Serialize};
 
 mod assembly;
+mod element_table;
+pub use element_table::ElementTable;
 mod linear;
 mod reduction;
 mod section;
@@ -177,12 +179,18 @@ impl Element {
 
     /// Elastic deflection beyond the backlash gap, and whether the flanks touch.
     pub fn contact(&self, delta: f64) -> (f64, bool) {
-        if self.half_backlash == 0.0 {
+        Self::contact_of(self.half_backlash, delta)
+    }
+
+    /// [`Self::contact`] of an element with half the backlash `half_backlash`.
+    #[inline]
+    pub(super) fn contact_of(half_backlash: f64, delta: f64) -> (f64, bool) {
+        if half_backlash == 0.0 {
             (delta, true)
-        } else if delta > self.half_backlash {
-            (delta - self.half_backlash, true)
-        } else if delta < -self.half_backlash {
-            (delta + self.half_backlash, true)
+        } else if delta > half_backlash {
+            (delta - half_backlash, true)
+        } else if delta < -half_backlash {
+            (delta + half_backlash, true)
         } else {
             (0.0, false)
         }
@@ -195,16 +203,18 @@ impl Element {
 
     /// [`Self::force`] from the deflection's [`Self::contact`].
     #[inline]
-    pub fn force_in(&self, k: f64, (elastic, touching): (f64, bool), rate: f64) -> f64 {
-        if touching {
-            k * elastic + self.damping * rate
-        } else {
-            0.0
-        }
+    pub fn force_in(&self, k: f64, contact: (f64, bool), rate: f64) -> f64 {
+        Self::spring_damper(k, self.damping, contact, rate)
+    }
+
+    /// [`Self::force_in`] of an element with damping `damping`.
+    #[inline]
+    pub(super) fn spring_damper(k: f64, damping: f64, (elastic, touching): (f64, bool), rate: f64) -> f64 {
+        if touching { k * elastic + damping * rate } else { 0.0 }
     }
 }
 
-/// One element's force and elastic energy at a state ([`TorsionalModel::element_loads`]).
+/// One element's force and elastic energy at a state ([`ElementTable::loads`]).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct ElementLoad {
     pub force: f64,

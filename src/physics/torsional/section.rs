@@ -117,6 +117,12 @@ impl TorsionalModel {
         }
     }
 
+    /// Element `i`'s force and elastic energy ([`Self::element_load`]): how an [`super::ElementTable`]
+    /// reads the elements it does not pack.
+    pub(super) fn element_load_of(&self, i: usize, q: &[f64], v: &[f64], boundary: (f64, f64)) -> ElementLoad {
+        Self::element_load(&self.elements[i], q, v, boundary)
+    }
+
     /// Kinetic energy plus the elastic energy of every element in contact, J; `boundary` is the
     /// cut's (angle, speed) for [`Section::Drivetrain`] (ignored otherwise).
     pub fn stored_energy(&self, q: &[f64], v: &[f64], boundary: (f64, f64)) -> f64 {
@@ -140,15 +146,8 @@ impl TorsionalModel {
         })
     }
 
-    /// Every element's force and elastic energy at (q, v) and the cut's `boundary`, one entry per
-    /// element into `out`: for a reader of many outputs, each element once instead of once per
-    /// output and again for the energy.
-    pub fn element_loads(&self, q: &[f64], v: &[f64], boundary: (f64, f64), out: &mut Vec<ElementLoad>) {
-        out.clear();
-        out.extend(self.elements.iter().map(|e| Self::element_load(e, q, v, boundary)));
-    }
-
-    /// [`Self::stored_energy`] from [`Self::element_loads`]' `loads` at the same state, speeds `v`.
+    /// [`Self::stored_energy`] from every element's load at the same state (an [`super::ElementTable`]'s),
+    /// speeds `v`.
     pub fn stored_energy_of(&self, v: &[f64], loads: &[ElementLoad]) -> f64 {
         self.kinetic_energy(v) + loads.iter().map(|l| l.energy).sum::<f64>()
     }
