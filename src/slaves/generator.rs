@@ -166,19 +166,20 @@ impl Slave for GeneratorSlave {
     /// The model's outputs computed once for all the values asked.
     fn get_reals(&mut self, vrs: &[u32], values: &mut [f64]) -> SlaveResult<()> {
         let omega = self.inputs.generator_speed.value();
-        let mut computed = None;
+        // the outputs once per array, read with the model by reference for every value
+        let mut outputs = None;
         for (&r, value) in vrs.iter().zip(values) {
             *value = match xml::get_real(&self.params, &self.inputs, r) {
                 Some(v) => v,
                 None => {
-                    let (b, out) = match computed {
-                        Some(c) => c,
-                        None => {
-                            let b = *self.ensure()?;
-                            *computed.insert((b, b.generator.outputs(&b.state, omega)))
-                        }
+                    if outputs.is_none() {
+                        let b = self.ensure()?;
+                        outputs = Some(b.generator.outputs(&b.state, omega));
+                    }
+                    let (Some(out), Some(b)) = (&outputs, &self.model) else {
+                        return Err(err("the model was not built"));
                     };
-                    Self::computed(&b, &out, r)?
+                    Self::computed(b, out, r)?
                 }
             };
         }

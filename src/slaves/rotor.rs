@@ -647,18 +647,20 @@ impl Slave for RotorSlave {
     /// The rotor's outputs at the current inputs computed (or taken from the cache) once for all the
     /// values asked.
     fn get_reals(&mut self, vrs: &[u32], values: &mut [f64]) -> SlaveResult<()> {
+        // the outputs once per array, and the model they came from, by reference for every value after
         let mut outputs = None;
+        let omega = self.inputs.rotor_speed.value();
         for (&r, value) in vrs.iter().zip(values) {
             if let Some(v) = xml::get_real(&self.params, &self.inputs, r) {
                 *value = v;
                 continue;
             }
-            let out = match outputs {
-                Some(out) => out,
-                None => *outputs.insert(self.current_outputs()?),
+            if outputs.is_none() {
+                outputs = Some(self.current_outputs()?);
+            }
+            let (Some(out), Some(b)) = (&outputs, &self.built) else {
+                return Err(SlaveError::new("the model was not built"));
             };
-            let omega = self.inputs.rotor_speed.value();
-            let b = self.ensure()?;
             *value = match r {
                 vr::RATED_WIND_SPEED => b.rated_wind_speed,
                 vr::RATED_TIP_SPEED_RATIO => b.rated_tip_speed_ratio,
