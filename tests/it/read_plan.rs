@@ -143,14 +143,8 @@ fn a_gearbox_array_reads_what_its_values_read_one_by_one() {
 fn the_packed_element_loads_are_the_models_to_the_bit() {
     use windrive::physics::drivetrain::Drivetrain;
     use windrive::physics::torsional::{ElementTable, Fidelity, ForceOutput, ModelOptions, Section, TorsionalModel};
-    // xorshift: reproducible states in [-1, 1)
-    let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-    let mut random = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
+    let mut rng = crate::common::Rng(0x9e37_79b9_7f4a_7c15);
+    let mut random = move || rng.symmetric();
     let mut models = 0;
     for preset in ["A", "B", "C", "D"] {
         for fidelity in [Fidelity::Two, Fidelity::Five, Fidelity::Full] {

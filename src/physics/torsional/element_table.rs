@@ -1,7 +1,8 @@
 //! Every element's load at once, for a reader of many outputs (a recorder's row): the elements' numbers
 //! packed side by side, so that a row costs a tight loop instead of a walk through each [`Element`]'s
 //! vectors and options. The arithmetic is [`TorsionalModel`]'s `element_load`, operation for operation,
-//! so the loads are its bits (tests/it/read_plan.rs compares every output read both ways).
+//! so the loads are its bits (tests/it/read_plan.rs compares them with the model's `element_output` and
+//! `stored_energy`).
 
 use super::{Element, ElementLoad, TorsionalModel};
 
