@@ -129,6 +129,9 @@ impl ElementTable {
         boundary: (f64, f64),
         out: &mut Vec<ElementLoad>,
     ) {
+        // the pairs, the triples and the rest in loops of their own: one loop over the slots, a match per
+        // element, cost the simulation thread 133.5 -> 138.6 M instructions over 10 s of c-shutdown-spring
+        // with every output recorded (callgrind, 2026-12-01)
         out.clear();
         out.resize(self.slots.len(), ElementLoad::default());
         // DOF 0's angle and speed: the rigid rotation the deflections are taken from
