@@ -8,6 +8,13 @@ the median over the rounds. Ratios above 1 mean the current tree is faster.
 
     python3 benches/torsional_ab.py                   # current tree against HEAD~1, 5 rounds
     python3 benches/torsional_ab.py --base 239c6f3 --rounds 9
+    python3 benches/torsional_ab.py --loop --rounds 21 # the FMU's C symbols alone, as below
+
+With --loop each round runs benches/torsional_loop.c (compiled here) on the two builds'
+libtorsional.so instead: the bench's FMI loop (three inputs set, fmi2DoStep, the HSS torque read)
+without the host's own code, its wall time per step, and its checksum, which says whether the two
+builds compute the same bits. A round is short (LOOP_STEPS steps, about a third of a second), so many
+rounds fit where this VM's phases would move a whole `bench torsional` run.
 
 The current tree must be built and packed first (`cargo build --release && target/release/windrive
 pack torsional`). The base build takes a few minutes on two cores; it is kept in target/ab-base.
@@ -43,6 +50,37 @@ def build_base(commit: str) -> tuple[str, str]:
     return binary, fmu
 
 
+LOOP_STEPS = 2_000_000
+
+
+def compile_loop() -> str:
+    exe = os.path.join(ROOT, "target", "torsional_loop")
+    src = os.path.join(ROOT, "benches", "torsional_loop.c")
+    subprocess.run(["cc", "-O2", "-o", exe, src, "-ldl"], check=True)
+    return exe
+
+
+def run_loop(exe: str, lib: str) -> tuple[str, float]:
+    """The loop's checksum line and its wall time per step, ns."""
+    out = subprocess.run([exe, lib, str(LOOP_STEPS)], capture_output=True, text=True, check=True).stdout
+    checksum, timing = out.splitlines()[:2]
+    return checksum, float(timing.split()[-1])
+
+
+def loop_rounds(new_lib: str, base_lib: str, rounds: int, commit: str) -> None:
+    exe = compile_loop()
+    ratios, sums = [], set()
+    for r in range(rounds):
+        (sum_a, a), (sum_b, b) = run_loop(exe, new_lib), run_loop(exe, base_lib)
+        sums.update([(sum_a, "current"), (sum_b, "base")])
+        ratios.append(b / a)
+        print(f"round {r + 1}/{rounds}: {a:.1f} vs {b:.1f} ns per step")
+    same = len({s for s, _ in sums}) == 1
+    print(f"\nspeed of the current tree's FMI loop over {commit} (median of {rounds} alternating rounds):")
+    print(f"  {statistics.median(ratios):.3f}  (range {min(ratios):.3f}-{max(ratios):.3f})")
+    print("  the same bits (checksums equal)" if same else f"  the results differ: {sorted(sums)}")
+
+
 def run(binary: str, fmu: str) -> dict[str, float]:
     out = subprocess.run(
         [binary, "bench", "torsional", "--fmu", fmu], cwd=ROOT, capture_output=True, text=True, check=True
@@ -63,7 +101,20 @@ def main() -> None:
     p.add_argument("--rounds", type=int, default=5, help="A/B rounds (default 5)")
     p.add_argument("--base-binary", help="an already built base windrive (skips the build; with --base-fmu)")
     p.add_argument("--base-fmu", help="the base's torsional.fmu")
+    p.add_argument("--loop", action="store_true", help="time benches/torsional_loop.c on the two libraries")
+    p.add_argument("--base-lib", help="with --loop: an already built base libtorsional.so (skips the build)")
     args = p.parse_args()
+    if args.loop:
+        new_lib = os.path.join(ROOT, "target", "release", "libtorsional.so")
+        if args.base_lib:
+            commit, base_lib = args.base_lib, args.base_lib
+        else:
+            commit = subprocess.run(
+                ["git", "-C", ROOT, "rev-parse", "--short", args.base], capture_output=True, text=True, check=True
+            ).stdout.strip()
+            base_lib = os.path.join(os.path.dirname(build_base(commit)[0]), "libtorsional.so")
+        loop_rounds(new_lib, base_lib, args.rounds, commit)
+        return
     if args.base_binary:
         commit, base_bin, base_fmu = args.base_binary, args.base_binary, args.base_fmu
     else:

@@ -9,11 +9,13 @@
  *
  * and divide by the steps (10 000). Drivetrain D at full fidelity with the default implicit
  * integrator at 1 ms, rated rotor and generator torque from the start (the bench's step at t = 0).
- * Prints the last HSS torque and the sum over the run in hexadecimal: equal lines, equal bits. */
+ * Prints the last HSS torque and the sum over the run in hexadecimal (equal lines, equal bits), then
+ * the loop's wall time per step, which `benches/torsional_ab.py --loop` compares between two builds. */
 #include <dlfcn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 typedef void *Component;
 typedef Component (*Instantiate)(const char *, int, const char *, const char *, const void *, int, int);
@@ -77,6 +79,8 @@ int main(int argc, char **argv) {
     const unsigned inputs_vr[3] = {ROTOR_TORQUE, GENERATOR_TORQUE, BRAKE_COMMAND};
     const unsigned hss_vr = HSS_TORQUE;
     double hss = 0.0, sum = 0.0;
+    struct timespec start, end;
+    clock_gettime(CLOCK_MONOTONIC, &start);
     for (int i = 0; i < steps; i++) {
         const double inputs[3] = {rated[0], rated[1], 0.0};
         if (set_real(c, inputs_vr, 3, inputs) || do_step(c, i * step, step, 1) ||
@@ -86,6 +90,8 @@ int main(int argc, char **argv) {
         }
         sum += hss;
     }
+    clock_gettime(CLOCK_MONOTONIC, &end);
     printf("hss %a sum %a\n", hss, sum);
+    printf("ns per step %.2f\n", ((end.tv_sec - start.tv_sec) * 1e9 + (end.tv_nsec - start.tv_nsec)) / steps);
     return 0;
 }

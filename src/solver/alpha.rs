@@ -309,8 +309,9 @@ struct Work {
     padded: Vec<f64>,
     key: Vec<u64>,
     key_new: Vec<u64>,
-    /// What a linear step's map multiplies: [x; v; a; u], the positions less the rigid rotation,
-    /// the speeds, the accelerations and the inputs interpolated to the α-point (sized by the step).
+    /// What a linear step's map multiplies besides the speeds and accelerations, which it reads in
+    /// place: [x; u], the positions less the rigid rotation and the inputs interpolated to the α-point
+    /// (sized by the step).
     z: Vec<f64>,
 }
 
