@@ -4,7 +4,8 @@
 //! 1 and 0.5 ms, with the FMU's other Newton iterations (`newton` = kept, predicted,
 //! kept+predicted) and with the lamina law's roller sums by table (`bearing_model = lamina-table`),
 //! each against the 35-slice lamina run at 0.25 ms without numerical damping (largest mesh forces,
-//! bearing load and contact pressures, rollers in contact, HSS torque); the torsional
+//! bearing load and contact pressures, rollers in contact, HSS torque), with the FMU's time split by
+//! the scene's phases (normal operation, the brake applied, the HSS held); the torsional
 //! model in the same scene (scenes/d-shutdown) as the baseline measured in the same run; the
 //! integrators at part load, where the teeth and rollers open and close (drivetrain C at cut-in wind,
 //! scenes/c-normal-6dof); and the explicit alternative (RK4 at its stability limit) against the
@@ -27,6 +28,8 @@ struct SceneRun {
     units: Vec<(String, f64)>,
     gearbox_do_step_s: f64,
     cols: Vec<Vec<f64>>,
+    /// The gearbox FMU's time (its steps and output reads), s, when the run passed each of [`PHASE_ENDS`].
+    gearbox_marks: Vec<f64>,
 }
 
 /// The part of a run's wall time spent in the component `name` of `units`, s (0 for none of that name).
@@ -46,12 +49,20 @@ fn run_scene(
     system.initialize(Some(stop))?;
     crate::cosim::profile::start(&mut system);
     let mut cols: Vec<Vec<f64>> = vec![Vec::new(); channels.len()];
+    let gearbox = system.units.iter().position(|u| u.name == "gearbox");
+    let mut gearbox_marks = Vec::new();
     let start = Instant::now();
     let mut master = Master::new(&mut system, Options::new(Algorithm::GaussSeidel, 1e-3, stop))?;
     master.run(|time, sys| {
         crate::cosim::master::read_recorded(sys, time)?;
         for (k, (_, u, i)) in sys.recorded.iter().enumerate() {
             cols[k].push(sys.units[*u].values[*i]);
+        }
+        if let Some(g) = gearbox
+            && let Some(&end) = PHASE_ENDS.get(gearbox_marks.len())
+            && time >= end - 0.5e-3
+        {
+            gearbox_marks.push(sys.units[g].clock.unwrap_or_default().total().as_secs_f64());
         }
         Ok(())
     })?;
@@ -73,7 +84,31 @@ fn run_scene(
         units,
         gearbox_do_step_s,
         cols,
+        gearbox_marks,
     })
+}
+
+/// d-shutdown-6dof's phases, each one's end, s: the brake is applied at 5 s (the trip), and by 10 s the
+/// HSS is stopped and held while the rotor rocks (docs/PERFORMANCE.md, "Where the gearbox's steps go by
+/// phase": a held step costs the gearbox about twice a step of normal operation).
+const PHASE_ENDS: [f64; 2] = [5.0, 10.0];
+
+/// The FMU's ms per simulated second in each phase (up to 5 s, 5–10 s, after 10 s), from its time at the
+/// phase ends the run passed, `marks` (s), and over the whole run, `total` (s), of `stop` s; NaN for a
+/// phase the run did not reach.
+fn phase_ms_per_s(marks: &[f64], total: f64, stop: f64) -> [f64; 3] {
+    let mut out = [f64::NAN; 3];
+    let (mut t0, mut clock0) = (0.0, 0.0);
+    for (k, ms) in out.iter_mut().enumerate() {
+        let t1 = PHASE_ENDS.get(k).map_or(stop, |&end| end.min(stop));
+        if t1 <= t0 {
+            break;
+        }
+        let clock1 = marks.get(k).copied().filter(|_| t1 < stop).unwrap_or(total);
+        *ms = (clock1 - clock0) / (t1 - t0) * 1e3;
+        (t0, clock0) = (t1, clock1);
+    }
+    out
 }
 
 fn peak(x: &[f64]) -> f64 {
@@ -147,6 +182,9 @@ pub struct VariantRow {
     pub reference_fewest_rollers: f64,
     /// RMS difference of the HSS torque from the reference's, % of its RMS.
     pub hss_rms_error: f64,
+    /// The gearbox FMU's ms per simulated second up to the brake's trip at 5 s, from 5 to 10 s, and after
+    /// 10 s (NaN for a phase the run did not reach).
+    pub phase_ms_per_s: [f64; 3],
 }
 
 /// What issue 33 asks of the gearbox FMU on its own (its steps and output reads in this scene), in
@@ -243,6 +281,27 @@ pub fn targets(rows: &[VariantRow], stop: f64) -> String {
         verdict(lamina, LAMINA_TARGET),
         verdict(linear, LINEAR_TARGET),
     )
+}
+
+/// The gearbox FMU's time by phase of the scene for each row: where a row's `FMU ms/s` comes from.
+pub fn phases(rows: &[VariantRow]) -> String {
+    let ms = |x: f64| {
+        if x.is_nan() {
+            "—".to_string()
+        } else {
+            format!("{x:.1}")
+        }
+    };
+    let mut out = format!(
+        "the gearbox FMU's ms per simulated s by phase of the scene (its steps and output reads): normal operation up to \
+         the trip at 5 s, the brake applied from 5 to 10 s, the HSS held after 10 s\n{:<24} {:>9} {:>9} {:>9}\n",
+        "variant", "0-5 s", "5-10 s", "10 s on"
+    );
+    for r in rows {
+        let [a, b, c] = r.phase_ms_per_s;
+        out += &format!("{:<24} {:>9} {:>9} {:>9}\n", r.label, ms(a), ms(b), ms(c));
+    }
+    out
 }
 
 /// A peak difference, %, with its sign.
@@ -374,12 +433,9 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
             o.push(param("gearbox", "gearbox", file.display()));
         }
         let run = run_scene(six, &o, &channels("gearbox"), stop)?;
-        let (wall_s, gearbox_s, gearbox_do_step_s, cols) = (
-            run.wall_s,
-            unit_s(&run.units, "gearbox"),
-            run.gearbox_do_step_s,
-            run.cols,
-        );
+        let gearbox_s = unit_s(&run.units, "gearbox");
+        let phases = phase_ms_per_s(&run.gearbox_marks, gearbox_s, stop);
+        let (wall_s, gearbox_do_step_s, cols) = (run.wall_s, run.gearbox_do_step_s, run.cols);
         let r = reference.get_or_insert_with(|| cols.clone());
         let rel = |k: usize| 100.0 * (peak(&cols[k]) / peak(&r[k]) - 1.0);
         // the fewest rollers carrying the upwind planet bearing in normal operation (1 s to the trip
@@ -407,6 +463,7 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
             fewest_rollers: fewest(&cols[4]),
             reference_fewest_rollers: fewest(&r[4]),
             hss_rms_error: 100.0 * rms_error(&cols[0], &r[0]),
+            phase_ms_per_s: phases,
         });
     }
     Ok(())
@@ -641,7 +698,20 @@ pub fn explicit_against_implicit() -> anyhow::Result<ExplicitImplicit> {
 
 #[cfg(test)]
 mod tests {
-    use super::{VariantRow, targets};
+    use super::{VariantRow, phase_ms_per_s, phases, targets};
+
+    #[test]
+    fn phases_split_the_fmu_time_at_the_marks_the_run_passed() {
+        // 30 s: 1 s of FMU time in the first 5 s, 2 s in the next 5, 6 s in the last 20
+        assert_eq!(phase_ms_per_s(&[1.0, 3.0], 9.0, 30.0), [200.0, 400.0, 300.0]);
+        // a run that ends at a phase's end has no later phase; one that ends inside a phase splits at the end
+        assert_eq!(phase_ms_per_s(&[1.0, 3.0], 3.0, 10.0)[..2], [200.0, 400.0]);
+        assert!(phase_ms_per_s(&[1.0, 3.0], 3.0, 10.0)[2].is_nan());
+        assert_eq!(phase_ms_per_s(&[1.0], 2.0, 7.0)[..2], [200.0, 500.0]);
+        let short = phase_ms_per_s(&[], 0.5, 1.0);
+        assert_eq!(short[0], 500.0);
+        assert!(short[1].is_nan() && short[2].is_nan());
+    }
 
     fn row(label: &'static str, bearings: &'static str, full_model: bool, gearbox_s: f64) -> VariantRow {
         VariantRow {
@@ -659,6 +729,7 @@ mod tests {
             fewest_rollers: 6.0,
             reference_fewest_rollers: 6.0,
             hss_rms_error: 0.0,
+            phase_ms_per_s: [f64::NAN; 3],
         }
     }
 
@@ -687,6 +758,21 @@ mod tests {
         assert!(
             text.contains("lamina bearings 50.0× real time (\"same, lamina-table\""),
             "{text}"
+        );
+    }
+
+    #[test]
+    fn the_phase_table_has_a_row_per_variant_and_a_dash_where_the_run_ended() {
+        let mut r = row("same, table, kept+pred.", "lamina-table", true, 1.0);
+        r.phase_ms_per_s = [110.04, 230.0, f64::NAN];
+        let text = phases(&[r]);
+        let line = text
+            .lines()
+            .find(|l| l.starts_with("same, table, kept+pred."))
+            .expect("the row");
+        assert_eq!(
+            line.split_whitespace().rev().take(3).collect::<Vec<_>>(),
+            ["—", "230.0", "110.0"]
         );
     }
 }

@@ -154,6 +154,7 @@ fn gearbox(stop: f64) -> anyhow::Result<()> {
     })?;
     println!("{}", bench::gearbox::variants_foot(stop, &base));
     println!("{}", bench::gearbox::targets(&rows, stop));
+    println!("{}", bench::gearbox::phases(&rows));
     let stop = stop.min(30.0);
     println!("{}", bench::gearbox::part_load_head(stop));
     bench::gearbox::part_load(part, stop, |r| println!("{}", r.row(stop)))?;
