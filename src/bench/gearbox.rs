@@ -90,7 +90,7 @@ fn run_scene(
 
 /// d-shutdown-6dof's phases, each one's end, s: the brake is applied at 5 s (the trip), and by 10 s the
 /// HSS is stopped and held while the rotor rocks (docs/PERFORMANCE.md, "Where the gearbox's steps go by
-/// phase": a held step costs the gearbox about twice a step of normal operation).
+/// phase": a held step costs the gearbox's defaults 1.7 times a step of normal operation).
 const PHASE_ENDS: [f64; 2] = [5.0, 10.0];
 
 /// The FMU's ms per simulated second in each phase (up to 5 s, 5–10 s, after 10 s), from its time at the
