@@ -31,6 +31,13 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 LINE = re.compile(r"^(FMU through FMI|same model, no FMI boundary)\S*\s.*?\s(\d+)\s+(\d+)\s")
 
 
+def short(rev: str) -> str:
+    """The abbreviated commit id of `rev`."""
+    return subprocess.run(
+        ["git", "-C", ROOT, "rev-parse", "--short", rev], capture_output=True, text=True, check=True
+    ).stdout.strip()
+
+
 def build_base(commit: str) -> tuple[str, str]:
     """Worktree of `commit` under target/ab-base/src, built into target/ab-base/target."""
     base = os.path.join(ROOT, "target", "ab-base")
@@ -109,18 +116,14 @@ def main() -> None:
         if args.base_lib:
             commit, base_lib = args.base_lib, args.base_lib
         else:
-            commit = subprocess.run(
-                ["git", "-C", ROOT, "rev-parse", "--short", args.base], capture_output=True, text=True, check=True
-            ).stdout.strip()
+            commit = short(args.base)
             base_lib = os.path.join(os.path.dirname(build_base(commit)[0]), "libtorsional.so")
         loop_rounds(new_lib, base_lib, args.rounds, commit)
         return
     if args.base_binary:
         commit, base_bin, base_fmu = args.base_binary, args.base_binary, args.base_fmu
     else:
-        commit = subprocess.run(
-            ["git", "-C", ROOT, "rev-parse", "--short", args.base], capture_output=True, text=True, check=True
-        ).stdout.strip()
+        commit = short(args.base)
         base_bin, base_fmu = build_base(commit)
     new_bin = os.path.join(ROOT, "target", "release", "windrive")
     new_fmu = os.path.join(ROOT, "target", "fmu", "torsional.fmu")

@@ -285,13 +285,6 @@ pub fn targets(rows: &[VariantRow], stop: f64) -> String {
 
 /// The gearbox FMU's time by phase of the scene for each row: where a row's `FMU ms/s` comes from.
 pub fn phases(rows: &[VariantRow]) -> String {
-    let ms = |x: f64| {
-        if x.is_nan() {
-            "—".to_string()
-        } else {
-            format!("{x:.1}")
-        }
-    };
     let mut out = format!(
         "the gearbox FMU's ms per simulated s by phase of the scene (its steps and output reads): normal operation up to \
          the trip at 5 s, the brake applied from 5 to 10 s, the HSS held after 10 s\n{:<24} {:>9} {:>9} {:>9}\n",
@@ -299,7 +292,13 @@ pub fn phases(rows: &[VariantRow]) -> String {
     );
     for r in rows {
         let [a, b, c] = r.phase_ms_per_s;
-        out += &format!("{:<24} {:>9} {:>9} {:>9}\n", r.label, ms(a), ms(b), ms(c));
+        out += &format!(
+            "{:<24} {:>9} {:>9} {:>9}\n",
+            r.label,
+            or_dash(a, 1),
+            or_dash(b, 1),
+            or_dash(c, 1)
+        );
     }
     out
 }
@@ -309,9 +308,14 @@ fn percent(x: f64) -> String {
     format!("{x:+.2}%")
 }
 
-/// A roller count, or "—" where the run did not reach normal operation's window.
-fn rollers(x: f64) -> String {
-    if x.is_nan() { "—".into() } else { format!("{x:.0}") }
+/// `x` with `digits` decimals, or "—" where the run did not reach what it measures (NaN): a roller count
+/// outside normal operation's window, a phase after the run's end.
+fn or_dash(x: f64, digits: usize) -> String {
+    if x.is_nan() {
+        "—".into()
+    } else {
+        format!("{x:.digits$}")
+    }
 }
 
 impl VariantRow {
@@ -329,8 +333,8 @@ impl VariantRow {
             percent(self.sun_planet),
             percent(self.gear_pinion),
             percent(self.planet_upwind),
-            rollers(self.fewest_rollers),
-            rollers(self.reference_fewest_rollers),
+            or_dash(self.fewest_rollers, 0),
+            or_dash(self.reference_fewest_rollers, 0),
             percent(self.upwind_pressure),
             percent(self.hss_pressure),
             self.hss_rms_error,
