@@ -253,8 +253,9 @@ pub fn variants_foot(stop: f64, base: &Baseline) -> String {
          the reference (min rollr: fewest rollers carrying planet 1's upwind bearing in normal operation, the \
          reference's in brackets; linear bearings report none); the gearbox FMU's defaults are the row \"same, table, \
          kept+pred.\" (grc750's lamina-table bearings, newton = kept+predicted), rows that name neither take the \
-         lamina loop and newton = pattern, the rows \"same, tolerance {LOOSER_TOLERANCE:e}\" the row above's with \
-         newton_tolerance = {LOOSER_TOLERANCE:e} instead of the default {NEARLY_LINEAR_INCREMENT_TOLERANCE:e}\n",
+         lamina loop and newton = pattern, the rows \"same, tolerance {LOOSER_TOLERANCE:e}\" and \"same, sparse J\" \
+         newton = kept+predicted with their section's bearings and newton_tolerance = {LOOSER_TOLERANCE:e} (instead of \
+         the default {NEARLY_LINEAR_INCREMENT_TOLERANCE:e}) or linear_solver = sparse (instead of dense)\n",
         ms(base.wall_s),
         stop / base.wall_s,
         split.join(", "),
@@ -369,8 +370,8 @@ pub fn torsional_baseline(dir: &Path, stop: f64) -> anyhow::Result<Baseline> {
 /// The looser Newton tolerance of the rows "same, tolerance 1e-7" (their labels spell it).
 const LOOSER_TOLERANCE: f64 = 1e-7;
 
-/// One row's settings: label, slices, bearing model, internal step, integrator, main shaft, Newton iteration
-/// and its tolerance.
+/// One row's settings: label, slices, bearing model, internal step, integrator, main shaft, Newton iteration,
+/// its tolerance and its linear solver.
 type Variant = (
     &'static str,
     usize,
@@ -380,6 +381,7 @@ type Variant = (
     MainShaft,
     &'static str,
     f64,
+    &'static str,
 );
 
 /// The variants in d-shutdown-6dof (the folder `six`) over `stop` s; `row` after each.
@@ -389,16 +391,31 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
     // differences are the errors of each row, the step's included; rows take the lamina loop and the
     // `pattern` iteration (the reference's, and the FMU's defaults until 2026-11-30) unless they name
     // others: "same, table, kept+pred." is the FMU's defaults; the rows ending in 1e-7 take a looser
-    // Newton tolerance (`newton_tolerance`) than the default
+    // Newton tolerance (`newton_tolerance`) than the default; the rows "same, sparse J" solve with J on
+    // its sparsity pattern (`linear_solver = sparse`), every other row by dense LU (the default)
     let tol = NEARLY_LINEAR_INCREMENT_TOLERANCE;
     let pattern = |label, slices, bearings, step, integrator, shaft| {
-        (label, slices, bearings, step, integrator, shaft, "pattern", tol)
+        (
+            label, slices, bearings, step, integrator, shaft, "pattern", tol, "dense",
+        )
     };
-    let at =
-        |label, bearings, newton, tolerance| (label, 35, bearings, 1e-3, "hht", MainShaft::Preset, newton, tolerance);
-    let newton = |label, bearings, newton| at(label, bearings, newton, tol);
-    let looser = |label, bearings| at(label, bearings, "kept+predicted", LOOSER_TOLERANCE);
-    let variants: [Variant; 17] = [
+    let at = |label, bearings, newton, tolerance, solver| {
+        (
+            label,
+            35,
+            bearings,
+            1e-3,
+            "hht",
+            MainShaft::Preset,
+            newton,
+            tolerance,
+            solver,
+        )
+    };
+    let newton = |label, bearings, newton| at(label, bearings, newton, tol, "dense");
+    let looser = |label, bearings| at(label, bearings, "kept+predicted", LOOSER_TOLERANCE, "dense");
+    let sparse = |label, bearings| at(label, bearings, "kept+predicted", tol, "sparse");
+    let variants: [Variant; 19] = [
         pattern(
             "reference: 0.25 ms",
             35,
@@ -414,6 +431,7 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         newton("same, lamina-table", "lamina-table", "pattern"),
         newton("same, table, kept+pred.", "lamina-table", "kept+predicted"),
         looser("same, tolerance 1e-7", "lamina-table"),
+        sparse("same, sparse J", "lamina-table"),
         pattern("same, Newmark", 35, "lamina", 1e-3, "implicit", MainShaft::Preset),
         pattern("same, 0.5 ms", 35, "lamina", 5e-4, "hht", MainShaft::Preset),
         pattern("11 slices, lamina", 11, "lamina", 1e-3, "hht", MainShaft::Preset),
@@ -423,8 +441,9 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         pattern("35 slices, linear", 35, "linear", 1e-3, "hht", MainShaft::Preset),
         newton("same, kept+predicted", "linear", "kept+predicted"),
         looser("same, tolerance 1e-7", "linear"),
+        sparse("same, sparse J", "linear"),
     ];
-    for (label, slices, bearings, step, integrator, shaft, newton, tolerance) in variants {
+    for (label, slices, bearings, step, integrator, shaft, newton, tolerance, solver) in variants {
         let mut o = vec![
             param("gearbox", "slices", slices),
             param("gearbox", "bearing_model", bearings),
@@ -432,6 +451,7 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
             param("gearbox", "integrator", integrator),
             param("gearbox", "newton", newton),
             param("gearbox", "newton_tolerance", tolerance),
+            param("gearbox", "linear_solver", solver),
         ];
         if let Some(file) = shaft.description()? {
             o.push(param("gearbox", "gearbox", file.display()));

@@ -138,8 +138,14 @@ impl Params {
                 );
             }
         };
+        let sparse = match self.linear_solver.trim().to_ascii_lowercase().as_str() {
+            "" | "dense" => false,
+            "sparse" => true,
+            other => return Err(ParameterError::invalid("linear_solver", &other, "use dense or sparse").into()),
+        };
         let newton = Newton {
             tolerance: self.newton_tolerance,
+            sparse,
             ..Newton::parse(&self.newton).ok_or_else(|| {
                 ParameterError::invalid("newton", &self.newton, "use pattern, kept, predicted or kept+predicted")
             })?

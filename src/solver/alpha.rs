@@ -21,7 +21,7 @@
 //! stops the DOF exactly at the end of the step if the contact can hold it (stick), else ± the
 //! kinetic capacity (slip). A stuck contact therefore never creeps and never chatters.
 
-use super::factor::{Cache, Factor, Solver, padded, same_key, same_step};
+use super::factor::{Cache, Factor, Orderings, Solver, padded, same_key, same_step};
 use super::state::{DynState, SolverError, Statistics};
 use super::system::{Friction, Linearity, SecondOrderSystem, external_forces};
 use nalgebra::DMatrix;
@@ -96,6 +96,10 @@ pub struct Newton {
     /// ([`NEARLY_LINEAR_INCREMENT_TOLERANCE`] unless set; docs/PERFORMANCE.md measures what a looser
     /// one saves and moves).
     pub tolerance: f64,
+    /// Solve with J on its own sparsity pattern where that saves half the work
+    /// ([`Solver::new_with`](super::factor::Solver::new_with)) instead of by dense LU: other rounding,
+    /// so other bits at the Newton tolerance.
+    pub sparse: bool,
 }
 
 impl Default for Newton {
@@ -110,6 +114,7 @@ impl Newton {
         keep: false,
         predict: false,
         tolerance: NEARLY_LINEAR_INCREMENT_TOLERANCE,
+        sparse: false,
     };
 
     /// The FMU parameter's spelling: `pattern` (this type's default), `kept`, `predicted` or `kept+predicted`
@@ -361,6 +366,8 @@ pub struct AlphaIntegrator {
     /// The coefficients of the last step size (seven divisions saved per step).
     coefficients: Option<Coefficients>,
     cache: Cache,
+    /// The sparsity ordering of the patterns J has had: history, as the factorisations are.
+    orderings: Orderings,
     work: Work,
 }
 
@@ -380,15 +387,18 @@ impl AlphaIntegrator {
             kept: None,
             coefficients: None,
             cache: Cache::default(),
+            orderings: Orderings::default(),
             work: Work::default(),
         }
     }
 
     /// Drops every factorisation, the one [`Newton::keep`] carries from step to step with the cached
-    /// ones: the next step builds its own where it needs them, as a clone does.
+    /// ones, and the sparsity ordering the patterns met so far made: the next step builds its own
+    /// where it needs them, as a clone does.
     pub fn forget_factorisations(&mut self) {
         self.kept = None;
         self.cache = Cache::default();
+        self.orderings = Orderings::default();
     }
 
     /// A cached factorisation for this key and step size that already holds the friction response
@@ -450,7 +460,12 @@ impl AlphaIntegrator {
         sys.mass().add_to(c.c_m, &mut j);
         sys.add_tangent(t, q, v, c.c_c, c.c_k, &mut j);
         let reused = sys.linearity() != Linearity::Nonlinear;
-        let solver = Solver::new(j, reused).ok_or(SolverError::SingularJacobian { time: t, step: c.h })?;
+        let solver = if self.newton.sparse {
+            Solver::new_with(j, reused, &mut self.orderings)
+        } else {
+            Solver::new(j, reused)
+        };
+        let solver = solver.ok_or(SolverError::SingularJacobian { time: t, step: c.h })?;
         let friction_response = friction_dof.map(|d| (d, solver.unit_response(n, d)));
         let step_map = linear.then(|| linear::step_map(sys, c, &solver));
         stats.factorizations += 1;

@@ -11,12 +11,15 @@
 //! - refactorised every Newton iteration (smoothly nonlinear systems), where factorising dominates:
 //!   never the inverse (4–6× dearer to form than LU), sparse LU from 192 DOFs (factorise + solve
 //!   break even with dense there, 4× faster at 288);
-//! - otherwise dense LU (nalgebra).
+//! - otherwise LU on J's own sparsity pattern ([`pattern_lu`](super::pattern_lu)) where its
+//!   elimination takes at most half dense LU's multiply–adds (from [`PATTERN_MIN_DOFS`]), else dense LU.
 
 use super::lu::DenseLu;
+use super::pattern_lu::{Ordering, PatternLu, pattern};
 use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use nalgebra::DMatrix;
+use std::sync::Arc;
 
 /// Up to this many DOFs a reused J is inverted explicitly.
 pub const EXPLICIT_INVERSE_LIMIT: usize = 64;
@@ -26,6 +29,9 @@ pub const SPARSE_MIN_DOFS: usize = 128;
 pub const SPARSE_MIN_DOFS_ONCE: usize = 192;
 /// Largest fraction of non-zero entries for sparse LU.
 pub const SPARSE_MAX_FILL: f64 = 0.2;
+/// From this many DOFs a J that would go to dense LU goes to LU on its own pattern when that
+/// pattern's elimination takes at most half the multiply–adds.
+pub const PATTERN_MIN_DOFS: usize = 48;
 
 /// Step sizes this close share one factorisation. Masters that accumulate time pass step sizes that
 /// differ in the last bits ((n+1)·h − n·h); treating them as one keeps results independent of that
@@ -44,6 +50,8 @@ pub enum Solver {
     Inverse(Vec<f64>),
     /// Ours: nalgebra's arithmetic in vectorised column loops (`lu.rs`).
     Lu(DenseLu),
+    /// On J's own sparsity pattern, without row exchanges (`pattern_lu.rs`).
+    Pattern(PatternLu),
     /// Boxed: faer's factors are several hundred bytes inline, the other kinds a pointer or two.
     SparseLu(Box<faer::sparse::linalg::solvers::Lu<usize, f64>>),
 }
@@ -54,6 +62,7 @@ pub enum Kind {
     Inverse,
     DenseLu,
     SparseLu,
+    PatternLu,
 }
 
 impl Kind {
@@ -71,12 +80,71 @@ impl Kind {
     }
 }
 
+/// The [`Ordering`] for every non-zero pattern J has had so far, and the elimination's zeroed
+/// scratch. A J whose pattern is inside the ordering's is factorised on it; one with an entry outside
+/// gets a new ordering for the union of both patterns. In a gearbox the roller sets' entries are exact
+/// zeros while a set carries no load, so J's own pattern changes with the loads, but within the
+/// first pattern's: d-shutdown-6dof's first 20 s make two orderings (an ordering of J's own pattern
+/// at each factorisation, 1912 in its first 14 s, cost 5 % of the gearbox's instructions).
+/// Which patterns came first decides the ordering, and the ordering the factors' rounding: history,
+/// kept and dropped with the factorisations ([`super::alpha::AlphaIntegrator::forget_factorisations`]).
+#[derive(Default)]
+pub struct Orderings {
+    last: Option<Arc<Ordering>>,
+    scratch: Vec<f64>,
+}
+
+impl Orderings {
+    /// An ordering whose pattern holds J's, the kept one when it does.
+    pub fn of(&mut self, j: &DMatrix<f64>) -> Arc<Ordering> {
+        let mut pattern = pattern(j);
+        match &self.last {
+            Some(o) if o.covers(&pattern) => o.clone(),
+            last => {
+                if let Some(o) = last {
+                    o.add_pattern_to(&mut pattern);
+                }
+                let o = Arc::new(Ordering::new(j.nrows(), pattern));
+                self.last = Some(o.clone());
+                o
+            }
+        }
+    }
+}
+
+/// J's non-zero entries, counted from [`SPARSE_MIN_DOFS`] only (no kind below decides by them); the
+/// storage slice: a contiguous loop, not nalgebra's strided element iterator.
+fn nonzeros(j: &DMatrix<f64>) -> usize {
+    let n = j.nrows();
+    if n >= SPARSE_MIN_DOFS {
+        j.as_slice().iter().filter(|x| **x != 0.0).count()
+    } else {
+        n * n
+    }
+}
+
 impl Solver {
     /// Factorises J with the kind its size, fill and reuse call for; None when it is singular.
     pub fn new(j: DMatrix<f64>, reused: bool) -> Option<Self> {
-        // the storage slice: a contiguous loop, not nalgebra's strided element iterator
-        let nonzeros = j.as_slice().iter().filter(|x| **x != 0.0).count();
-        let kind = Kind::for_matrix(j.nrows(), nonzeros, reused);
+        let kind = Kind::for_matrix(j.nrows(), nonzeros(&j), reused);
+        Self::with_kind(j, kind)
+    }
+
+    /// [`Self::new`], but where it would choose dense LU (from [`PATTERN_MIN_DOFS`]), LU on J's own
+    /// pattern, ordered by `orderings` (which an integrator keeps from one factorisation to the next),
+    /// when that ordering needs at most half the multiply–adds; dense LU still when the pattern's
+    /// elimination is refused (an unstable pivot).
+    pub fn new_with(j: DMatrix<f64>, reused: bool, orderings: &mut Orderings) -> Option<Self> {
+        let n = j.nrows();
+        let kind = Kind::for_matrix(n, nonzeros(&j), reused);
+        if kind == Kind::DenseLu && n >= PATTERN_MIN_DOFS {
+            let ordering = orderings.of(&j);
+            if 2 * ordering.flops() <= ordering.dense_flops()
+                && let Some(s) = Self::on_pattern(&j, ordering, orderings)
+            {
+                return Some(s);
+            }
+        }
         Self::with_kind(j, kind)
     }
 
@@ -91,6 +159,11 @@ impl Solver {
                     .then(|| Self::Inverse(inv.as_slice().to_vec()))
             }
             Kind::DenseLu => DenseLu::new(j).map(Self::Lu),
+            Kind::PatternLu => {
+                let mut orderings = Orderings::default();
+                let ordering = orderings.of(&j);
+                Self::on_pattern(&j, ordering, &mut orderings)
+            }
             Kind::SparseLu => {
                 let mut triplets = Vec::new();
                 for c in 0..n {
@@ -113,6 +186,11 @@ impl Solver {
         }
     }
 
+    /// LU on `ordering` (from `orderings`, for J's pattern), with their scratch; None where refused.
+    pub fn on_pattern(j: &DMatrix<f64>, ordering: Arc<Ordering>, orderings: &mut Orderings) -> Option<Self> {
+        PatternLu::new(j, ordering, &mut orderings.scratch).map(Self::Pattern)
+    }
+
     /// x += J⁻¹·r
     pub fn add_solution(&self, r: &[f64], x: &mut [f64]) {
         match self {
@@ -131,6 +209,7 @@ impl Solver {
                     *xi += bi;
                 }
             }
+            Self::Pattern(lu) => lu.add_solution(r, x),
             Self::SparseLu(lu) => {
                 let mut b = faer::Mat::<f64>::from_fn(r.len(), 1, |i, _| r[i]);
                 lu.solve_in_place(b.as_mut());
@@ -145,6 +224,7 @@ impl Solver {
         match self {
             Self::Inverse(_) => Kind::Inverse,
             Self::Lu(_) => Kind::DenseLu,
+            Self::Pattern(_) => Kind::PatternLu,
             Self::SparseLu(_) => Kind::SparseLu,
         }
     }
@@ -461,7 +541,7 @@ mod tests {
             let j = block_sparse(bodies, 7);
             let n = j.nrows();
             let r: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
-            for kind in [Kind::Inverse, Kind::DenseLu, Kind::SparseLu] {
+            for kind in [Kind::Inverse, Kind::DenseLu, Kind::SparseLu, Kind::PatternLu] {
                 let mut x = vec![0.0; n];
                 Solver::with_kind(j.clone(), kind).unwrap().add_solution(&r, &mut x);
                 let res = &j * DVector::from_column_slice(&x) - DVector::from_column_slice(&r);
@@ -473,11 +553,27 @@ mod tests {
             }
         }
         let kind = |bodies, reused| Solver::new(block_sparse(bodies, 1), reused).unwrap().kind();
+        let with_pattern = |bodies, reused| {
+            Solver::new_with(block_sparse(bodies, 1), reused, &mut Orderings::default())
+                .unwrap()
+                .kind()
+        };
         assert_eq!(kind(10, true), Kind::Inverse); // 60 DOFs
         assert_eq!(kind(10, false), Kind::DenseLu);
+        assert_eq!(with_pattern(10, true), Kind::Inverse);
+        assert_eq!(with_pattern(10, false), Kind::PatternLu);
         assert_eq!(kind(12, true), Kind::DenseLu); // 72 DOFs
+        assert_eq!(with_pattern(12, true), Kind::PatternLu);
         assert_eq!(kind(30, true), Kind::SparseLu); // 180 DOFs, 10 % fill
+        assert_eq!(with_pattern(30, true), Kind::SparseLu);
         assert_eq!(kind(30, false), Kind::DenseLu);
+        assert_eq!(with_pattern(30, false), Kind::PatternLu);
+        // a full J of 72 DOFs: its pattern saves nothing, dense LU
+        let full = DMatrix::from_fn(72, 72, |r, c| if r == c { 100.0 } else { 1.0 / (1 + r + c) as f64 });
+        assert_eq!(
+            Solver::new_with(full, true, &mut Orderings::default()).unwrap().kind(),
+            Kind::DenseLu
+        );
         assert_eq!(kind(40, false), Kind::SparseLu); // 240 DOFs
         assert_eq!(Kind::for_matrix(200, 200 * 200, true), Kind::DenseLu);
     }
@@ -488,7 +584,7 @@ mod tests {
         for n in [10, 100, 200] {
             let mut j = DMatrix::<f64>::identity(n, n);
             j[(n - 1, n - 1)] = 0.0;
-            for kind in [Kind::Inverse, Kind::DenseLu, Kind::SparseLu] {
+            for kind in [Kind::Inverse, Kind::DenseLu, Kind::SparseLu, Kind::PatternLu] {
                 assert!(Solver::with_kind(j.clone(), kind).is_none(), "n = {n}, {kind:?}");
             }
         }

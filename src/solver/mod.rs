@@ -10,6 +10,7 @@ pub mod alpha;
 pub mod driver;
 pub mod factor;
 pub mod lu;
+pub mod pattern_lu;
 pub mod rk4;
 pub mod state;
 pub mod system;

@@ -5,10 +5,12 @@
 //! take still ends in `NewtonDiverged`.
 
 use nalgebra::DMatrix;
+use windrive::bench::solvers::gearbox_matrix;
 use windrive::physics::gearbox::Gearbox;
 use windrive::physics::gearbox::description::{BearingModel, Description};
 use windrive::physics::gearbox::statics::equilibrium;
 use windrive::solver::alpha::{Alpha, AlphaIntegrator, Newton, Span};
+use windrive::solver::factor::{Kind, Orderings, Solver};
 use windrive::solver::{
     Driver, DynState, InputLoad, Linearity, Mass, Method, SecondOrderSystem, SolverError, Statistics,
 };
@@ -22,6 +24,12 @@ const KEPT_PREDICTED: Newton = Newton {
     keep: true,
     predict: true,
     ..Newton::PATTERN
+};
+/// The same with J solved on its sparsity pattern (`linear_solver = sparse`): other rounding, the
+/// same answer within the tolerance.
+const KEPT_PREDICTED_SPARSE: Newton = Newton {
+    sparse: true,
+    ..KEPT_PREDICTED
 };
 
 /// The GRC at rated torque and speed, lamina bearings, 35 slices; its rotor torque drops by a fifth
@@ -74,7 +82,7 @@ fn kept_factorisations_reach_the_default_iterations_answer_with_fewer_factorisat
     };
     // what the step itself costs: the default iteration at half the step
     let (step_f, step_v) = differences(&grc_run(Newton::default(), steps, 5e-4).1);
-    for newton in [KEPT, KEPT_PREDICTED] {
+    for newton in [KEPT, KEPT_PREDICTED, KEPT_PREDICTED_SPARSE] {
         let (_, st, stats) = grc_run(newton, steps, 1e-3);
         let (df, dv) = differences(&st);
         println!(
@@ -97,6 +105,28 @@ fn kept_factorisations_reach_the_default_iterations_answer_with_fewer_factorisat
             stats.factorizations,
             pattern.factorizations
         );
+    }
+}
+
+/// The GRC's and the 2 MW gearbox's iteration matrices go to LU on their pattern when asked (its
+/// elimination is far below half dense LU's, and the probe passes: no silent fallback to dense LU),
+/// and that LU solves them as dense LU does within rounding.
+#[test]
+fn gearbox_iteration_matrices_factorise_on_their_pattern() {
+    for preset in ["grc750", "c2mw"] {
+        let j = gearbox_matrix(preset);
+        let n = j.nrows();
+        let pattern = Solver::new_with(j.clone(), true, &mut Orderings::default()).unwrap();
+        assert_eq!(pattern.kind(), Kind::PatternLu, "{preset}");
+        let dense = Solver::new(j.clone(), true).unwrap();
+        assert_eq!(dense.kind(), Kind::DenseLu, "{preset}: the default stays dense");
+        let r: Vec<f64> = (0..n).map(|i| (0.3 * i as f64).cos()).collect();
+        let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
+        pattern.add_solution(&r, &mut a);
+        dense.add_solution(&r, &mut b);
+        let scale = largest(b.iter().copied());
+        let apart = largest(a.iter().zip(&b).map(|(x, y)| x - y));
+        assert!(apart <= 1e-10 * scale, "{preset}: {apart:e} of {scale:e}");
     }
 }
 
