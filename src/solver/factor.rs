@@ -11,8 +11,9 @@
 //! - refactorised every Newton iteration (smoothly nonlinear systems), where factorising dominates:
 //!   never the inverse (4–6× dearer to form than LU), sparse LU from 192 DOFs (factorise + solve
 //!   break even with dense there, 4× faster at 288);
-//! - otherwise LU on J's own sparsity pattern ([`pattern_lu`](super::pattern_lu)) where its
-//!   elimination takes at most half dense LU's multiply–adds (from [`PATTERN_MIN_DOFS`]), else dense LU.
+//! - otherwise dense LU; or, where the integrator is asked for it ([`Solver::new_with`]: the gearbox
+//!   FMU's `linear_solver = sparse`), LU on J's own sparsity pattern ([`pattern_lu`](super::pattern_lu))
+//!   when its elimination takes at most half dense LU's multiply–adds (from [`PATTERN_MIN_DOFS`]).
 
 use super::lu::DenseLu;
 use super::pattern_lu::{Ordering, PatternLu, pattern};

@@ -499,6 +499,33 @@ mod tests {
         assert_eq!(union, pattern(&c));
     }
 
+    /// The scratch comes back all zeros, after a factorisation and after a refused one, so the next
+    /// factorisation on it gives the bits a fresh scratch gives.
+    #[test]
+    fn the_scratch_is_left_zero() {
+        let j = block_sparse(9, 5);
+        let o = ordering_of(&j);
+        let mut scratch = Vec::new();
+        let first = PatternLu::new(&j, o.clone(), &mut scratch).unwrap();
+        assert!(scratch.iter().all(|x| *x == 0.0));
+        let mut singular = j.clone();
+        for c in 0..singular.ncols() {
+            singular[(0, c)] = 0.0;
+            singular[(c, 0)] = 0.0;
+        }
+        assert!(PatternLu::new(&singular, o.clone(), &mut scratch).is_none());
+        assert!(scratch.iter().all(|x| *x == 0.0));
+        let again = PatternLu::new(&j, o, &mut scratch).unwrap();
+        let bits = |f: &PatternLu| {
+            f.l.iter()
+                .chain(&f.u)
+                .chain(&f.diagonal)
+                .map(|x| x.to_bits())
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(bits(&first), bits(&again));
+    }
+
     /// Where elimination without row exchanges breaks down, the factorisation is refused rather
     /// than wrong: a zero pivot, and a tiny pivot that makes the factors grow.
     #[test]
