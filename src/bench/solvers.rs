@@ -138,12 +138,8 @@ pub fn run(mut row: impl FnMut(&Row)) {
             fill_percent: 100.0 * nonzeros as f64 / (n * n) as f64,
             factor_solve,
             solve,
-            chosen_reused: Solver::new(j.clone(), true)
-                .expect("the reference matrix is regular")
-                .kind(),
-            chosen_once: Solver::new(j.clone(), false)
-                .expect("the reference matrix is regular")
-                .kind(),
+            chosen_reused: Kind::for_matrix(n, nonzeros, true),
+            chosen_once: Kind::for_matrix(n, nonzeros, false),
         });
     }
 }

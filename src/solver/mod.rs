@@ -1,8 +1,9 @@
 //! Time integration of second-order systems M(q)·a + f_int(t, q, v) = B·u(t), generic over the
 //! model: the contract ([`system`]), implicit integrators of the generalised-α family with a Newton
 //! iteration ([`alpha`]: Newmark average acceleration, HHT-α, generalised-α), explicit RK4
-//! ([`rk4`]), cached factorisations ([`factor`], dense LU in [`lu`]) and the driver that sub-steps, halves and reports
-//! friction events within one communication step ([`driver`]). No module here knows a model;
+//! ([`rk4`]), cached factorisations ([`factor`], dense LU in [`lu`], LU on J's sparsity pattern in
+//! [`pattern_lu`]) and the driver that sub-steps, halves and reports friction events within one
+//! communication step ([`driver`]). No module here knows a model;
 //! `physics` implements [`system::SecondOrderSystem`]. Integrators keep their scratch memory, so a
 //! step allocates nothing.
 

@@ -101,8 +101,14 @@ unsafe fn nonzero_bits_avx(rows: &[f64]) -> u64 {
         .fold(bits, |b, (r, x)| b | (u64::from(*x != 0.0) << (first + r)))
 }
 
+/// Whether bit i of a bitset is set.
+fn bit(set: &[u64], i: usize) -> bool {
+    set[i / WORD] & (1 << (i % WORD)) != 0
+}
+
+/// Whether a pattern of `w` words a column (from [`pattern`]) has the entry (row, column).
 fn has(bits: &[u64], w: usize, row: usize, column: usize) -> bool {
-    bits[column * w + row / WORD] & (1 << (row % WORD)) != 0
+    bit(&bits[column * w..(column + 1) * w], row)
 }
 
 impl Ordering {
@@ -137,14 +143,14 @@ impl Ordering {
         let mut neighbours = vec![0u64; w];
         for _ in 0..n {
             let v = (0..n)
-                .filter(|&i| has(&alive, 0, i, 0))
+                .filter(|&i| bit(&alive, i))
                 .min_by_key(|&i| (degree(&graph, &alive, i), i))
                 .expect("a DOF left to eliminate");
             alive[v / WORD] &= !(1 << (v % WORD));
             for k in 0..w {
                 neighbours[k] = graph[v * w + k] & alive[k];
             }
-            let list: Vec<usize> = (0..n).filter(|&i| has(&neighbours, 0, i, 0)).collect();
+            let list: Vec<usize> = (0..n).filter(|&i| bit(&neighbours, i)).collect();
             for &a in &list {
                 for k in 0..w {
                     graph[a * w + k] |= neighbours[k];
@@ -206,11 +212,6 @@ impl Ordering {
     /// Dense LU's multiply–adds for the same size: n³/3.
     pub fn dense_flops(&self) -> usize {
         self.n * self.n * self.n / 3
-    }
-
-    /// Entries of L and U together, the diagonal included.
-    pub fn factor_entries(&self) -> usize {
-        self.n + 2 * self.below.len()
     }
 
     fn below(&self, k: usize) -> &[usize] {
@@ -340,16 +341,6 @@ impl PatternLu {
         (r.iter().all(|x| x.is_finite()) && residual <= PROBE_BACKWARD_ERROR * scale).then_some(self)
     }
 
-    /// b ← J⁻¹·b
-    pub fn solve_in_place(&self, b: &mut [f64]) {
-        let r = b.to_vec();
-        self.with_solution(&r, |y, order| {
-            for (yk, &i) in y.iter().zip(order) {
-                b[i] = *yk;
-            }
-        })
-    }
-
     /// x += J⁻¹·r
     pub fn add_solution(&self, r: &[f64], x: &mut [f64]) {
         assert_eq!(x.len(), r.len());
@@ -443,10 +434,10 @@ mod tests {
                 }
             }
             let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
-            let mut ours = b.clone();
+            let mut ours = vec![0.0; n];
             PatternLu::new(&j, ordering_of(&j), &mut Vec::new())
                 .unwrap()
-                .solve_in_place(&mut ours);
+                .add_solution(&b, &mut ours);
             let mut dense = b.clone();
             DenseLu::new(j.clone()).unwrap().solve_in_place(&mut dense);
             let scale = dense.iter().fold(0.0f64, |m, x| m.max(x.abs()));
