@@ -3,7 +3,9 @@
     .venv/bin/python benches/newton_tolerance.py [--stop-time 10] [--tolerances 1e-8 3e-8 1e-7 3e-7 1e-6]
 
 Runs scenes/d-shutdown-6dof (every output recorded) once at a tight tolerance (1e-10) and once per tolerance
-asked for, all at the FMU's default 1 ms step, and once with the default tolerance at a 0.25 ms step. Each run's
+asked for, all at the FMU's default 1 ms step, once with the defaults before 2026-12-01 (dense LU, tolerance
+1e-8: `--param gearbox.linear_solver=dense --param gearbox.newton_tolerance=1e-8`), and once with the default
+tolerance at a 0.25 ms step. Each run's
 outputs are compared column by column with the tight run's, per phase (normal operation 0.5-5 s, the brake
 from 5 s): the peak magnitude's and the RMS's relative difference, as the median and 90th percentile over the
 load, torque and stress columns (slice positions, face-load factors, load sharing, contact counts, transmission
@@ -65,6 +67,10 @@ def main():
             run(path, a.stop_time, [f"gearbox.newton_tolerance={tol:g}"])
             runs[f"tolerance {tol:g}"] = path
             print(f"ran tolerance {tol:g}", flush=True)
+        path = tmp / "before.csv"
+        run(path, a.stop_time, ["gearbox.linear_solver=dense", "gearbox.newton_tolerance=1e-8"])
+        runs["dense LU, 1e-8 (defaults before)"] = path
+        print("ran the defaults before", flush=True)
         path = tmp / "quarter.csv"
         run(path, a.stop_time, ["gearbox.max_internal_step=2.5e-4"])
         runs["0.25 ms step (the step's error)"] = path

@@ -252,10 +252,12 @@ pub fn variants_foot(stop: f64, base: &Baseline) -> String {
          evaluates after each step for them included), ÷ torsional the scene against the torsional scene, peak differences against \
          the reference (min rollr: fewest rollers carrying planet 1's upwind bearing in normal operation, the \
          reference's in brackets; linear bearings report none); the gearbox FMU's defaults are the row \"same, table, \
-         kept+pred.\" (grc750's lamina-table bearings, newton = kept+predicted), rows that name neither take the \
-         lamina loop and newton = pattern, the rows \"same, tolerance {LOOSER_TOLERANCE:e}\" and \"same, sparse J\" \
-         newton = kept+predicted with their section's bearings and newton_tolerance = {LOOSER_TOLERANCE:e} (instead of \
-         the default {NEARLY_LINEAR_INCREMENT_TOLERANCE:e}) or linear_solver = sparse (instead of dense)\n",
+         kept+pred.\" with the FMU's own linear_solver and newton_tolerance (the rows \"same, FMU defaults\", which \
+         set neither); \"same, table, kept+pred.\" takes grc750's lamina-table bearings and newton = kept+predicted \
+         with dense LU and the tolerance {NEARLY_LINEAR_INCREMENT_TOLERANCE:e}, as every row that names neither; rows \
+         that name no bearings or iteration take the lamina loop and newton = pattern; the rows \"same, tolerance \
+         {LOOSER_TOLERANCE:e}\" and \"same, sparse J\" newton = kept+predicted with their section's bearings and \
+         newton_tolerance = {LOOSER_TOLERANCE:e} or linear_solver = sparse\n",
         ms(base.wall_s),
         stop / base.wall_s,
         split.join(", "),
@@ -371,7 +373,7 @@ pub fn torsional_baseline(dir: &Path, stop: f64) -> anyhow::Result<Baseline> {
 const LOOSER_TOLERANCE: f64 = 1e-7;
 
 /// One row's settings: label, slices, bearing model, internal step, integrator, main shaft, Newton iteration,
-/// its tolerance and its linear solver.
+/// its tolerance and its linear solver (None: the FMU's start value).
 type Variant = (
     &'static str,
     usize,
@@ -380,24 +382,25 @@ type Variant = (
     &'static str,
     MainShaft,
     &'static str,
-    f64,
-    &'static str,
+    Option<f64>,
+    Option<&'static str>,
 );
 
 /// The variants in d-shutdown-6dof (the folder `six`) over `stop` s; `row` after each.
 pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyhow::Result<()> {
     let mut reference: Option<Vec<Vec<f64>>> = None;
     // the reference is the full model at a quarter of the FMU's default internal step (1 ms): its
-    // differences are the errors of each row, the step's included; rows take the lamina loop and the
-    // `pattern` iteration (the reference's, and the FMU's defaults until 2026-11-30) unless they name
-    // others: "same, table, kept+pred." is the FMU's defaults; the rows ending in 1e-7 take a looser
-    // Newton tolerance (`newton_tolerance`) than the default; the rows "same, sparse J" solve with J on
-    // its sparsity pattern (`linear_solver = sparse`), every other row by dense LU (the default)
-    let tol = NEARLY_LINEAR_INCREMENT_TOLERANCE;
+    // differences are the errors of each row, the step's included; rows take the lamina loop, the
+    // `pattern` iteration (the reference's, and the FMU's defaults until 2026-11-30), dense LU and the
+    // tolerance 1e-8 (the FMU's defaults until 2026-12-01) unless they name others: "same, table,
+    // kept+pred." is the FMU's defaults of 2026-11-30, the rows ending in 1e-7 take a looser Newton
+    // tolerance (`newton_tolerance`), the rows "same, sparse J" solve with J on its sparsity pattern
+    // (`linear_solver = sparse`), and the rows "same, FMU defaults" set neither (None): the FMU's start
+    // values (sparse and 3e-8 when these rows came, 2026-12-01)
+    let tol = Some(NEARLY_LINEAR_INCREMENT_TOLERANCE);
+    let (dense, looser) = (Some("dense"), Some(LOOSER_TOLERANCE));
     let pattern = |label, slices, bearings, step, integrator, shaft| {
-        (
-            label, slices, bearings, step, integrator, shaft, "pattern", tol, "dense",
-        )
+        (label, slices, bearings, step, integrator, shaft, "pattern", tol, dense)
     };
     let at = |label, bearings, newton, tolerance, solver| {
         (
@@ -412,10 +415,11 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
             solver,
         )
     };
-    let newton = |label, bearings, newton| at(label, bearings, newton, tol, "dense");
-    let looser = |label, bearings| at(label, bearings, "kept+predicted", LOOSER_TOLERANCE, "dense");
-    let sparse = |label, bearings| at(label, bearings, "kept+predicted", tol, "sparse");
-    let variants: [Variant; 19] = [
+    let newton = |label, bearings, newton| at(label, bearings, newton, tol, dense);
+    let looser = |label, bearings| at(label, bearings, "kept+predicted", looser, dense);
+    let sparse = |label, bearings| at(label, bearings, "kept+predicted", tol, Some("sparse"));
+    let defaults = |label, bearings| at(label, bearings, "kept+predicted", None, None);
+    let variants: [Variant; 21] = [
         pattern(
             "reference: 0.25 ms",
             35,
@@ -432,6 +436,7 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         newton("same, table, kept+pred.", "lamina-table", "kept+predicted"),
         looser("same, tolerance 1e-7", "lamina-table"),
         sparse("same, sparse J", "lamina-table"),
+        defaults("same, FMU defaults", "lamina-table"),
         pattern("same, Newmark", 35, "lamina", 1e-3, "implicit", MainShaft::Preset),
         pattern("same, 0.5 ms", 35, "lamina", 5e-4, "hht", MainShaft::Preset),
         pattern("11 slices, lamina", 11, "lamina", 1e-3, "hht", MainShaft::Preset),
@@ -442,6 +447,7 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         newton("same, kept+predicted", "linear", "kept+predicted"),
         looser("same, tolerance 1e-7", "linear"),
         sparse("same, sparse J", "linear"),
+        defaults("same, FMU defaults", "linear"),
     ];
     for (label, slices, bearings, step, integrator, shaft, newton, tolerance, solver) in variants {
         let mut o = vec![
@@ -450,9 +456,9 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
             param("gearbox", "max_internal_step", step),
             param("gearbox", "integrator", integrator),
             param("gearbox", "newton", newton),
-            param("gearbox", "newton_tolerance", tolerance),
-            param("gearbox", "linear_solver", solver),
         ];
+        o.extend(tolerance.map(|t| param("gearbox", "newton_tolerance", t)));
+        o.extend(solver.map(|s| param("gearbox", "linear_solver", s)));
         if let Some(file) = shaft.description()? {
             o.push(param("gearbox", "gearbox", file.display()));
         }

@@ -38,12 +38,14 @@ fn defaults_are_the_xml_start_values() {
         (p.preset.as_str(), p.contact_ratio, p.max_internal_step),
         ("D", 1.6, 1e-3)
     );
-    // the gearbox FMU's Newton tolerance starts at the solver's own default, so the FMU and the bare
-    // model's commands iterate to the same tolerance
-    assert_eq!(
-        windrive::slaves::gearbox6dof::Params::default().newton_tolerance,
-        windrive::solver::alpha::NEARLY_LINEAR_INCREMENT_TOLERANCE
-    );
+    // the gearbox FMU's default iteration (kept+predicted) stops at a looser tolerance than the solver's
+    // own default (`pattern`, which the bare model's commands take): at 3e-8 the kept iteration lands
+    // within a tenth of the step's own error of the converged answer (tests/it/newton_kept.rs), which at
+    // 1e-7 it does not (docs/PERFORMANCE.md, "The forces on AVX, and the Newton tolerance as a parameter")
+    let fmu = windrive::slaves::gearbox6dof::Params::default();
+    assert_eq!(fmu.newton, "kept+predicted");
+    assert!(fmu.newton_tolerance > windrive::solver::alpha::NEARLY_LINEAR_INCREMENT_TOLERANCE);
+    assert!(fmu.newton_tolerance < 1e-7);
 }
 
 /// Each bounded Real or Integer parameter: just outside a bound is refused naming the parameter and

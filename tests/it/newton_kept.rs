@@ -82,7 +82,12 @@ fn kept_factorisations_reach_the_default_iterations_answer_with_fewer_factorisat
     };
     // what the step itself costs: the default iteration at half the step
     let (step_f, step_v) = differences(&grc_run(Newton::default(), steps, 5e-4).1);
-    for newton in [KEPT, KEPT_PREDICTED, KEPT_PREDICTED_SPARSE] {
+    // and the gearbox FMU's defaults: the same with its looser tolerance
+    let fmu_defaults = Newton {
+        tolerance: windrive::slaves::gearbox6dof::Params::default().newton_tolerance,
+        ..KEPT_PREDICTED_SPARSE
+    };
+    for newton in [KEPT, KEPT_PREDICTED, KEPT_PREDICTED_SPARSE, fmu_defaults] {
         let (_, st, stats) = grc_run(newton, steps, 1e-3);
         let (df, dv) = differences(&st);
         println!(

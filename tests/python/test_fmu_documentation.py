@@ -546,7 +546,7 @@ DEFAULTS = [
     ("gearbox6dof", r"Newmark's rule at the default (\S+) ms step", "max_internal_step", lambda x: 1e3 * float(x)),
     ("gearbox6dof", r"The default newton = kept\+predicted keeps one", "newton", "kept+predicted"),
     ("gearbox6dof", r"newton_tolerance \((\S+) by default\)", "newton_tolerance", float),
-    ("gearbox6dof", r"instead of dense LU, the default;", "linear_solver", "dense"),
+    ("gearbox6dof", r"The default linear_solver = sparse solves", "linear_solver", "sparse"),
 ]
 
 
