@@ -8,7 +8,7 @@
 
 use super::description::{Contact, Rollers};
 use super::mesh::KeyBits;
-use super::ninth_root::ninth_root;
+use super::ninth_root::{NinthRoots, ninth_root};
 use super::roller_table::{RollerTable, RollerTables};
 use super::row::{Row, add_outer};
 use crate::physics::hertz::{EllipticContact, LineContact, effective_modulus, subsurface_peaks};
@@ -127,6 +127,11 @@ pub struct RollerBearing {
     table: Option<Arc<RollerTable>>,
     /// Half the roller's length, m.
     half_roller: f64,
+    /// The laminae's offsets counted from either end: from the first (a roller tilted to load it
+    /// most) and from the last, for the table's search.
+    offsets_from: [Vec<f64>; 2],
+    /// e·τ: a lamina's damping per unit of its secant stiffness.
+    exponent_damping: f64,
 }
 
 /// A loaded roller's load, moment about the row's centre and the sums of its laminae's stiffness and
@@ -193,13 +198,17 @@ impl RollerBearing {
         let n = r.laminae as usize;
         let width = length / n as f64;
         let crown = r.crowning_um * 1e-6;
-        let laminae = (0..n)
+        let laminae: Vec<(f64, f64)> = (0..n)
             .map(|k| {
                 let s = -0.5 * length + (k as f64 + 0.5) * width;
                 // parabolic crown: the full drop at the roller's ends
                 (s, crown * (2.0 * s / length).powi(2))
             })
             .collect();
+        let offsets_from = [
+            laminae.iter().map(|l| l.0).collect(),
+            laminae.iter().rev().map(|l| l.0).collect(),
+        ];
         let e_star = effective_modulus(STEEL_E, STEEL_NU, STEEL_E, STEEL_NU);
         let (rolling, across) = r.contact_radii();
         let hertz = match (r.contact, across) {
@@ -261,6 +270,8 @@ impl RollerBearing {
             shear_peak,
             table,
             half_roller: 0.5 * length,
+            offsets_from,
+            exponent_damping: exponent * damping_time,
         }
     }
 
@@ -312,28 +323,38 @@ impl RollerBearing {
         table: Option<&RollerTable>,
     ) -> RollerLoads {
         let mut out = RollerLoads::default();
+        let roots = NinthRoots::get();
         let half_length = self.laminae.last().map_or(0.0, |l| l.0.abs());
+        let r = self.pitch_radius;
+        let (s0, c0) = cage.sin_cos();
+        let (sp, cp) = self.pitch;
         for row in &self.roller_rows {
             let gap = row.cos * 0.5 * self.clearance + row.sin.abs() * 0.5 * self.axial_clearance;
-            for (cs, sn) in roller_angles(cage, self.pitch, self.count) {
+            // the parts of u (below) that do not turn with the roller, each rounded as u's own product
+            let (sin_r, minus_sin_r, minus_cos) = (row.sin * r, -row.sin * r, -row.cos);
+            // the rollers' unit vectors (cos ψ_j, sin ψ_j) by rotation (see `roller_angles`)
+            let (mut c, mut s) = (c0, s0);
+            for _ in 0..self.count {
+                let (cs, sn) = (c, s);
+                (c, s) = (c * cp - s * sp, s * cp + c * sp);
                 // approach along the roller's normal at the row's centre, and its change per metre
                 // along the axis (the tilt)
                 let radial = x[0] * cs + x[1] * sn;
                 let per_metre = x[4] * cs - x[3] * sn;
-                let axial = x[2] + self.pitch_radius * (x[3] * sn - x[4] * cs);
+                let axial = x[2] + r * (x[3] * sn - x[4] * cs);
                 let centre = row.cos * (radial + row.z * per_metre) + row.sin * axial - gap;
                 let spread = row.cos * per_metre;
                 if centre + spread.abs() * half_length <= 0.0 {
                     continue;
                 }
                 // a lamina at z along the axis has the gradient u + z·w: the roller's sums over its
-                // laminae give its force and tangent without a 5×5 product per lamina
-                let r = self.pitch_radius;
-                let u = [row.cos * cs, row.cos * sn, row.sin, row.sin * r * sn, -row.sin * r * cs];
-                let w = [0.0, 0.0, 0.0, -row.cos * sn, row.cos * cs];
-                let rate_u: f64 = u.iter().zip(xd).map(|(g, v)| g * v).sum();
-                let rate_w: f64 = w.iter().zip(xd).map(|(g, v)| g * v).sum();
-                let tabulated = table.and_then(|t| self.by_table(t, row, centre, spread, rate_u, rate_w));
+                // laminae give its force and tangent without a 5×5 product per lamina; w's first
+                // three entries are zero, so neither rate nor force adds their products
+                let u = [row.cos * cs, row.cos * sn, row.sin, sin_r * sn, minus_sin_r * cs];
+                let w = [minus_cos * sn, row.cos * cs];
+                let rate_u = u[0] * xd[0] + u[1] * xd[1] + u[2] * xd[2] + u[3] * xd[3] + u[4] * xd[4];
+                let rate_w = w[0] * xd[3] + w[1] * xd[4];
+                let tabulated = table.and_then(|t| self.by_table(t, roots, row, centre, spread, rate_u, rate_w));
                 let sums = match tabulated {
                     Some(sums) => {
                         // the table has no lamina loads: the more loaded end's where it is the
@@ -351,10 +372,14 @@ impl RollerBearing {
                     None => self.by_laminae(row, centre, spread, rate_u, rate_w, &mut out.max_lamina_load),
                 };
                 let (roller, moment) = (sums.load, sums.moment);
-                for i in 0..5 {
-                    out.force[i] += roller * u[i] + moment * w[i];
+                for i in 0..3 {
+                    out.force[i] += roller * u[i];
+                }
+                for i in 3..5 {
+                    out.force[i] += roller * u[i] + moment * w[i - 3];
                 }
                 if let Some((k, c)) = tangent.as_mut() {
+                    let w = [0.0, 0.0, 0.0, w[0], w[1]];
                     let ([k0, k1, k2], [c0, c1, c2]) = (sums.stiffness, sums.damping);
                     for a in 0..5 {
                         for b in 0..5 {
@@ -428,7 +453,7 @@ impl RollerBearing {
     /// are positive over the loaded laminae, where the table was used.
     #[inline(always)]
     fn end_lamina_load(&self, row: &RollerRow, centre: f64, spread: f64, rate_u: f64, rate_w: f64) -> Option<f64> {
-        let falls = spread + self.exponent * self.damping_time * rate_w;
+        let falls = spread + self.exponent_damping * rate_w;
         let (&(s, drop), falling) = if spread >= 0.0 {
             (self.laminae.last()?, falls >= 0.0)
         } else {
@@ -442,25 +467,21 @@ impl RollerBearing {
     /// decide: a lamina the damping would unload (its load's sign is affine along the roller, so the
     /// two extreme loaded laminae tell), or signs of the laminae that contradict each other.
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn by_table(
         &self,
         table: &RollerTable,
+        roots: NinthRoots,
         row: &RollerRow,
         centre: f64,
         spread: f64,
         rate_u: f64,
         rate_w: f64,
     ) -> Option<RollerSums> {
-        let n = self.laminae.len();
         // laminae counted from the more loaded end, their approaches as the loop computes them
-        let offset = |j: usize| {
-            if spread >= 0.0 {
-                self.laminae[n - 1 - j].0
-            } else {
-                self.laminae[j].0
-            }
-        };
-        let approach = |j: usize| centre + spread * offset(j);
+        let offset = &self.offsets_from[usize::from(spread >= 0.0)][..];
+        let n = offset.len();
+        let approach = |j: usize| centre + spread * offset[j];
         let m = approach(0);
         if m <= 0.0 {
             return None;
@@ -482,10 +503,10 @@ impl RollerBearing {
             return None;
         }
         let last = count - 1;
-        let (s_last, d_last) = (offset(last), approach(last));
+        let (s_last, d_last) = (offset[last], approach(last));
         // no lamina unloaded by its damping: δ + e·τ·(ṙ_u + z·ṙ_w) > 0 at both ends of the loaded ones
-        let kept = |d: f64, s: f64| d + self.exponent * self.damping_time * (rate_u + (row.z + s) * rate_w) > 0.0;
-        if !(kept(m, offset(0)) && kept(d_last, s_last)) {
+        let kept = |d: f64, s: f64| d + self.exponent_damping * (rate_u + (row.z + s) * rate_w) > 0.0;
+        if !(kept(m, offset[0]) && kept(d_last, s_last)) {
             return None;
         }
         let rest = table.rest(last, u);
@@ -494,7 +515,7 @@ impl RollerBearing {
         } else {
             -self.half_roller
         };
-        let (mb, b) = (ninth_root(m), ninth_root(d_last));
+        let [mb, b] = roots.of_two([m, d_last]);
         let (me, e) = (mb * m, b * d_last);
         // Σδ^(10/9)·{1, s} and Σδ^(1/9)·{1, s, s²} over the loaded laminae
         let e0 = me * rest[0] + e;

@@ -172,6 +172,58 @@ impl Mesh {
         }
     }
 
+    /// One flank's force and moment under the linear law, summed as [`Self::each_slice`] hands them
+    /// over, the same bits: the slices' forces first, a block of them at a time without a branch (a
+    /// slice out of contact gives +0, which leaves the sums as they are), then their sums in order.
+    /// The branch per slice cost about 20 instructions a slice, a tenth of the GRC's normal step.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn linear_flank(
+        &self,
+        flank: usize,
+        roll: Option<f64>,
+        q: &[f64],
+        v: &[f64],
+        load: &mut FlankLoad,
+        mut slice: Option<&mut [f64]>,
+        sign: f64,
+    ) {
+        const BLOCK: usize = 64;
+        let (rows, errors, gap) = self.flank_parts(flank);
+        let (d0, d1, r0, r1) = self.flank(rows, q, v);
+        let mut forces = [0.0; BLOCK];
+        for start in (0..self.slices()).step_by(BLOCK) {
+            let end = (start + BLOCK).min(self.slices());
+            let (zeta, errors) = (&self.zeta[start..end], &errors[start..end]);
+            let slices = forces.iter_mut().zip(zeta).zip(errors);
+            match (self.phase.as_ref(), roll) {
+                (Some(_), Some(_)) => {
+                    for (k, ((f, &z), &e)) in slices.enumerate() {
+                        let d = d0 + z * d1 + e - gap;
+                        let force = self.slice_force(self.slice_stiffness(roll, start + k), d, r0 + z * r1);
+                        *f = if d > 0.0 { force } else { 0.0 };
+                    }
+                }
+                // the mean stiffness: the same arithmetic as `slice_force`, which vectorises
+                _ => {
+                    let (k, c) = (self.k_slice, self.c_slice);
+                    for ((f, &z), &e) in slices {
+                        let d = d0 + z * d1 + e - gap;
+                        let force = k * d + c * (r0 + z * r1);
+                        *f = if d > 0.0 { force } else { 0.0 };
+                    }
+                }
+            }
+            for (k, (&f, &z)) in forces.iter().zip(zeta).enumerate() {
+                load.force += f;
+                load.moment += z * f;
+                if let Some(out) = slice.as_deref_mut() {
+                    out[start + k] += sign * f;
+                }
+            }
+        }
+    }
+
     /// Adds the mesh's forces to f_int; per-slice loads into `slice` when given (drive positive,
     /// back negative; a slice whose flanks both touch, possible only without backlash, nets them).
     #[inline(always)]
@@ -184,13 +236,16 @@ impl Mesh {
         for flank in 0..2 {
             let sign = if flank == 0 { 1.0 } else { -1.0 };
             let load = &mut loads[flank];
-            self.each_slice(flank, roll, q, v, |j, f| {
-                load.force += f;
-                load.moment += self.zeta[j] * f;
-                if let Some(out) = slice.as_deref_mut() {
-                    out[j] += sign * f;
-                }
-            });
+            match self.law {
+                Law::Linear => self.linear_flank(flank, roll, q, v, load, slice.as_deref_mut(), sign),
+                Law::Impact { .. } => self.each_slice(flank, roll, q, v, |j, f| {
+                    load.force += f;
+                    load.moment += self.zeta[j] * f;
+                    if let Some(out) = slice.as_deref_mut() {
+                        out[j] += sign * f;
+                    }
+                }),
+            }
             let rows = self.flank_parts(flank).0;
             rows[0].axpy(load.force, f_int);
             rows[1].axpy(load.moment, f_int);
@@ -307,6 +362,84 @@ impl<'a> KeyBits<'a> {
     pub fn finish(self) {
         if self.used > 0 {
             self.key.push(self.word);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::gearbox::description::MeshStiffnessModel;
+    use crate::physics::gearbox::{Description, Gearbox};
+
+    /// Both flanks' loads and the slices' loads, slice by slice as `each_slice` hands them over.
+    fn slice_by_slice(m: &Mesh, q: &[f64], v: &[f64]) -> ([FlankLoad; 2], Vec<f64>) {
+        let roll = m.roll(q);
+        let mut loads = [FlankLoad::default(); 2];
+        let mut slices = vec![0.0; m.slices()];
+        for (flank, load) in loads.iter_mut().enumerate() {
+            let sign = if flank == 0 { 1.0 } else { -1.0 };
+            m.each_slice(flank, roll, q, v, |j, f| {
+                load.force += f;
+                load.moment += m.zeta[j] * f;
+                slices[j] += sign * f;
+            });
+        }
+        (loads, slices)
+    }
+
+    /// The linear law's forces by blocks of slices without a branch give the bits of the slice loop,
+    /// with both stiffness models, across the blocks' boundaries (101 and 200 slices), at states that
+    /// load the drive flanks, the back flanks (the deflections reversed past the backlash) and parts of
+    /// a face only (a tilt across it).
+    #[test]
+    fn the_linear_law_by_blocks_gives_the_slice_loops_bits() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut uniform = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for (slices, stiffness) in [
+            (35, MeshStiffnessModel::Mean),
+            (101, MeshStiffnessModel::Mean),
+            (35, MeshStiffnessModel::Varying),
+            (200, MeshStiffnessModel::Varying),
+        ] {
+            let mut d = Description::load("grc750").unwrap();
+            d.model.slices = slices;
+            d.model.mesh_stiffness = stiffness;
+            let g = Gearbox::new(&d).unwrap();
+            let n = g.dofs();
+            let mut loaded = [0usize; 2];
+            for _ in 0..200 {
+                // rotations of a milliradian and displacements of a tenth of a millimetre
+                let q: Vec<f64> = (0..n).map(|_| 1e-3 * uniform()).collect();
+                let v: Vec<f64> = (0..n).map(|_| 1e-2 * uniform()).collect();
+                for m in &g.meshes {
+                    assert!(matches!(m.law, Law::Linear));
+                    let (want, want_slices) = slice_by_slice(m, &q, &v);
+                    let mut f_int = vec![0.0; n];
+                    let mut got_slices = vec![0.0; m.slices()];
+                    let got = m.add_forces(&q, &v, &mut f_int, Some(&mut got_slices));
+                    for flank in 0..2 {
+                        let (a, b) = (got[flank], want[flank]);
+                        assert_eq!(
+                            (a.force.to_bits(), a.moment.to_bits()),
+                            (b.force.to_bits(), b.moment.to_bits()),
+                            "{} flank {flank}, {slices} slices",
+                            m.name
+                        );
+                        loaded[flank] += usize::from(b.force != 0.0);
+                    }
+                    let bits = |x: &[f64]| x.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(bits(&got_slices), bits(&want_slices), "{}", m.name);
+                    let mut alone = vec![0.0; n];
+                    assert_eq!(m.add_forces(&q, &v, &mut alone, None), got, "{}", m.name);
+                }
+            }
+            assert!(loaded[0] > 100 && loaded[1] > 100, "{loaded:?}");
         }
     }
 }

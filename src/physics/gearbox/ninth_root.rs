@@ -53,21 +53,57 @@ static TABLES: LazyLock<Tables> = LazyLock::new(|| {
 /// x^(1/9).
 #[inline]
 pub fn ninth_root(x: f64) -> f64 {
-    let bits = x.to_bits();
-    // the sign bit makes a negative x's biased exponent 2048 or more
-    let biased = (bits >> 52) as i64;
-    if !(1..2047).contains(&biased) {
-        return x.powf(1.0 / 9.0);
+    NinthRoots::get().of(x)
+}
+
+/// The tables taken once, for a caller that takes many roots: each [`ninth_root`] checks that the
+/// lazy tables are built (an atomic load and a branch, 0.8 % of the GRC's normal step).
+#[derive(Clone, Copy)]
+pub struct NinthRoots(&'static Tables);
+
+impl NinthRoots {
+    pub fn get() -> Self {
+        NinthRoots(&TABLES)
     }
-    let t = &*TABLES;
-    let cell = ((bits >> (52 - CELL_BITS)) as usize) & (CELLS - 1);
-    let (root, inverse) = t.cells[cell];
-    // m minus its cell's start is the mantissa's bits below the cell's, times 2⁻⁵² (exact)
-    let r = (bits & BELOW_CELL) as f64 * inverse;
-    // Estrin's scheme: three dependent multiply-adds instead of Horner's five
-    let r2 = r * r;
-    let series = (1.0 + C1 * r) + r2 * ((C2 + C3 * r) + r2 * (C4 + C5 * r));
-    root * series * t.powers[biased as usize]
+
+    /// x^(1/9), as [`ninth_root`].
+    #[inline(always)]
+    pub fn of(self, x: f64) -> f64 {
+        let bits = x.to_bits();
+        // the sign bit makes a negative x's biased exponent 2048 or more
+        let biased = (bits >> 52) as i64;
+        if !(1..2047).contains(&biased) {
+            return x.powf(1.0 / 9.0);
+        }
+        let t = self.0;
+        let cell = ((bits >> (52 - CELL_BITS)) as usize) & (CELLS - 1);
+        let (root, inverse) = t.cells[cell];
+        // m minus its cell's start is the mantissa's bits below the cell's, times 2⁻⁵² (exact)
+        let r = (bits & BELOW_CELL) as f64 * inverse;
+        // Estrin's scheme: three dependent multiply-adds instead of Horner's five
+        let r2 = r * r;
+        let series = (1.0 + C1 * r) + r2 * ((C2 + C3 * r) + r2 * (C4 + C5 * r));
+        root * series * t.powers[biased as usize]
+    }
+
+    /// Two roots at once, each as [`Self::of`]: the series of both in one pair of lanes.
+    #[inline(always)]
+    pub fn of_two(self, x: [f64; 2]) -> [f64; 2] {
+        let bits = x.map(f64::to_bits);
+        let biased = bits.map(|b| (b >> 52) as i64);
+        if !biased.iter().all(|b| (1..2047).contains(b)) {
+            return x.map(|x| self.of(x));
+        }
+        let t = self.0;
+        let cells = bits.map(|b| t.cells[((b >> (52 - CELL_BITS)) as usize) & (CELLS - 1)]);
+        let r = [
+            (bits[0] & BELOW_CELL) as f64 * cells[0].1,
+            (bits[1] & BELOW_CELL) as f64 * cells[1].1,
+        ];
+        let r2 = [r[0] * r[0], r[1] * r[1]];
+        let series = [0, 1].map(|i| (1.0 + C1 * r[i]) + r2[i] * ((C2 + C3 * r[i]) + r2[i] * (C4 + C5 * r[i])));
+        [0, 1].map(|i| cells[i].0 * series[i] * t.powers[biased[i] as usize])
+    }
 }
 
 #[cfg(test)]
@@ -135,6 +171,32 @@ mod tests {
                 state ^= state << 17;
                 let x = f64::from_bits(biased << 52 | (state >> 12));
                 assert_eq!(ninth_root(x).to_bits(), two_step(x).to_bits(), "{x:e}");
+            }
+        }
+    }
+
+    #[test]
+    fn two_at_once_give_the_bits_of_one_at_a_time() {
+        // normal numbers over every exponent a lamina meets and far beyond, paired with each other
+        // and with what takes powf's path (zero, negative, subnormal, infinite, NaN)
+        let roots = NinthRoots::get();
+        let odd = [0.0, -1.0, f64::MIN_POSITIVE / 4.0, f64::INFINITY, f64::NAN];
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            f64::from_bits((1 + state % 2046) << 52 | (state >> 12))
+        };
+        let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+        for k in 0..20_000 {
+            let x = [next(), if k % 10 == 0 { odd[k / 10 % odd.len()] } else { next() }];
+            for pair in [x, [x[1], x[0]]] {
+                let two = roots.of_two(pair);
+                assert!(
+                    same(two[0], roots.of(pair[0])) && same(two[1], roots.of(pair[1])),
+                    "{pair:?}"
+                );
             }
         }
     }
