@@ -58,15 +58,13 @@ impl MassSolver {
         // the GRC shutdown's instructions at one comparison per communication step, and an f64
         // comparison per entry still 4 % of a kept-factorisation step; equal bytes are the same
         // matrix (a −0 for a 0 only refactorises). A sparse mass is compared by its nonzero entries,
-        // which are all of it (the GRC's 94 of 7056: the bytes' comparison was 1.5 % of a step)
+        // which are all of it (the GRC's 94 of 7056: the bytes' comparison was 1.5 % of a step); a
+        // mass that changes kind is factorised afresh
         let same = match (&self.matrix, &self.entries, entries) {
             (Some(f), Some(mine), Some(e)) => f.shape() == m.shape() && mine == e,
-            (Some(f), _, _) => f.shape() == m.shape() && same_bits(f.as_slice(), m.as_slice()),
-            (None, ..) => false,
+            (Some(f), None, None) => f.shape() == m.shape() && same_bits(f.as_slice(), m.as_slice()),
+            _ => false,
         };
-        if same && self.entries.is_none() && entries.is_some() {
-            self.entries = entries.cloned();
-        }
         if !same {
             self.entries = entries.cloned();
             self.factor = m.clone().cholesky();

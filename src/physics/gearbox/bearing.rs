@@ -43,10 +43,11 @@ fn power_less_one(delta: f64, exponent: f64) -> f64 {
 }
 
 /// The unit vectors (cos ψ_j, sin ψ_j) of the rollers of one row, by rotation rather than a
-/// `sin_cos` per roller (the rounding after 200 rotations stays below 1e-13); `pitch` is
-/// (sin, cos) of the angle between rollers, 2π/count, taken once per bearing.
-fn roller_angles(cage: f64, pitch: (f64, f64), count: usize) -> impl Iterator<Item = (f64, f64)> {
-    let (s0, c0) = cage.sin_cos();
+/// `sin_cos` per roller (the rounding after 200 rotations stays below 1e-13); `cage` is (sin, cos)
+/// of the cage's angle, `pitch` of the angle between rollers, 2π/count, taken once per bearing.
+#[inline(always)]
+fn roller_angles(cage: (f64, f64), pitch: (f64, f64), count: usize) -> impl Iterator<Item = (f64, f64)> {
+    let (s0, c0) = cage;
     let (sp, cp) = pitch;
     (0..count).scan((c0, s0), move |(c, s), _| {
         let out = (*c, *s);
@@ -326,17 +327,12 @@ impl RollerBearing {
         let roots = NinthRoots::get();
         let half_length = self.laminae.last().map_or(0.0, |l| l.0.abs());
         let r = self.pitch_radius;
-        let (s0, c0) = cage.sin_cos();
-        let (sp, cp) = self.pitch;
+        let cage = cage.sin_cos();
         for row in &self.roller_rows {
             let gap = row.cos * 0.5 * self.clearance + row.sin.abs() * 0.5 * self.axial_clearance;
             // the parts of u (below) that do not turn with the roller, each rounded as u's own product
             let (sin_r, minus_sin_r, minus_cos) = (row.sin * r, -row.sin * r, -row.cos);
-            // the rollers' unit vectors (cos ψ_j, sin ψ_j) by rotation (see `roller_angles`)
-            let (mut c, mut s) = (c0, s0);
-            for _ in 0..self.count {
-                let (cs, sn) = (c, s);
-                (c, s) = (c * cp - s * sp, s * cp + c * sp);
+            for (cs, sn) in roller_angles(cage, self.pitch, self.count) {
                 // approach along the roller's normal at the row's centre, and its change per metre
                 // along the axis (the tilt)
                 let radial = x[0] * cs + x[1] * sn;
@@ -544,7 +540,7 @@ impl RollerBearing {
     /// modified Newton iteration converges in a few steps.
     pub fn key(&self, q: &[f64], bits: &mut KeyBits) {
         let x: [f64; 5] = std::array::from_fn(|i| self.rows[i].dot(q) - self.offset.get(i).copied().unwrap_or(0.0));
-        let cage = self.cage.dot(q);
+        let cage = self.cage.dot(q).sin_cos();
         let octant = ((x[1].atan2(x[0]) / TAU * 8.0).floor() as i64).rem_euclid(8) as u64;
         for row in &self.roller_rows {
             let gap = row.cos * 0.5 * self.clearance + row.sin.abs() * 0.5 * self.axial_clearance;

@@ -70,40 +70,48 @@ impl NinthRoots {
     #[inline(always)]
     pub fn of(self, x: f64) -> f64 {
         let bits = x.to_bits();
-        // the sign bit makes a negative x's biased exponent 2048 or more
-        let biased = (bits >> 52) as i64;
+        let biased = biased_exponent(bits);
         if !(1..2047).contains(&biased) {
             return x.powf(1.0 / 9.0);
         }
-        let t = self.0;
-        let cell = ((bits >> (52 - CELL_BITS)) as usize) & (CELLS - 1);
-        let (root, inverse) = t.cells[cell];
-        // m minus its cell's start is the mantissa's bits below the cell's, times 2⁻⁵² (exact)
-        let r = (bits & BELOW_CELL) as f64 * inverse;
-        // Estrin's scheme: three dependent multiply-adds instead of Horner's five
-        let r2 = r * r;
-        let series = (1.0 + C1 * r) + r2 * ((C2 + C3 * r) + r2 * (C4 + C5 * r));
-        root * series * t.powers[biased as usize]
+        let (root, r) = self.cell(bits);
+        root * series(r) * self.0.powers[biased as usize]
     }
 
     /// Two roots at once, each as [`Self::of`]: the series of both in one pair of lanes.
     #[inline(always)]
     pub fn of_two(self, x: [f64; 2]) -> [f64; 2] {
         let bits = x.map(f64::to_bits);
-        let biased = bits.map(|b| (b >> 52) as i64);
+        let biased = bits.map(biased_exponent);
         if !biased.iter().all(|b| (1..2047).contains(b)) {
             return x.map(|x| self.of(x));
         }
-        let t = self.0;
-        let cells = bits.map(|b| t.cells[((b >> (52 - CELL_BITS)) as usize) & (CELLS - 1)]);
-        let r = [
-            (bits[0] & BELOW_CELL) as f64 * cells[0].1,
-            (bits[1] & BELOW_CELL) as f64 * cells[1].1,
-        ];
-        let r2 = [r[0] * r[0], r[1] * r[1]];
-        let series = [0, 1].map(|i| (1.0 + C1 * r[i]) + r2[i] * ((C2 + C3 * r[i]) + r2[i] * (C4 + C5 * r[i])));
-        [0, 1].map(|i| cells[i].0 * series[i] * t.powers[biased[i] as usize])
+        let cells = bits.map(|b| self.cell(b));
+        let series = cells.map(|(_, r)| series(r));
+        [0, 1].map(|i| cells[i].0 * series[i] * self.0.powers[biased[i] as usize])
     }
+
+    /// A positive normal number's cell: the ninth root of its start, and r, the mantissa past the
+    /// start over the start.
+    #[inline(always)]
+    fn cell(self, bits: u64) -> (f64, f64) {
+        let (root, inverse) = self.0.cells[((bits >> (52 - CELL_BITS)) as usize) & (CELLS - 1)];
+        // m minus its cell's start is the mantissa's bits below the cell's, times 2⁻⁵² (exact)
+        (root, (bits & BELOW_CELL) as f64 * inverse)
+    }
+}
+
+/// The biased exponent; the sign bit makes a negative number's 2048 or more.
+#[inline(always)]
+fn biased_exponent(bits: u64) -> i64 {
+    (bits >> 52) as i64
+}
+
+/// (1 + r)^(1/9) to r⁵ by Estrin's scheme: three dependent multiply-adds instead of Horner's five.
+#[inline(always)]
+fn series(r: f64) -> f64 {
+    let r2 = r * r;
+    (1.0 + C1 * r) + r2 * ((C2 + C3 * r) + r2 * (C4 + C5 * r))
 }
 
 #[cfg(test)]
