@@ -21,6 +21,7 @@ pub mod reference;
 pub mod slaves;
 pub mod solver;
 pub mod studies;
+pub mod xorshift;
 
 #[cfg(feature = "cli")]
 pub mod bench;

@@ -16,14 +16,11 @@ pub fn read_series(path: &Path) -> std::io::Result<Vec<f64>> {
 
 /// A seeded random walk of `samples` points: reproducible without a dependency (xorshift).
 pub fn random_walk(samples: usize) -> Vec<f64> {
-    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut random = crate::xorshift::Xorshift::new(0x9e37_79b9_7f4a_7c15);
     let mut walk = 0.0;
     (0..samples)
         .map(|_| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            walk += (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+            walk += random.unit() - 0.5;
             walk
         })
         .collect()

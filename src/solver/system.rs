@@ -286,13 +286,8 @@ mod tests {
     /// The vectorised product gives what the entry-by-entry sum in column order gives, to the bit.
     #[test]
     fn a_dense_product_on_wide_vectors_keeps_the_bits() {
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut random = crate::xorshift::Xorshift::new(0x2545_f491_4f6c_dd1d);
+        let mut next = || random.symmetric();
         for n in 1..=90 {
             let m: Vec<f64> = (0..n * n).map(|_| next() * 1e3).collect();
             let x: Vec<f64> = (0..n).map(|_| next()).collect();
@@ -315,13 +310,8 @@ mod tests {
     /// (6×6 diagonal blocks and orbit couplings, as the gearbox's, and a random fifth of the entries).
     #[test]
     fn a_sparse_product_gives_the_dense_products_bits() {
-        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut random = crate::xorshift::Xorshift::new(0x9e37_79b9_7f4a_7c15);
+        let mut next = move || random.symmetric();
         for n in [1, 6, 12, 84, 90] {
             for dense_fraction in [0.0, 0.2] {
                 let mut m = DMatrix::from_fn(n, n, |i, j| if i == j { 1e3 * (1.0 + next().abs()) } else { 0.0 });

@@ -446,13 +446,8 @@ fn no_rotor_parameter_combination_panics() {
         f64::NEG_INFINITY,
         f64::NAN,
     ];
-    let mut seed = 0x2545_f491_4f6c_dd1du64;
-    let mut next = || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        seed
-    };
+    let mut random = windrive::xorshift::Xorshift::new(0x2545_f491_4f6c_dd1d);
+    let mut next = || random.next_u64();
     for _ in 0..400 {
         let mut inst = fmu.instantiate("fuzz", false).unwrap();
         inst.setup_experiment(0.0, None).unwrap();

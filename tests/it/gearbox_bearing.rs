@@ -309,13 +309,8 @@ fn a_tabulated_set_gives_the_lamina_loops_loads_and_tangents() {
     let crb = crb(20, 60.0, 10);
     let mut tapered = crb;
     (tapered.count, tapered.contact_angle_deg, tapered.axial_clearance_um) = (22, 13.0, 30.0);
-    let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-    let mut uniform = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut random = windrive::xorshift::Xorshift::new(0x9e37_79b9_7f4a_7c15);
+    let mut uniform = move || random.unit();
     for r in [crb, tapered] {
         let (exact, table) = (mounted(&r, 1e-4, false), mounted(&r, 1e-4, true));
         assert!(table.tabulated() && !exact.tabulated());

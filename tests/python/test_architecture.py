@@ -127,7 +127,8 @@ ALLOWED = {
     "studies": {"analysis", "physics", "linear", "reference", "cosim", "solver", "slaves"},
     "pack": {"fmi2", "fmi2::host"},
     "plot": {"linear"},
-    "bench": {"analysis", "physics", "linear", "reference", "cosim", "solver", "fmi2", "fmi2::host"},
+    "bench": {"analysis", "physics", "linear", "reference", "cosim", "solver", "fmi2", "fmi2::host", "xorshift"},
+    "xorshift": set(),
 }
 
 

@@ -364,6 +364,7 @@ mod tests {
     use super::*;
     use crate::physics::gearbox::description::{ForceLaw, MeshStiffnessModel};
     use crate::physics::gearbox::{Description, Gearbox};
+    use crate::xorshift::Xorshift;
 
     /// Both flanks' loads and the slices' loads, slice by slice as `each_slice` hands them over.
     fn slice_by_slice(m: &Mesh, q: &[f64], v: &[f64]) -> ([FlankLoad; 2], Vec<f64>) {
@@ -387,13 +388,8 @@ mod tests {
     /// a face only (a tilt across it).
     #[test]
     fn flank_loads_by_blocks_give_the_slice_loops_bits() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut uniform = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut random = Xorshift::new(0x2545_f491_4f6c_dd1d);
+        let mut uniform = || random.symmetric();
         // the paper's Table 5 impact law
         let impact = ForceLaw::Impact {
             exponent: 1.5,

@@ -117,6 +117,7 @@ fn series(r: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::xorshift::Xorshift;
 
     /// Ulps between a and b (same sign, finite).
     fn ulps(a: f64, b: f64) -> u64 {
@@ -128,7 +129,7 @@ mod tests {
         // a seeded walk over the mantissas of approaches from 1e-12 m to 1 m, every cell's edges
         // and the powers of two themselves
         let mut worst = 0;
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut random = Xorshift::new(0x9e37_79b9_7f4a_7c15);
         for e in -40..=0 {
             let base = 2f64.powi(e);
             for i in 0..CELLS {
@@ -140,10 +141,7 @@ mod tests {
                 }
             }
             for _ in 0..2000 {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                let x = base * (1.0 + (state >> 11) as f64 / (1u64 << 53) as f64);
+                let x = base * (1.0 + random.unit());
                 worst = worst.max(ulps(ninth_root(x), x.powf(1.0 / 9.0)));
             }
         }
@@ -171,13 +169,10 @@ mod tests {
     #[test]
     fn one_table_for_the_exponent_gives_the_bits_of_two_factors() {
         // every biased exponent from the smallest normal to the largest finite, at seeded mantissas
-        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut random = Xorshift::new(0x2545_f491_4f6c_dd1d);
         for biased in 1..2047u64 {
             for _ in 0..64 {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                let x = f64::from_bits(biased << 52 | (state >> 12));
+                let x = f64::from_bits(biased << 52 | (random.next_u64() >> 12));
                 assert_eq!(ninth_root(x).to_bits(), two_step(x).to_bits(), "{x:e}");
             }
         }
@@ -189,11 +184,9 @@ mod tests {
         // and with what takes powf's path (zero, negative, subnormal, infinite, NaN)
         let roots = NinthRoots::get();
         let odd = [0.0, -1.0, f64::MIN_POSITIVE / 4.0, f64::INFINITY, f64::NAN];
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut random = Xorshift::new(0x9e37_79b9_7f4a_7c15);
         let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
+            let state = random.next_u64();
             f64::from_bits((1 + state % 2046) << 52 | (state >> 12))
         };
         let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());

@@ -265,13 +265,8 @@ mod tests {
     fn worst_errors(n: usize, poses: usize) -> Sums {
         let table = &*RollerTables::default().for_laminae(n).unwrap();
         let mut worst = [0.0f64; 5];
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut uniform = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut random = crate::xorshift::Xorshift::new(0x2545_f491_4f6c_dd1d);
+        let mut uniform = || random.unit();
         for i in 0..poses {
             let length = 0.02 + 0.18 * uniform();
             let s = laminae(n, length);
