@@ -70,6 +70,18 @@ pub const KEPT_ITERATIONS: usize = 6;
 /// with (an increment up to ten times the tolerance is accepted when the next would be θ times it).
 pub const ETA_FLOOR: f64 = 0.1;
 
+/// [`Newton::keep`]: after a step the kept iteration gave up on, the next steps are taken the default
+/// way at once (from Δ = 0, no kept J tried first) until one of them converges within this many
+/// iterations: restarts come in runs while a held gearbox rattles in its backlash (86 % of the steps
+/// after a restart restarted too, each after some six iterations spent on the kept J), and a step
+/// the default way converges that fast only once the contacts have settled.
+pub const RATTLE_ITERATIONS: u64 = 4;
+
+/// [`Newton::keep`]: the most steps taken the default way in one run of [`RATTLE_ITERATIONS`]' mode;
+/// then the kept iteration is tried again, so that a model whose default iteration always takes
+/// more iterations (no contact pattern to settle) is not held in the mode for good.
+pub const RATTLE_RUN: u32 = 16;
+
 /// How the Newton iteration of the nearly piecewise-linear class (the 6-DOF gearbox, whose contact
 /// pattern changes at almost every step) treats its Jacobian and where it starts. The default (both
 /// false) is the iteration every other class takes: Δ = 0, the pattern's factorisation, a new one
@@ -80,7 +92,8 @@ pub struct Newton {
     /// Modified Newton on a kept factorisation: the last step's J is reused across steps and
     /// patterns (same step size) while the iteration contracts (θ ≤ [`THETA_REFRESH`]), refreshed
     /// at the iterate when it does not, and the step retaken the default way from Δ = 0 when even the
-    /// fresh J stalls (counted in `Statistics::newton_restarts`). The increment tolerance then
+    /// fresh J stalls (counted in `Statistics::newton_restarts`; the steps after it go the default way
+    /// at once until one converges fast, [`RATTLE_ITERATIONS`]). The increment tolerance then
     /// bounds the iterate's error θ/(1 − θ)·‖δ‖ (Hairer and Wanner's test), not the increment ‖δ‖,
     /// and no contact pattern is compared: a pattern is taken only to cache a fresh factorisation.
     /// The kept J is history no state holds, and so are the cached ones: a pattern's J is assembled at
@@ -363,6 +376,10 @@ pub struct AlphaIntegrator {
     pub newton: Newton,
     /// [`Newton::keep`]: the cache entry of the factorisation the last step converged on.
     kept: Option<usize>,
+    /// [`Newton::keep`]: the steps taken the default way since the kept iteration last gave up, while
+    /// none of them has converged within [`RATTLE_ITERATIONS`] (None: the kept iteration goes first).
+    /// History, as `kept` is.
+    rattle_run: Option<u32>,
     /// The coefficients of the last step size (seven divisions saved per step).
     coefficients: Option<Coefficients>,
     cache: Cache,
@@ -385,6 +402,7 @@ impl AlphaIntegrator {
             params,
             newton: Newton::default(),
             kept: None,
+            rattle_run: None,
             coefficients: None,
             cache: Cache::default(),
             orderings: Orderings::default(),
@@ -397,6 +415,7 @@ impl AlphaIntegrator {
     /// where it needs them, as a clone does.
     pub fn forget_factorisations(&mut self) {
         self.kept = None;
+        self.rattle_run = None;
         self.cache = Cache::default();
         self.orderings = Orderings::default();
     }
@@ -545,11 +564,13 @@ impl AlphaIntegrator {
         let nearly = sys.linearity() == Linearity::NearlyPiecewiseLinear;
         let keep = nearly && self.newton.keep;
         let predict = nearly && self.newton.predict;
-        if !keep {
+        // a step after the kept iteration gave up goes the default way at once (RATTLE_ITERATIONS)
+        let rattling = keep && self.rattle_run.is_some();
+        if !keep || rattling {
             sys.factor_key(t, &st.q, &mut self.work.key);
         }
         let mut outcome = None;
-        if keep {
+        if keep && !rattling {
             self.work.start(st, c, predict);
             outcome = self.kept_iteration(sys, st, c, t, friction, stats)?;
             if outcome.is_none() {
@@ -558,13 +579,26 @@ impl AlphaIntegrator {
             }
         }
         let (force, held) = match outcome {
-            Some(done) => done,
+            Some(done) => {
+                self.rattle_run = None;
+                done
+            }
             None => {
                 // a restarted step is taken the default way, from Δ = 0
                 self.work.start(st, c, predict && !keep);
+                let before = stats.newton_iterations;
                 let (force, held, idx) = self.pattern_iteration(sys, st, c, t, friction, stats)?;
                 if keep {
                     self.kept = Some(idx);
+                    self.rattle_run = match self.rattle_run {
+                        // a restart starts a run
+                        None => Some(0),
+                        Some(run) => {
+                            stats.newton_rattle_steps += 1;
+                            let settled = stats.newton_iterations - before <= RATTLE_ITERATIONS;
+                            (!settled && run + 1 < RATTLE_RUN).then_some(run + 1)
+                        }
+                    };
                 }
                 (force, held)
             }

@@ -99,6 +99,10 @@ pub struct Statistics {
     /// `keep`) stalled even on a fresh tangent and were taken again from Δ = 0 the default way.
     #[serde(default)]
     pub newton_restarts: u64,
+    /// Steps taken the default way at once, without the kept iteration first, because the step before
+    /// had been restarted and had not converged fast since ([`crate::solver::alpha::RATTLE_ITERATIONS`]).
+    #[serde(default)]
+    pub newton_rattle_steps: u64,
 }
 
 /// Why a step could not be taken. Times are the start of the failing (sub)step, s.

@@ -136,11 +136,13 @@ fn gearbox_iteration_matrices_factorise_on_their_pattern() {
 }
 
 /// One mass on a spring k whose tangent reports only `reported` of k: the modified Newton iteration
-/// on it contracts by |1 − J_true/J| per iteration.
+/// on it contracts by |1 − J_true/J| per iteration. From `stiff_until` (s) on, the spring is what the
+/// tangent reports.
 struct Understated {
     mass: [f64; 1],
     k: f64,
     reported: f64,
+    stiff_until: f64,
 }
 
 impl SecondOrderSystem for Understated {
@@ -156,8 +158,8 @@ impl SecondOrderSystem for Understated {
     fn input_loads(&self) -> &[InputLoad] {
         &[]
     }
-    fn internal_forces(&self, _: f64, q: &[f64], _: &[f64], out: &mut [f64]) {
-        out[0] = self.k * q[0];
+    fn internal_forces(&self, t: f64, q: &[f64], _: &[f64], out: &mut [f64]) {
+        out[0] = if t < self.stiff_until { self.k } else { self.reported } * q[0];
     }
     fn add_tangent(&self, _: f64, _: &[f64], _: &[f64], _: f64, c_k: f64, j: &mut DMatrix<f64>) {
         j[(0, 0)] += c_k * self.reported;
@@ -177,17 +179,21 @@ fn understated_run(sys: &Understated, newton: Newton, steps: usize) -> Result<(D
 #[test]
 fn a_kept_iteration_that_stalls_is_retaken_the_default_way_and_divergence_stays_an_error() {
     // J = c_m·m = 4e6 at 1 ms (Newmark); the spring adds 4e4 (θ = 0.01: one J throughout) or 2.4e6
-    // (θ = 0.6: refreshed, the fresh J no better, every step retaken)
+    // (θ = 0.6: refreshed, the fresh J no better, the step retaken; the default way takes some 36
+    // iterations, so the next RATTLE_RUN steps go that way at once, then the kept J is tried again
+    // on step 17 and fails again: 2 restarts, 18 steps the default way at once, one fresh J each restart)
     let steps = 20;
-    for (k, restarts, factorizations) in [(4e4, 0, 1), (2.4e6, steps as u64, 1 + steps as u64)] {
+    for (k, restarts, rattle_steps, factorizations) in [(4e4, 0, 0, 1), (2.4e6, 2, 18, 3)] {
         let sys = Understated {
             mass: [1.0],
             k,
             reported: 0.0,
+            stiff_until: f64::INFINITY,
         };
         let (default, _) = understated_run(&sys, Newton::default(), steps).unwrap();
         let (kept, stats) = understated_run(&sys, KEPT, steps).unwrap();
         assert_eq!(stats.newton_restarts, restarts, "k = {k}");
+        assert_eq!(stats.newton_rattle_steps, rattle_steps, "k = {k}");
         assert_eq!(stats.factorizations, factorizations, "k = {k}");
         // both within 1e-8 of the step's motion (q ≈ 1e-3 m)
         let error = (kept.q[0] - default.q[0]).abs();
@@ -200,6 +206,7 @@ fn a_kept_iteration_that_stalls_is_retaken_the_default_way_and_divergence_stays_
         mass: [1.0],
         k: 4e7,
         reported: 0.0,
+        stiff_until: f64::INFINITY,
     };
     for newton in [Newton::default(), KEPT, KEPT_PREDICTED] {
         let mut integrator = AlphaIntegrator::new(Alpha::NEWMARK);
@@ -220,4 +227,37 @@ fn a_kept_iteration_that_stalls_is_retaken_the_default_way_and_divergence_stays_
         }
         assert_eq!(stats.newton_restarts, u64::from(newton.keep), "{newton:?}");
     }
+}
+
+/// After a restart the steps go the default way at once (RATTLE_ITERATIONS), and the first of them that
+/// converges fast hands the next step back to the kept iteration: a spring the tangent understates
+/// until 5 ms (each step forced at its end, t + h: four such steps), then one it reports exactly.
+#[test]
+fn steps_go_the_default_way_after_a_restart_until_one_converges_fast() {
+    let sys = Understated {
+        mass: [1.0],
+        k: 2.4e6,
+        reported: 4e4,
+        stiff_until: 4.5e-3,
+    };
+    let steps = 20;
+    let (kept, stats) = understated_run(&sys, KEPT, steps).unwrap();
+    let (default, _) = understated_run(&sys, Newton::default(), steps).unwrap();
+    // the first step restarts; the three hard ones after it and the first soft one go the default way
+    assert_eq!(stats.newton_restarts, 1);
+    assert_eq!(stats.newton_rattle_steps, 4);
+    // then the kept iteration takes every step on one J (the restart's fresh J, exact from 5 ms on)
+    let (_, after) = understated_run(&sys, KEPT, 5).unwrap();
+    assert_eq!(
+        stats.newton_iterations - after.newton_iterations,
+        2 * (steps as u64 - 5),
+        "two iterations a step on the exact J"
+    );
+    assert_eq!(stats.factorizations, after.factorizations);
+    assert!(
+        (kept.q[0] - default.q[0]).abs() < 1e-9,
+        "{} vs {}",
+        kept.q[0],
+        default.q[0]
+    );
 }

@@ -203,6 +203,7 @@ fn undamped_two_inertia_chain_conserves_energy() {
             // all but the first, whose accelerations are not yet consistent with any inputs
             plain_steps: 9_999,
             newton_restarts: 0,
+            newton_rattle_steps: 0,
         }
     );
 }

@@ -42,18 +42,44 @@ fn power_less_one(delta: f64, exponent: f64) -> f64 {
     }
 }
 
-/// The unit vectors (cos ψ_j, sin ψ_j) of the rollers of one row, by rotation rather than a
-/// `sin_cos` per roller (the rounding after 200 rotations stays below 1e-13); `cage` is (sin, cos)
-/// of the cage's angle, `pitch` of the angle between rollers, 2π/count, taken once per bearing.
-#[inline(always)]
-fn roller_angles(cage: (f64, f64), pitch: (f64, f64), count: usize) -> impl Iterator<Item = (f64, f64)> {
-    let (s0, c0) = cage;
-    let (sp, cp) = pitch;
-    (0..count).scan((c0, s0), move |(c, s), _| {
-        let out = (*c, *s);
-        (*c, *s) = (*c * cp - *s * sp, *s * cp + *c * sp);
-        Some(out)
-    })
+/// The rollers' places round the cage, φ_j = 2πj/z: cos φ_j and sin φ_j, each from its own
+/// `sin_cos`. A quantity p·cos ψ + q·sin ψ at the rollers' angles ψ_j = ψ_c + φ_j (the cage's angle
+/// ψ_c) is P·cos φ_j + Q·sin φ_j ([`Places::turned`]): two products and a sum per roller to screen it,
+/// instead of a rotation carried from roller to roller (serial, and it rounds differently as it goes).
+#[derive(Debug, Clone, PartialEq)]
+struct Places {
+    cos: Vec<f64>,
+    sin: Vec<f64>,
+}
+
+impl Places {
+    fn new(count: usize) -> Self {
+        let (sin, cos) = (0..count).map(|j| (TAU * j as f64 / count as f64).sin_cos()).unzip();
+        Self { cos, sin }
+    }
+
+    fn count(&self) -> usize {
+        self.cos.len()
+    }
+
+    /// (cos φ_j, sin φ_j) of every roller.
+    #[inline(always)]
+    fn iter(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.cos.iter().copied().zip(self.sin.iter().copied())
+    }
+
+    /// (P, Q) of p·cos ψ + q·sin ψ with the cage at (sin ψ_c, cos ψ_c) = `cage`:
+    /// P = p·cos ψ_c + q·sin ψ_c, Q = q·cos ψ_c − p·sin ψ_c.
+    #[inline(always)]
+    fn turned((p, q): (f64, f64), (sc, cc): (f64, f64)) -> (f64, f64) {
+        (p * cc + q * sc, q * cc - p * sc)
+    }
+
+    /// (cos ψ_j, sin ψ_j) of the roller at (cos φ_j, sin φ_j) with the cage at (sin ψ_c, cos ψ_c).
+    #[inline(always)]
+    fn unit((c, s): (f64, f64), (sc, cc): (f64, f64)) -> (f64, f64) {
+        (cc * c - sc * s, sc * c + cc * s)
+    }
 }
 
 /// One row of rollers: its contact angle and axial place in the bearing.
@@ -103,9 +129,8 @@ pub struct RollerBearing {
     /// −1 when the body the bearing belongs to is its outer race (a planet on its pin), else 1:
     /// the rows are the linear springs' (body minus the other side) times this.
     pub sign: f64,
-    count: usize,
-    /// (sin, cos) of 2π/count.
-    pitch: (f64, f64),
+    /// The rollers' places round the cage.
+    places: Places,
     pitch_radius: f64,
     roller_rows: Vec<RollerRow>,
     /// Lamina offsets from the roller's centre along the axis, m, and their profile drop, m.
@@ -256,8 +281,7 @@ impl RollerBearing {
             cage: m.cage,
             offset: m.offset,
             sign: m.sign,
-            count: r.count as usize,
-            pitch: (TAU / r.count as f64).sin_cos(),
+            places: Places::new(r.count as usize),
             pitch_radius: 0.5 * dm,
             roller_rows,
             laminae,
@@ -330,19 +354,27 @@ impl RollerBearing {
         let cage = cage.sin_cos();
         for row in &self.roller_rows {
             let gap = row.cos * 0.5 * self.clearance + row.sin.abs() * 0.5 * self.axial_clearance;
-            // the parts of u (below) that do not turn with the roller, each rounded as u's own product
+            // a roller at ψ meets its races with the approach at the row's centre
+            //   cos α·(x₀ cos ψ + x₁ sin ψ + z·(x₄ cos ψ − x₃ sin ψ)) + sin α·(x₂ + r·(x₃ sin ψ − x₄ cos ψ)) − gap
+            // and its change per metre along the axis (the tilt) cos α·(x₄ cos ψ − x₃ sin ψ): both
+            // p·cos ψ + q·sin ψ + constant round the row
+            let (ca, sa, z) = (row.cos, row.sin, row.z);
+            let centre_pq = (
+                ca * (x[0] + z * x[4]) - sa * r * x[4],
+                ca * (x[1] - z * x[3]) + sa * r * x[3],
+            );
+            let centre_pq = Places::turned(centre_pq, cage);
+            let spread_pq = Places::turned((ca * x[4], -ca * x[3]), cage);
+            let constant = sa * x[2] - gap;
+            // the parts of u (below) that do not turn with the roller
             let (sin_r, minus_sin_r, minus_cos) = (row.sin * r, -row.sin * r, -row.cos);
-            for (cs, sn) in roller_angles(cage, self.pitch, self.count) {
-                // approach along the roller's normal at the row's centre, and its change per metre
-                // along the axis (the tilt)
-                let radial = x[0] * cs + x[1] * sn;
-                let per_metre = x[4] * cs - x[3] * sn;
-                let axial = x[2] + r * (x[3] * sn - x[4] * cs);
-                let centre = row.cos * (radial + row.z * per_metre) + row.sin * axial - gap;
-                let spread = row.cos * per_metre;
+            for place in self.places.iter() {
+                let centre = centre_pq.0 * place.0 + centre_pq.1 * place.1 + constant;
+                let spread = spread_pq.0 * place.0 + spread_pq.1 * place.1;
                 if centre + spread.abs() * half_length <= 0.0 {
                     continue;
                 }
+                let (cs, sn) = Places::unit(place, cage);
                 // a lamina at z along the axis has the gradient u + z·w: the roller's sums over its
                 // laminae give its force and tangent without a 5×5 product per lamina; w's first
                 // three entries are zero, so neither rate nor force adds their products
@@ -544,13 +576,15 @@ impl RollerBearing {
         let octant = ((x[1].atan2(x[0]) / TAU * 8.0).floor() as i64).rem_euclid(8) as u64;
         for row in &self.roller_rows {
             let gap = row.cos * 0.5 * self.clearance + row.sin.abs() * 0.5 * self.axial_clearance;
-            let touching = roller_angles(cage, self.pitch, self.count)
-                .filter(|&(cs, sn)| {
-                    let axial = x[2] + self.pitch_radius * (x[3] * sn - x[4] * cs);
-                    row.cos * (x[0] * cs + x[1] * sn) + row.sin * axial > gap
-                })
-                .count()
-                .min(63) as u64;
+            // the approach at the row's centre without the tilt's part (evaluate's, z = 0)
+            let (ca, sa, r) = (row.cos, row.sin, self.pitch_radius);
+            let (p, q) = Places::turned((ca * x[0] - sa * r * x[4], ca * x[1] + sa * r * x[3]), cage);
+            let touching = self
+                .places
+                .iter()
+                .filter(|&(c, s)| p * c + q * s + sa * x[2] > gap)
+                .count() as u64;
+            let touching = touching.min(63);
             for b in 0..6 {
                 bits.push(touching >> b & 1 == 1);
             }
@@ -631,6 +665,6 @@ impl RollerBearing {
     }
 
     pub fn roller_count(&self) -> usize {
-        self.count * self.roller_rows.len()
+        self.places.count() * self.roller_rows.len()
     }
 }
