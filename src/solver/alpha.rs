@@ -411,8 +411,8 @@ impl AlphaIntegrator {
     }
 
     /// Drops every factorisation, the one [`Newton::keep`] carries from step to step with the cached
-    /// ones, and the sparsity ordering the patterns met so far made: the next step builds its own
-    /// where it needs them, as a clone does.
+    /// ones, the sparsity ordering the patterns met so far made and the run of steps taken the default
+    /// way after a restart: the next step builds its own where it needs them, as a clone does.
     pub fn forget_factorisations(&mut self) {
         self.kept = None;
         self.rattle_run = None;

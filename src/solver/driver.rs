@@ -106,8 +106,9 @@ impl Driver {
         self.alpha.newton = newton;
     }
 
-    /// Drops every factorisation the integrator holds, kept or cached: the next step builds the ones it
-    /// needs, as after a rebuild (an FMU state taken or restored; see [`Newton::keep`]).
+    /// Drops every factorisation the integrator holds, kept or cached, and the history that picks
+    /// between them: the next step builds the ones it needs, as after a rebuild (an FMU state taken or
+    /// restored; see [`Newton::keep`]).
     pub fn forget_factorisations(&mut self) {
         self.alpha.forget_factorisations();
     }
