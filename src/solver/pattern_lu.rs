@@ -188,6 +188,24 @@ impl Ordering {
         self.pattern.len() == pattern.len() && self.pattern.iter().zip(pattern).all(|(o, p)| p & !o == 0)
     }
 
+    /// `each(row, column, entry)` for the entries of `j` (column-major, n × n) in this ordering's
+    /// pattern, column by column and down each column: every non-zero entry of a J the ordering
+    /// covers, and no other but zeros.
+    #[inline(always)]
+    fn each_entry(&self, j: &[f64], mut each: impl FnMut(usize, usize, f64)) {
+        let (n, w) = (self.n, words(self.n));
+        for (c, column) in j.chunks_exact(n).enumerate() {
+            for (word, &mask) in self.pattern[c * w..(c + 1) * w].iter().enumerate() {
+                let mut bits = mask;
+                while bits != 0 {
+                    let r = word * WORD + bits.trailing_zeros() as usize;
+                    each(r, c, column[r]);
+                    bits &= bits - 1;
+                }
+            }
+        }
+    }
+
     /// `pattern` ∪ this ordering's pattern, into `pattern`.
     pub fn add_pattern_to(&self, pattern: &mut [u64]) {
         for (p, o) in pattern.iter_mut().zip(&self.pattern) {
@@ -282,18 +300,7 @@ impl PatternLu {
         scratch.resize(n * n, 0.0);
         let a = &mut scratch[..];
         // J's non-zero entries in elimination order, column-major, by the pattern's bits
-        let (w, js) = (words(n), j.as_slice());
-        for (c, column) in js.chunks_exact(n).enumerate() {
-            let out = &mut a[o.position[c] * n..(o.position[c] + 1) * n];
-            for (word, &mask) in o.pattern[c * w..(c + 1) * w].iter().enumerate() {
-                let mut bits = mask;
-                while bits != 0 {
-                    let r = word * WORD + bits.trailing_zeros() as usize;
-                    out[o.position[r]] = column[r];
-                    bits &= bits - 1;
-                }
-            }
-        }
+        o.each_entry(j.as_slice(), |r, c, x| a[o.position[c] * n + o.position[r]] = x);
         let factors = eliminate(o, a);
         // the factors' entries back to zero: the scratch is all zeros again
         for k in 0..n {
@@ -315,30 +322,40 @@ impl PatternLu {
 
     /// Self when one solve of J·x = J·1 has a backward error within [`PROBE_BACKWARD_ERROR`].
     fn probed(self, j: &DMatrix<f64>) -> Option<Self> {
-        let n = self.ordering.n;
+        let (residual, scale) = self.probe(j);
+        (residual <= PROBE_BACKWARD_ERROR * scale).then_some(self)
+    }
+
+    /// The probe's ‖J·x − b‖∞ (NaN when any entry of the residual is not finite) and its scale
+    /// ‖J‖∞·‖x‖∞ + ‖b‖∞, for x = J⁻¹·b by these factors and b = J·1. The products run over the
+    /// ordering's pattern, a sixth of the GRC's J, not over all of it: the entries left out are
+    /// zeros, whose terms (±0) leave every sum as it is but for the sign of a zero one, which the
+    /// magnitudes drop, and a non-finite x meets J's diagonal (every pivot was non-zero), so both
+    /// figures are a dense pass's to the bit (`the_probe_over_the_pattern_is_the_dense_probe`).
+    fn probe(&self, j: &DMatrix<f64>) -> (f64, f64) {
+        let o = &*self.ordering;
+        let n = o.n;
         let js = j.as_slice();
         // b = J·1 and ‖J‖∞ (the largest row sum of magnitudes), column by column
         let mut b = vec![0.0; n];
         let mut row_sums = vec![0.0f64; n];
-        for column in js.chunks_exact(n) {
-            for ((bi, si), x) in b.iter_mut().zip(&mut row_sums).zip(column) {
-                *bi += x;
-                *si += x.abs();
-            }
-        }
+        o.each_entry(js, |r, _, x| {
+            b[r] += x;
+            row_sums[r] += x.abs();
+        });
         let mut x = vec![0.0; n];
         self.add_solution(&b, &mut x);
         // r = J·x − b
         let mut r: Vec<f64> = b.iter().map(|bi| -bi).collect();
-        for (column, xc) in js.chunks_exact(n).zip(&x) {
-            for (ri, a) in r.iter_mut().zip(column) {
-                *ri += a * xc;
-            }
-        }
+        o.each_entry(js, |i, c, a| r[i] += a * x[c]);
         let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let scale = row_sums.iter().fold(0.0f64, |m, x| m.max(*x)) * largest(&x) + largest(&b);
-        let residual = largest(&r);
-        (r.iter().all(|x| x.is_finite()) && residual <= PROBE_BACKWARD_ERROR * scale).then_some(self)
+        let residual = if r.iter().all(|x| x.is_finite()) {
+            largest(&r)
+        } else {
+            f64::NAN
+        };
+        (residual, scale)
     }
 
     /// x += J⁻¹·r
@@ -518,6 +535,79 @@ mod tests {
                 .collect::<Vec<_>>()
         };
         assert_eq!(bits(&first), bits(&again));
+    }
+
+    /// The probe over the ordering's pattern gives the residual and scale of a dense pass over J to
+    /// the bit: on gearbox-shaped matrices, on an ordering wider than J's own pattern, with a NaN
+    /// entry in J, and on a small pivot that only the probe refuses.
+    #[test]
+    fn the_probe_over_the_pattern_is_the_dense_probe() {
+        let dense_probe = |f: &PatternLu, j: &DMatrix<f64>| {
+            let n = j.nrows();
+            let ones = DMatrix::from_element(n, 1, 1.0);
+            let b: Vec<f64> = (j * ones).iter().copied().collect();
+            let mut x = vec![0.0; n];
+            f.add_solution(&b, &mut x);
+            let r: Vec<f64> = (0..n)
+                .map(|i| (0..n).fold(-b[i], |s, c| s + j[(i, c)] * x[c]))
+                .collect();
+            let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let norm = (0..n)
+                .map(|i| (0..n).fold(0.0, |s, c| s + j[(i, c)].abs()))
+                .fold(0.0f64, f64::max);
+            let residual = if r.iter().all(|x| x.is_finite()) {
+                largest(&r)
+            } else {
+                f64::NAN
+            };
+            (residual, norm * largest(&x) + largest(&b))
+        };
+        let same = |a: (f64, f64), b: (f64, f64)| a.0.to_bits() == b.0.to_bits() && a.1.to_bits() == b.1.to_bits();
+        let wider = block_sparse(6, 2);
+        let mut cases = vec![
+            (block_sparse(14, 3), None),
+            (block_sparse(6, 1), Some(ordering_of(&wider))),
+        ];
+        let mut skewed = block_sparse(5, 4);
+        for c in 0..skewed.ncols() {
+            for r in 0..c {
+                skewed[(r, c)] *= 1.3;
+            }
+        }
+        cases.push((skewed, None));
+        for (j, ordering) in cases {
+            let o = ordering.unwrap_or_else(|| ordering_of(&j));
+            let f = PatternLu::new(&j, o.clone(), &mut Vec::new()).unwrap();
+            assert!(
+                same(f.probe(&j), dense_probe(&f, &j)),
+                "{:?} against {:?}",
+                f.probe(&j),
+                dense_probe(&f, &j)
+            );
+            // a NaN in an entry of the pattern: both residuals NaN
+            let mut poisoned = j.clone();
+            poisoned[(3, 3)] = f64::NAN;
+            assert!(f.probe(&poisoned).0.is_nan() && dense_probe(&f, &poisoned).0.is_nan());
+        }
+        // a small pivot that the elimination passes and the probe refuses (growth 1e12)
+        let tiny = DMatrix::from_row_slice(2, 2, &[1e-12, 1.0, 1.0, 1.0]);
+        let o = ordering_of(&tiny);
+        let mut a: Vec<f64> = vec![0.0; 4];
+        for c in 0..2 {
+            for r in 0..2 {
+                a[o.position[c] * 2 + o.position[r]] = tiny[(r, c)];
+            }
+        }
+        let (l, u, diagonal) = eliminate(&o, &mut a).expect("non-zero pivots");
+        let f = PatternLu {
+            ordering: o,
+            l,
+            u,
+            diagonal,
+        };
+        assert!(same(f.probe(&tiny), dense_probe(&f, &tiny)));
+        assert!(f.probe(&tiny).0 > PROBE_BACKWARD_ERROR * f.probe(&tiny).1, "refused");
+        assert!(PatternLu::new(&tiny, ordering_of(&tiny), &mut Vec::new()).is_none());
     }
 
     /// Where elimination without row exchanges breaks down, the factorisation is refused rather
