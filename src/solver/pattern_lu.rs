@@ -294,6 +294,11 @@ impl PatternLu {
     /// `scratch` is n×n zeros on entry and on return (its factors' entries are zeroed after use, so
     /// no factorisation clears the whole array).
     pub fn new(j: &DMatrix<f64>, ordering: Arc<Ordering>, scratch: &mut Vec<f64>) -> Option<Self> {
+        Self::unprobed(j, ordering, scratch)?.probed(j)
+    }
+
+    /// [`Self::new`] without the probe: None only at a zero or non-finite pivot.
+    fn unprobed(j: &DMatrix<f64>, ordering: Arc<Ordering>, scratch: &mut Vec<f64>) -> Option<Self> {
         let o = &*ordering;
         let n = o.n;
         assert_eq!((j.nrows(), j.ncols()), (n, n), "a {n}×{n} matrix for this ordering");
@@ -311,13 +316,12 @@ impl PatternLu {
             }
         }
         let (l, u, diagonal) = factors?;
-        Self {
+        Some(Self {
             ordering,
             l,
             u,
             diagonal,
-        }
-        .probed(j)
+        })
     }
 
     /// Self when one solve of J·x = J·1 has a backward error within [`PROBE_BACKWARD_ERROR`].
@@ -591,20 +595,7 @@ mod tests {
         }
         // a small pivot that the elimination passes and the probe refuses (growth 1e12)
         let tiny = DMatrix::from_row_slice(2, 2, &[1e-12, 1.0, 1.0, 1.0]);
-        let o = ordering_of(&tiny);
-        let mut a: Vec<f64> = vec![0.0; 4];
-        for c in 0..2 {
-            for r in 0..2 {
-                a[o.position[c] * 2 + o.position[r]] = tiny[(r, c)];
-            }
-        }
-        let (l, u, diagonal) = eliminate(&o, &mut a).expect("non-zero pivots");
-        let f = PatternLu {
-            ordering: o,
-            l,
-            u,
-            diagonal,
-        };
+        let f = PatternLu::unprobed(&tiny, ordering_of(&tiny), &mut Vec::new()).expect("non-zero pivots");
         assert!(same(f.probe(&tiny), dense_probe(&f, &tiny)));
         assert!(f.probe(&tiny).0 > PROBE_BACKWARD_ERROR * f.probe(&tiny).1, "refused");
         assert!(PatternLu::new(&tiny, ordering_of(&tiny), &mut Vec::new()).is_none());

@@ -354,18 +354,11 @@ impl RollerBearing {
         let cage = cage.sin_cos();
         for row in &self.roller_rows {
             let gap = row.cos * 0.5 * self.clearance + row.sin.abs() * 0.5 * self.axial_clearance;
-            // a roller at ψ meets its races with the approach at the row's centre
-            //   cos α·(x₀ cos ψ + x₁ sin ψ + z·(x₄ cos ψ − x₃ sin ψ)) + sin α·(x₂ + r·(x₃ sin ψ − x₄ cos ψ)) − gap
-            // and its change per metre along the axis (the tilt) cos α·(x₄ cos ψ − x₃ sin ψ): both
-            // p·cos ψ + q·sin ψ + constant round the row
-            let (ca, sa, z) = (row.cos, row.sin, row.z);
-            let centre_pq = (
-                ca * (x[0] + z * x[4]) - sa * r * x[4],
-                ca * (x[1] - z * x[3]) + sa * r * x[3],
-            );
-            let centre_pq = Places::turned(centre_pq, cage);
-            let spread_pq = Places::turned((ca * x[4], -ca * x[3]), cage);
-            let constant = sa * x[2] - gap;
+            // the approach at the row's centre and its change per metre along the axis (the tilt)
+            // cos α·(x₄ cos ψ − x₃ sin ψ), both p·cos ψ + q·sin ψ + constant round the row
+            let centre_pq = Places::turned(self.approach_round_the_row(row, x, row.z), cage);
+            let spread_pq = Places::turned((row.cos * x[4], -row.cos * x[3]), cage);
+            let constant = row.sin * x[2] - gap;
             // the parts of u (below) that do not turn with the roller
             let (sin_r, minus_sin_r, minus_cos) = (row.sin * r, -row.sin * r, -row.cos);
             for place in self.places.iter() {
@@ -565,6 +558,19 @@ impl RollerBearing {
         })
     }
 
+    /// (p, q) of a roller's approach round `row` at `z` along the axis from the row's centre,
+    /// p·cos ψ + q·sin ψ in the roller's angle ψ without the axial part sin α·x₂ and the gap: the
+    /// approach is cos α·(x₀ cos ψ + x₁ sin ψ + z·(x₄ cos ψ − x₃ sin ψ)) + sin α·(x₂ + r·(x₃ sin ψ −
+    /// x₄ cos ψ)) − gap.
+    #[inline(always)]
+    fn approach_round_the_row(&self, row: &RollerRow, x: &[f64; 5], z: f64) -> (f64, f64) {
+        let (ca, sa, r) = (row.cos, row.sin, self.pitch_radius);
+        (
+            ca * (x[0] + z * x[4]) - sa * r * x[4],
+            ca * (x[1] - z * x[3]) + sa * r * x[3],
+        )
+    }
+
     /// The contact pattern the integrators key their factorisations by: per row, how many rollers
     /// approach their races (6 bits) and the octant the radial approach points to (3 bits). The
     /// lamina law is nearly linear between patterns (its stiffness goes as δ^(1/9): a load twice as
@@ -576,13 +582,12 @@ impl RollerBearing {
         let octant = ((x[1].atan2(x[0]) / TAU * 8.0).floor() as i64).rem_euclid(8) as u64;
         for row in &self.roller_rows {
             let gap = row.cos * 0.5 * self.clearance + row.sin.abs() * 0.5 * self.axial_clearance;
-            // the approach at the row's centre without the tilt's part (evaluate's, z = 0)
-            let (ca, sa, r) = (row.cos, row.sin, self.pitch_radius);
-            let (p, q) = Places::turned((ca * x[0] - sa * r * x[4], ca * x[1] + sa * r * x[3]), cage);
+            // the approach at the row's centre without the tilt's part (evaluate's at z = 0)
+            let (p, q) = Places::turned(self.approach_round_the_row(row, &x, 0.0), cage);
             let touching = self
                 .places
                 .iter()
-                .filter(|&(c, s)| p * c + q * s + sa * x[2] > gap)
+                .filter(|&(c, s)| p * c + q * s + row.sin * x[2] > gap)
                 .count() as u64;
             let touching = touching.min(63);
             for b in 0..6 {
