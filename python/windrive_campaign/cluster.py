@@ -45,24 +45,30 @@ def connected(scheduler: str | None, start: Callable[[], object]) -> Iterator[tu
     within CLOSE_TIMEOUT_S: after Ctrl-C a worker may sit in a case that never returns (a blocked
     windrive); its process, and with it the case (PR_SET_PDEATHSIG), goes when the cluster stops."""
     from distributed import Client
+    from distributed.utils import silence_logging_cmgr
 
-    cluster = None
-    if scheduler:
-        try:
-            client = Client(scheduler, timeout="20s")
-        except OSError as e:
-            raise CampaignError(f"--scheduler {scheduler}: cannot connect: {e}") from None
-    else:
-        cluster = start()
-        client = Client(cluster)
-    try:
-        yield client, cluster
-    finally:
-        for close in (client.close, *([cluster.close] if cluster is not None else [])):
+    # distributed's own logs on errors only, from before the cluster starts until it has stopped: a cluster
+    # silences them while it lives, but gives them back their level as the last act of its closing, and a
+    # send to a worker that is going, still finishing on the event loop then, logs "Batched Comm Closed"
+    # with a traceback (INFO) into the run's output
+    with silence_logging_cmgr(logging.ERROR):
+        cluster = None
+        if scheduler:
             try:
-                close(timeout=CLOSE_TIMEOUT_S)
-            except Exception:  # a timeout or a cluster already gone: nothing left to wait for
-                pass
+                client = Client(scheduler, timeout="20s")
+            except OSError as e:
+                raise CampaignError(f"--scheduler {scheduler}: cannot connect: {e}") from None
+        else:
+            cluster = start()
+            client = Client(cluster)
+        try:
+            yield client, cluster
+        finally:
+            for close in (client.close, *([cluster.close] if cluster is not None else [])):
+                try:
+                    close(timeout=CLOSE_TIMEOUT_S)
+                except Exception:  # a timeout or a cluster already gone: nothing left to wait for
+                    pass
 
 
 def local(workers: int | None):

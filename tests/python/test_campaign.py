@@ -240,3 +240,51 @@ def test_dlc12_defaults_are_iec_windows_and_six_seeds(tmp_path):
     assert (c.stop_time, c.dlc12.seeds) == (630.0, (1, 2, 3, 4, 5, 6))
     given = schema.load(write_campaign(tmp_path, text.replace("transient = 30.0", "stop_time = 40.0") + "seeds = 2\n", "b.toml"))
     assert (given.stop_time, given.dlc12.seeds) == (40.0, (1, 2))
+
+
+def test_distributed_logs_at_the_clusters_closing_stay_out_of_the_runs_output(monkeypatch):
+    # A closing cluster gives distributed's log handlers their level back as its last act, and a send to a
+    # worker that is going, still finishing on the event loop, then logged "Batched Comm Closed" with its
+    # traceback (INFO) into a Slurm campaign's output (a fresh-clone run of test_slurm.py, 2026-12-02). Here
+    # the late send is simulated in the cluster's close(), after which nothing silences it any more.
+    import io
+    import logging
+
+    import distributed
+
+    seen = io.StringIO()
+    handler = logging.StreamHandler(seen)  # one of the handlers the cluster (and `connected`) re-levels
+    handler.setLevel(logging.INFO)
+    logger = logging.getLogger("distributed")
+    level = logger.level
+    logger.addHandler(handler)
+    logger.setLevel(logging.INFO)
+    late = logging.getLogger("distributed.batched")
+
+    def late_send():
+        try:
+            raise OSError("the worker's comm is closed")
+        except OSError:
+            late.info("Batched Comm Closed", exc_info=True)
+
+    class Cluster:
+        def close(self, timeout):
+            late_send()
+
+    class Client:
+        def __init__(self, cluster):
+            pass
+
+        def close(self, timeout):
+            pass
+
+    monkeypatch.setattr(distributed, "Client", Client)
+    try:
+        with cluster.connected(None, Cluster):
+            late_send()
+        assert seen.getvalue() == ""
+        late_send()  # outside a campaign's cluster distributed's handlers are as they were
+        assert "Batched Comm Closed" in seen.getvalue() and "Traceback" in seen.getvalue()
+    finally:
+        logger.removeHandler(handler)
+        logger.setLevel(level)
