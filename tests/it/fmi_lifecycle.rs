@@ -46,9 +46,9 @@ fn started(fmu: &Fmu) -> Instance {
 
 /// Cycles per FMU in CI; a leak of one cycle shows in one. The rotor and the 6-DOF gearbox build their
 /// model at initialisation: the gearbox its matrices and statics (0.36 s a cycle under valgrind), the
-/// rotor its blade-element tables and, by default, its rotor-averaged Kaimal series (85 ms natively, 2.1 s
-/// under valgrind, measured 2026-12-02: 50 rotor cycles were 104 s, the longest test of the suite), so CI
-/// runs 50 gearbox cycles and 10 rotor ones. `WINDRIVE_LIFE_CYCLES=1000` runs a thousand of each
+/// rotor its blade-element tables and, by default, its rotor-averaged Kaimal series (34 ms natively, 1.2 s
+/// under valgrind, 2026-12-02; 50 rotor cycles were 104 s that morning, the longest test of the suite),
+/// so CI runs 50 gearbox cycles and 10 rotor ones. `WINDRIVE_LIFE_CYCLES=1000` runs a thousand of each
 /// (docs/FMU-BOUNDARY.md).
 fn cycles_in_ci(name: &str) -> usize {
     match name {
