@@ -76,6 +76,12 @@ pub fn kaimal(f: f64, sigma: f64, length: f64, v_hub: f64) -> f64 {
     4.0 * sigma * sigma * (length / v_hub) / (1.0 + 6.0 * f * length / v_hub).powf(5.0 / 3.0)
 }
 
+/// The IEC 61400-1 ed. 3 exponential coherence of u (Eq. B.16) between two points `r` metres apart at
+/// `f` Hz: exp(−12·√((f·r/V)² + (0.12·r/L_c)²)).
+pub fn iec_coherence(f: f64, r: f64, v_hub: f64, coherence_length: f64) -> f64 {
+    (-12.0 * ((f * r / v_hub).powi(2) + (0.12 * r / coherence_length).powi(2)).sqrt()).exp()
+}
+
 /// The disc's pair-distance density p(r) as quadrature nodes and weights on [0, 2R] (midpoint rule
 /// on a grid refined toward r = 0, where p rises linearly, and r = 2R, where it falls as a power
 /// 3/2), the weights summing to one.
@@ -125,7 +131,7 @@ impl DiscPairs {
         const UNDER_HALF_AN_ULP: f64 = 1.0 / (1u64 << 54) as f64;
         let mut sum = 0.0;
         for (r, w) in self.distance.iter().zip(&self.weight) {
-            let coherence = (-12.0 * ((f * r / v_hub).powi(2) + (0.12 * r / length).powi(2)).sqrt()).exp();
+            let coherence = iec_coherence(f, *r, v_hub, length);
             if self.weight_max * coherence < sum * UNDER_HALF_AN_ULP {
                 break;
             }
@@ -351,7 +357,7 @@ mod tests {
                 .distance
                 .iter()
                 .zip(&pairs.weight)
-                .map(|(r, w)| w * (-12.0 * ((f * r / v).powi(2) + (0.12 * r / length).powi(2)).sqrt()).exp());
+                .map(|(r, w)| w * iec_coherence(f, *r, v, length));
             let mut whole = 0.0;
             let mut changed = 0;
             for t in terms {

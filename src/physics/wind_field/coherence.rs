@@ -5,12 +5,8 @@
 //! matrix has a Cholesky factor at every frequency. On a regular grid the distance between two points
 //! depends only on their offset (|Δj|, |Δk|), so a frequency needs ny·nz exponentials, not (ny·nz)².
 
+use crate::physics::turbulence::iec_coherence;
 use faer::Mat;
-
-/// Coherence of u between two points `r` metres apart at `f` Hz.
-pub fn iec_coherence(f: f64, r: f64, v_hub: f64, coherence_length: f64) -> f64 {
-    (-12.0 * ((f * r / v_hub).powi(2) + (0.12 * r / coherence_length).powi(2)).sqrt()).exp()
-}
 
 /// The distances of a grid's point offsets, for filling its coherence matrices.
 #[derive(Debug, Clone)]

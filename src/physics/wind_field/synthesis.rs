@@ -10,10 +10,10 @@ use faer::Side;
 use realfft::RealFftPlanner;
 use realfft::num_complex::Complex;
 
-use super::coherence::{GridOffsets, iec_coherence};
+use super::coherence::GridOffsets;
 use super::spectra::{coherence_length, iec_kaimal};
 use super::{FieldSpec, WindField, WindFieldError};
-use crate::physics::turbulence::{SplitMix, Variance, sampling, variance_scale};
+use crate::physics::turbulence::{SplitMix, Variance, iec_coherence, sampling, variance_scale};
 
 /// Points above which the coherence matrix (8·(ny·nz)² bytes, factored at every frequency) stops
 /// being a rotor grid and becomes a memory and time sink: 40 × 40.

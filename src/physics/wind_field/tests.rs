@@ -226,7 +226,9 @@ fn u_coherence_follows_iec() {
         for (lo, hi) in bands {
             let weight: f64 = (lo..hi).map(density).sum();
             let expected = (lo..hi)
-                .map(|bin| density(bin) * super::coherence::iec_coherence(bin as f64 * df, r, s.mean_wind, length_c))
+                .map(|bin| {
+                    density(bin) * crate::physics::turbulence::iec_coherence(bin as f64 * df, r, s.mean_wind, length_c)
+                })
                 .sum::<f64>()
                 / weight;
             let (mut cross, mut power_a, mut power_b, mut variance) = (0.0, 0.0, 0.0, 0.0);
