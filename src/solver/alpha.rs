@@ -22,6 +22,7 @@
 //! kinetic capacity (slip). A stuck contact therefore never creeps and never chatters.
 
 use super::factor::{Cache, Factor, Orderings, Solver, padded, same_key, same_step};
+use super::norms::max_abs;
 use super::state::{DynState, SolverError, Statistics};
 use super::system::{Friction, Linearity, SecondOrderSystem, external_forces};
 use nalgebra::DMatrix;
@@ -728,7 +729,7 @@ impl AlphaIntegrator {
             let residual = w.residual(sys, st, c, t1, friction_dof, force);
             (force, held) = w.increment(factor, c, friction, st, false, (force, held));
             on_factor += 1;
-            let size = w.step.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let size = max_abs(&w.step);
             // the contraction rate θ of the increments on one J: the new iterate is within
             // η·‖δ‖ of the solution, η = θ/(1 − θ), and the increment test asks that of this error
             // (with η no smaller than ETA_FLOOR); ‖δ‖ itself on the first iteration on a J
@@ -840,13 +841,13 @@ impl Work {
             let (step, r) = (&self.step, &mut self.r);
             sys.mass().add_product(-1.0, step, r);
         }
-        self.r.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+        max_abs(&self.r)
     }
 
     /// Whether `residual` (of the iterate the forces in the work were evaluated at) is at the
     /// rounding level of the largest force acting, `floor` times the tolerance.
     fn settled(&self, residual: f64, floor: f64) -> bool {
-        residual <= floor * RESIDUAL_TOLERANCE * self.fi.iter().chain(&self.f1).fold(0.0f64, |m, x| m.max(x.abs()))
+        residual <= floor * RESIDUAL_TOLERANCE * max_abs(&self.fi).max(max_abs(&self.f1))
     }
 
     /// δ = J⁻¹r from the residual in `r` (halved when `relaxed`) into `step` and onto Δ, then the
@@ -910,8 +911,8 @@ impl Work {
 /// positions themselves (a few ulps of absolute angles of thousands of radians: an increment there
 /// is rounding, not progress).
 fn small_increment(w: &Work, st: &DynState, c: &Coefficients, fraction: f64) -> bool {
-    let size = w.delta.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let motion = st.v.iter().fold(0.0f64, |m, x| m.max(x.abs())) * c.h;
+    let size = max_abs(&w.delta);
+    let motion = max_abs(&st.v) * c.h;
     let tolerance = fraction * size.max(motion).max(f64::MIN_POSITIVE);
     w.step
         .iter()

@@ -3,14 +3,15 @@
 //! iteration ([`alpha`]: Newmark average acceleration, HHT-α, generalised-α), explicit RK4
 //! ([`rk4`]), cached factorisations ([`factor`], dense LU in [`lu`], LU on J's sparsity pattern in
 //! [`pattern_lu`]) and the driver that sub-steps, halves and reports friction events within one
-//! communication step ([`driver`]). No module here knows a model;
-//! `physics` implements [`system::SecondOrderSystem`]. Integrators keep their scratch memory, so a
-//! step allocates nothing.
+//! communication step ([`driver`]), and the norm their convergence tests take ([`norms`]). No module
+//! here knows a model; `physics` implements [`system::SecondOrderSystem`]. Integrators keep their
+//! scratch memory, so a step allocates nothing.
 
 pub mod alpha;
 pub mod driver;
 pub mod factor;
 pub mod lu;
+pub mod norms;
 pub mod pattern_lu;
 pub mod rk4;
 pub mod state;

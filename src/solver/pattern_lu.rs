@@ -15,6 +15,7 @@
 //! [`PROBE_BACKWARD_ERROR`], else the factorisation is refused and the caller takes dense LU with
 //! partial pivoting.
 
+use super::norms::max_abs;
 use nalgebra::DMatrix;
 use std::sync::Arc;
 
@@ -352,7 +353,7 @@ impl PatternLu {
         // r = J·x − b
         let mut r: Vec<f64> = b.iter().map(|bi| -bi).collect();
         o.each_entry(js, |i, c, a| r[i] += a * x[c]);
-        let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let largest = max_abs;
         let scale = row_sums.iter().fold(0.0f64, |m, x| m.max(*x)) * largest(&x) + largest(&b);
         let residual = if r.iter().all(|x| x.is_finite()) {
             largest(&r)
@@ -461,7 +462,7 @@ mod tests {
                 .add_solution(&b, &mut ours);
             let mut dense = b.clone();
             DenseLu::new(j.clone()).unwrap().solve_in_place(&mut dense);
-            let scale = dense.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let scale = max_abs(&dense);
             for (a, d) in ours.iter().zip(&dense) {
                 assert!((a - d).abs() <= 1e-12 * scale, "{bodies} bodies: {a} against {d}");
             }
@@ -555,7 +556,7 @@ mod tests {
             let r: Vec<f64> = (0..n)
                 .map(|i| (0..n).fold(-b[i], |s, c| s + j[(i, c)] * x[c]))
                 .collect();
-            let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let largest = max_abs;
             let norm = (0..n)
                 .map(|i| (0..n).fold(0.0, |s, c| s + j[(i, c)].abs()))
                 .fold(0.0f64, f64::max);

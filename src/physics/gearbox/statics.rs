@@ -2,6 +2,7 @@
 //! a run and the load-sharing and face-load checks.
 
 use super::model::Gearbox;
+use crate::solver::norms::max_abs;
 use crate::solver::system::{SecondOrderSystem, external_forces};
 use nalgebra::{DMatrix, DVector};
 
@@ -84,7 +85,7 @@ fn solve(g: &Gearbox, f_ext: &[f64], v: &[f64], inertia: Option<&DMatrix<f64>>) 
         let residual = r.amax();
         // the forces in play: the inputs and every element's (gravity, thrust and bearing loads
         // act on the left-hand side), so a state loaded without torque has a scale too
-        let force_scale = f_ext.iter().chain(&fi).fold(0.0f64, |m, x| m.max(x.abs()));
+        let force_scale = max_abs(f_ext).max(max_abs(&fi));
         if let Some(m) = inertia {
             if residual < last_residual {
                 h = (h * (last_residual / residual).min(10.0)).min(1e6);
@@ -112,8 +113,8 @@ fn solve(g: &Gearbox, f_ext: &[f64], v: &[f64], inertia: Option<&DMatrix<f64>>) 
         if dq.iter().any(|x| !x.is_finite()) {
             return Ok(None);
         }
-        let size = q.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        let step = dq.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let size = max_abs(&q);
+        let step = max_abs(dq.as_slice());
         for i in 0..n {
             q[i] += dq[i];
         }
@@ -156,7 +157,7 @@ mod tests {
             .unwrap()
             .expect("Newton settles at rated torque");
         let continued = solve(&g, &f, &v, Some(g.mass_matrix())).unwrap().unwrap();
-        let size = newton.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let size = max_abs(&newton);
         for (a, b) in newton.iter().zip(&continued) {
             assert!((a - b).abs() <= 1e-8 * size, "{a} vs {b}");
         }
@@ -188,7 +189,7 @@ mod tests {
         let mut fi = vec![0.0; g.dofs()];
         g.internal_forces(0.0, &q, &v, &mut fi);
         // against the largest force in play (an input torque, a bearing or mesh load)
-        let scale = f.iter().chain(&fi).fold(0.0f64, |m, x| m.max(x.abs()));
+        let scale = max_abs(&f).max(max_abs(&fi));
         let residual = (0..g.dofs())
             .filter(|&i| i != g.rigid_dof)
             .map(|i| (f[i] - fi[i]).abs())

@@ -6,6 +6,7 @@ use crate::physics::gearbox::description::{ForceLaw, MeshStiffnessModel};
 use crate::physics::gearbox::mesh::{Law, Mesh, Phase};
 use crate::physics::gearbox::model::SPIN;
 use crate::physics::gearbox::row::Row;
+use crate::solver::norms::max_abs;
 
 /// The line-of-action rows of a mesh (drive flank oriented by σ), its slices, stiffness and damping.
 pub(super) fn add_mesh(b: &mut Builder, m: &MeshSpec, sigma: f64) -> Result<(), String> {
@@ -216,7 +217,7 @@ pub(super) fn rigid_mode(b: &Builder, input: usize) -> Option<Vec<f64>> {
         return None;
     }
     // every mesh and shaft must be blind to it
-    let scale = r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let scale = max_abs(&r);
     let consistent = b.meshes.iter().all(|m| {
         let g = m.drive[0].dot(&r);
         let size: f64 = m.drive[0].val.iter().map(|v| v.abs()).sum::<f64>() * scale;
