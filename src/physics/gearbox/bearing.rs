@@ -308,9 +308,9 @@ impl RollerBearing {
     /// The five relative coordinates, their rates and the cage angle at (q, v).
     #[inline(always)]
     pub fn kinematics(&self, q: &[f64], v: &[f64]) -> ([f64; 5], [f64; 5], f64) {
-        let x = std::array::from_fn(|i| self.rows[i].dot(q) - self.offset.get(i).copied().unwrap_or(0.0));
-        let xd = std::array::from_fn(|i| self.rows[i].dot(v));
-        (x, xd, self.cage.dot(q))
+        let both: [(f64, f64); 5] = std::array::from_fn(|i| self.rows[i].dot2(q, v));
+        let x = std::array::from_fn(|i| both[i].0 - self.offset.get(i).copied().unwrap_or(0.0));
+        (x, both.map(|(_, rate)| rate), self.cage.dot(q))
     }
 
     /// Loads at relative displacement x, rate xd and cage angle ψ_c. With `tangent`, also adds

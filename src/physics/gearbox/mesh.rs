@@ -146,7 +146,8 @@ impl Mesh {
 
     /// Compressions of one flank at the face centre and their slope across the face, and rates.
     fn flank(&self, rows: &[Row; 2], q: &[f64], v: &[f64]) -> (f64, f64, f64, f64) {
-        (rows[0].dot(q), rows[1].dot(q), rows[0].dot(v), rows[1].dot(v))
+        let ((d0, r0), (d1, r1)) = (rows[0].dot2(q, v), rows[1].dot2(q, v));
+        (d0, d1, r0, r1)
     }
 
     /// Flank 0 (drive) or 1 (back): its rows, its lead errors and the gap it closes before contact.

@@ -80,7 +80,8 @@ pub struct Spring {
 impl Spring {
     /// Its force at (q, v), positive stretching δ.
     pub fn force(&self, q: &[f64], v: &[f64]) -> f64 {
-        self.stiffness * (self.row.dot(q) - self.offset) + self.damping * self.row.dot(v)
+        let (deflection, rate) = self.row.dot2(q, v);
+        self.stiffness * (deflection - self.offset) + self.damping * rate
     }
 }
 
