@@ -824,15 +824,24 @@ impl Work {
         force: f64,
     ) -> f64 {
         let n = sys.dofs();
-        for d in 0..n {
-            self.q1[d] = st.q[d] + self.delta[d];
-            self.v1[d] = c.velocity(self.delta[d], st.v[d], st.a[d]);
+        // every vector cut to n first: the loops then need no bounds check and the compiler takes two
+        // DOFs a register (the same operations on each value; by index with a check per access they
+        // went one DOF at a time, a fifth of the residual's instructions besides the forces, callgrind)
+        let (q, v, a, delta) = (&st.q[..n], &st.v[..n], &st.a[..n], &self.delta[..n]);
+        {
+            let (q1, v1) = (&mut self.q1[..n], &mut self.v1[..n]);
+            for d in 0..n {
+                q1[d] = q[d] + delta[d];
+                v1[d] = c.velocity(delta[d], v[d], a[d]);
+            }
         }
         sys.internal_forces(t1, &self.q1, &self.v1, &mut self.fi);
+        let (step, r) = (&mut self.step[..n], &mut self.r[..n]);
+        let (f1, fi, f0, fi0) = (&self.f1[..n], &self.fi[..n], &self.f0[..n], &self.fi0[..n]);
         for d in 0..n {
-            let a1 = c.acceleration(self.delta[d], st.v[d], st.a[d]);
-            self.step[d] = (1.0 - c.am) * a1 + c.am * st.a[d];
-            self.r[d] = (1.0 - c.af) * (self.f1[d] - self.fi[d]) + c.af * (self.f0[d] - self.fi0[d]);
+            let a1 = c.acceleration(delta[d], v[d], a[d]);
+            step[d] = (1.0 - c.am) * a1 + c.am * a[d];
+            r[d] = (1.0 - c.af) * (f1[d] - fi[d]) + c.af * (f0[d] - fi0[d]);
         }
         if let Some(f) = friction_dof {
             self.r[f] += (1.0 - c.af) * force;

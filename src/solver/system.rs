@@ -50,6 +50,10 @@ pub struct SparseColumns {
     /// Column j's entries are `entries[start[j]..start[j + 1]]`.
     start: Vec<usize>,
     entries: Vec<(usize, f64)>,
+    /// Each entry's column, beside `entries`: a product over all of them walks one list instead of
+    /// slicing the entries column after column (most of the GRC's 84 mass columns hold one entry, and
+    /// the slicing was two thirds of a product's instructions, callgrind).
+    columns: Vec<usize>,
 }
 
 impl SparseColumns {
@@ -57,11 +61,22 @@ impl SparseColumns {
     fn select(m: &DMatrix<f64>, rows: impl Fn(usize) -> std::ops::Range<usize>) -> Self {
         let mut start = vec![0];
         let mut entries = Vec::new();
+        let mut columns = Vec::new();
         for j in 0..m.ncols() {
             entries.extend(rows(j).map(|i| (i, m[(i, j)])).filter(|&(_, v)| v != 0.0));
             start.push(entries.len());
+            columns.resize(entries.len(), j);
         }
-        SparseColumns { start, entries }
+        SparseColumns {
+            start,
+            entries,
+            columns,
+        }
+    }
+
+    /// Every entry as (row, column, value), column after column, rows ascending.
+    pub fn each_entry(&self) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
+        self.entries.iter().zip(&self.columns).map(|(&(i, v), &j)| (i, j, v))
     }
 
     /// Every nonzero entry of `m`.
@@ -136,10 +151,8 @@ impl Mass<'_> {
             Mass::Sparse(m, columns) => {
                 assert_eq!((m.nrows(), m.ncols()), (y.len(), x.len()));
                 // column after column as the dense loop, the same c·m_ij·x_j
-                for (j, xj) in x.iter().enumerate() {
-                    for &(i, mij) in columns.column(j) {
-                        y[i] += c * mij * xj;
-                    }
+                for (i, j, mij) in columns.each_entry() {
+                    y[i] += c * mij * x[j];
                 }
             }
         }
