@@ -27,8 +27,8 @@ impl Row {
 
     /// (g·q, g·v) in one pass over the row: each sum [`Self::dot`]'s, term by term in the same order
     /// from the same start, so the same bits. A force reads a deflection and its rate together, and
-    /// a pass per vector read the row's indices and coefficients twice (the rows' products were a
-    /// quarter of a force evaluation with linear bearings, callgrind).
+    /// a pass per vector read the row's indices and coefficients twice (the rows' products and sums were
+    /// about a quarter of a force evaluation with linear bearings, callgrind).
     #[inline]
     pub fn dot2(&self, q: &[f64], v: &[f64]) -> (f64, f64) {
         // where `dot`'s `sum` starts (the standard library's neutral element of a float sum: −0.0)
