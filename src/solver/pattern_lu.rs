@@ -353,10 +353,9 @@ impl PatternLu {
         // r = J·x − b
         let mut r: Vec<f64> = b.iter().map(|bi| -bi).collect();
         o.each_entry(js, |i, c, a| r[i] += a * x[c]);
-        let largest = max_abs;
-        let scale = row_sums.iter().fold(0.0f64, |m, x| m.max(*x)) * largest(&x) + largest(&b);
+        let scale = row_sums.iter().fold(0.0f64, |m, x| m.max(*x)) * max_abs(&x) + max_abs(&b);
         let residual = if r.iter().all(|x| x.is_finite()) {
-            largest(&r)
+            max_abs(&r)
         } else {
             f64::NAN
         };
@@ -556,16 +555,15 @@ mod tests {
             let r: Vec<f64> = (0..n)
                 .map(|i| (0..n).fold(-b[i], |s, c| s + j[(i, c)] * x[c]))
                 .collect();
-            let largest = max_abs;
             let norm = (0..n)
                 .map(|i| (0..n).fold(0.0, |s, c| s + j[(i, c)].abs()))
                 .fold(0.0f64, f64::max);
             let residual = if r.iter().all(|x| x.is_finite()) {
-                largest(&r)
+                max_abs(&r)
             } else {
                 f64::NAN
             };
-            (residual, norm * largest(&x) + largest(&b))
+            (residual, norm * max_abs(&x) + max_abs(&b))
         };
         let same = |a: (f64, f64), b: (f64, f64)| a.0.to_bits() == b.0.to_bits() && a.1.to_bits() == b.1.to_bits();
         let wider = block_sparse(6, 2);

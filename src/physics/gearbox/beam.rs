@@ -5,6 +5,7 @@
 //! spring: a row over the DOFs and a stiffness. Torsion stays the shaft's own spring (the published
 //! torsional stiffness, and the torque the FMU reports).
 
+use crate::solver::norms::max_abs;
 use nalgebra::{Matrix4, SymmetricEigen};
 
 /// Stiffness of a Timoshenko beam element in one plane, DOFs (w₁, φ₁, w₂, φ₂) with φ = dw/dz: EI the
@@ -38,7 +39,7 @@ pub fn bending_stiffness(ei: f64, kga: f64, length: f64) -> Matrix4<f64> {
 /// 1e-9 of the largest (the two rigid-body motions of a free element carry none).
 pub fn springs(k: &Matrix4<f64>) -> Vec<(f64, [f64; 4])> {
     let e = SymmetricEigen::new(*k);
-    let largest = e.eigenvalues.iter().fold(0.0f64, |m, &x| m.max(x.abs()));
+    let largest = max_abs(e.eigenvalues.as_slice());
     (0..4)
         .filter(|&i| e.eigenvalues[i] > 1e-9 * largest)
         .map(|i| {
