@@ -9,10 +9,9 @@ use windrive::physics::gearbox::roller_table::RollerTables;
 use windrive::physics::gearbox::row::Row;
 
 fn unit(i: usize) -> Row {
-    Row {
-        idx: vec![i],
-        val: vec![1.0],
-    }
+    let mut row = Row::default();
+    row.add(i, 1.0);
+    row
 }
 
 /// A bearing on six coordinates: the five relative ones and the cage angle.

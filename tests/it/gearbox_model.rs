@@ -405,8 +405,8 @@ fn a_planet_on_a_spinning_carrier_feels_the_centripetal_load() {
     for s in &g.springs {
         let force = s.force(&q, &v);
         for (k, e) in elastic.iter_mut().enumerate() {
-            if let Some(i) = s.row.idx.iter().position(|&i| i == f + k) {
-                *e -= force * s.row.val[i];
+            if let Some(i) = s.row.indices().iter().position(|&i| i == f + k) {
+                *e -= force * s.row.values()[i];
             }
         }
     }
@@ -416,8 +416,8 @@ fn a_planet_on_a_spinning_carrier_feels_the_centripetal_load() {
     for (m, l) in g.meshes.iter().zip(&flanks) {
         for (rows, load) in [(&m.drive, l[0]), (&m.back, l[1])] {
             for (k, e) in elastic.iter_mut().enumerate() {
-                if let Some(i) = rows[0].idx.iter().position(|&i| i == f + k) {
-                    *e -= load.force * rows[0].val[i];
+                if let Some(i) = rows[0].indices().iter().position(|&i| i == f + k) {
+                    *e -= load.force * rows[0].values()[i];
                 }
             }
         }

@@ -216,7 +216,7 @@ impl Builder<'_> {
         let sign = if body_is_outer { -1.0 } else { 1.0 };
         let rows = [UX, UY, UZ, TX, TY].map(|dir| {
             let mut row = self.springs[springs[dir]].row.clone();
-            row.val.iter_mut().for_each(|v| *v *= sign);
+            row.scale(sign);
             row
         });
         let gamma = r.diameter_mm * r.contact_angle_deg.to_radians().cos() / r.pitch_diameter_mm;

@@ -161,10 +161,12 @@ pub(super) fn rigid_mode(b: &Builder, input: usize) -> Option<Vec<f64>> {
         .iter()
         .filter(|s| {
             s.stiffness > 0.0
-                && s.row.idx.len() == 1
-                && b.bodies.iter().any(|x| x.first.map(|f| f + SPIN) == Some(s.row.idx[0]))
+                && s.row.indices().len() == 1
+                && b.bodies
+                    .iter()
+                    .any(|x| x.first.map(|f| f + SPIN) == Some(s.row.indices()[0]))
         })
-        .map(|s| s.row.idx[0])
+        .map(|s| s.row.indices()[0])
         .collect();
     for &h in &held {
         r[h] = 0.0;
@@ -198,14 +200,11 @@ pub(super) fn rigid_mode(b: &Builder, input: usize) -> Option<Vec<f64>> {
             }
         }
         for m in &b.meshes {
-            let row = &m.drive[0];
-            let unknown: Vec<usize> = (0..row.idx.len()).filter(|&k| r[row.idx[k]].is_nan()).collect();
+            let (idx, val) = (m.drive[0].indices(), m.drive[0].values());
+            let unknown: Vec<usize> = (0..idx.len()).filter(|&k| r[idx[k]].is_nan()).collect();
             if let [k] = unknown[..] {
-                let known: f64 = (0..row.idx.len())
-                    .filter(|&i| i != k)
-                    .map(|i| row.val[i] * r[row.idx[i]])
-                    .sum();
-                r[row.idx[k]] = -known / row.val[k];
+                let known: f64 = (0..idx.len()).filter(|&i| i != k).map(|i| val[i] * r[idx[i]]).sum();
+                r[idx[k]] = -known / val[k];
                 changed = true;
             }
         }
@@ -220,7 +219,7 @@ pub(super) fn rigid_mode(b: &Builder, input: usize) -> Option<Vec<f64>> {
     let scale = max_abs(&r);
     let consistent = b.meshes.iter().all(|m| {
         let g = m.drive[0].dot(&r);
-        let size: f64 = m.drive[0].val.iter().map(|v| v.abs()).sum::<f64>() * scale;
+        let size: f64 = m.drive[0].values().iter().map(|v| v.abs()).sum::<f64>() * scale;
         g.abs() <= 1e-9 * size
     });
     consistent.then_some(r)

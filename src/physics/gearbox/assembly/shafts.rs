@@ -85,7 +85,7 @@ fn beam_springs(b: &mut Builder, ends: [(usize, f64); 2], beam: &desc::Beam, len
         for (stiffness, v) in beam::springs(&k) {
             let mut row = Row::default();
             for (r, c) in rows.iter().zip(v) {
-                for (&i, x) in r.idx.iter().zip(&r.val) {
+                for (i, x) in r.entries() {
                     row.add(i, c * x);
                 }
             }
@@ -96,7 +96,7 @@ fn beam_springs(b: &mut Builder, ends: [(usize, f64); 2], beam: &desc::Beam, len
     let axial = e * area / length;
     let mut row = translation(b, ends[0], [0.0, 0.0, 1.0]);
     let downstream = translation(b, ends[1], [0.0, 0.0, 1.0]);
-    for (&i, x) in downstream.idx.iter().zip(&downstream.val) {
+    for (i, x) in downstream.entries() {
         row.add(i, -x);
     }
     row.compact();
