@@ -223,7 +223,7 @@ pub struct Gearbox6dofSlave {
     driver: Driver,
     /// Loads of the current state (a master reads a hundred outputs per step).
     #[serde(skip)]
-    loads: Option<Loads>,
+    loads: LoadsCache,
     /// f_int less the rotor's loads where the loads were last evaluated, for the next step.
     #[serde(skip)]
     state_forces: StateForces,
@@ -251,6 +251,14 @@ impl StateForces {
     }
 }
 
+/// The loads of the current state, evaluated once per state when an output needs them; their vectors
+/// stay between steps (a run that records the loads evaluates them at every step).
+#[derive(Clone, Default)]
+struct LoadsCache {
+    loads: Loads,
+    valid: bool,
+}
+
 fn implicit_driver() -> Driver {
     Driver::new(Method::Implicit(Alpha::NEWMARK))
 }
@@ -261,7 +269,7 @@ impl Gearbox6dofSlave {
             let built = self.params.build(self.resources.as_deref())?;
             self.driver = built.driver();
             self.built = Some(Arc::new(built));
-            self.loads = None;
+            self.loads.valid = false;
             self.state_forces.valid = false;
         }
         if self.state.is_none() {
@@ -269,7 +277,7 @@ impl Gearbox6dofSlave {
             self.apply_rotor_loads();
             let built = self.built.as_ref().unwrap();
             self.state = Some(self.params.initial_state(built, self.inputs.rotor_torque.value())?);
-            self.loads = None;
+            self.loads.valid = false;
         }
         let built = self.built.as_ref().unwrap();
         Ok((built, self.state.as_mut().unwrap()))
@@ -285,7 +293,7 @@ impl Gearbox6dofSlave {
         if what == Changed::Input && self.params.initial_torque_from_input && !self.stepped {
             self.state = None;
         }
-        self.loads = None;
+        self.loads.valid = false;
     }
 
     pub fn solver_statistics(&self) -> Statistics {
@@ -297,18 +305,19 @@ impl Gearbox6dofSlave {
     }
 
     fn current_loads(&mut self) -> SlaveResult<&Loads> {
-        if self.loads.is_none() {
+        if !self.loads.valid {
             self.ensure()?;
             let (b, st) = (self.built.as_ref().unwrap(), self.state.as_ref().unwrap());
             let kept = &mut self.state_forces;
             kept.forces.resize(st.q.len(), 0.0);
-            let loads = b.model.loads_and_state_forces(&st.q, &st.v, &mut kept.forces);
+            b.model
+                .loads_and_state_forces_into(&st.q, &st.v, &mut kept.forces, &mut self.loads.loads);
             kept.q.clone_from(&st.q);
             kept.v.clone_from(&st.v);
             kept.valid = true;
-            self.loads = Some(loads);
+            self.loads.valid = true;
         }
-        Ok(self.loads.as_ref().unwrap())
+        Ok(&self.loads.loads)
     }
 }
 
@@ -409,7 +418,7 @@ impl Slave for Gearbox6dofSlave {
             state: self.state.clone(),
             built: self.built.clone(),
             driver: implicit_driver(),
-            loads: None,
+            loads: LoadsCache::default(),
             state_forces: StateForces::default(),
             stepped: self.stepped,
         }
@@ -424,7 +433,7 @@ impl Slave for Gearbox6dofSlave {
         into.resources.clone_from(&self.resources);
         into.state.clone_from(&self.state);
         super::share_build(&mut into.built, &self.built);
-        into.loads = None;
+        into.loads.valid = false;
         into.state_forces.valid = false;
         into.stepped = self.stepped;
     }
@@ -454,7 +463,7 @@ impl Slave for Gearbox6dofSlave {
             state: None,
             built: None,
             driver: implicit_driver(),
-            loads: None,
+            loads: LoadsCache::default(),
             state_forces: StateForces::default(),
             stepped: false,
         }
@@ -489,7 +498,7 @@ impl Slave for Gearbox6dofSlave {
                 None => {
                     self.current_loads()?;
                     let b = self.built.as_deref().expect("built by ensure");
-                    load_output(b, self.loads.as_ref().expect("by current_loads"), r)?
+                    load_output(b, &self.loads.loads, r)?
                 }
             };
         }
@@ -559,7 +568,7 @@ impl Slave for Gearbox6dofSlave {
             check_torques(&self.inputs, &built.model, h)?;
         }
         self.stepped = true;
-        self.loads = None;
+        self.loads.valid = false;
         self.apply_rotor_loads();
         let built = self.built.take().unwrap();
         let result = self.step_with(&built, t, h, log);

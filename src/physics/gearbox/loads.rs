@@ -1,7 +1,7 @@
 //! What a gearbox run reports: mesh loads, bearing loads, shaft torques, load sharing.
 
 use super::bearing::{RaceStresses, RollerLoads};
-use super::mesh::MeshReport;
+use super::mesh::{FlankLoad, MeshReport};
 use super::model::{Gearbox, SPIN, TX, TY};
 
 /// Loads of one bearing, in the frame it sits in.
@@ -28,6 +28,10 @@ pub struct Loads {
     pub shafts: Vec<f64>,
     /// Per-slice loads of every mesh, one after another (drive positive).
     pub slices: Vec<f64>,
+    /// Each mesh's flank sums and each roller set's loads, as the forces' evaluation gave them (the
+    /// reports above are made from them).
+    pub flanks: Vec<[FlankLoad; 2]>,
+    pub roller_sets: Vec<RollerLoads>,
 }
 
 impl Gearbox {
@@ -41,56 +45,63 @@ impl Gearbox {
     /// own evaluation, so an owner that reports loads at a communication point can hand f_int to the
     /// next step instead of evaluating it again.
     pub fn loads_and_state_forces(&self, q: &[f64], v: &[f64], forces: &mut [f64]) -> Loads {
-        let mut slices = vec![0.0; self.slice_count()];
-        let mut flank = Vec::with_capacity(self.meshes.len());
-        let mut sets = vec![RollerLoads::default(); self.rollers.len()];
-        self.state_forces(q, v, forces, Some(&mut slices), Some(&mut sets), |l| flank.push(l));
-        let meshes = self
-            .meshes
-            .iter()
-            .zip(&flank)
-            .zip(&self.contacts)
-            .map(|((m, l), contact)| {
-                let mut r = m.report(q, v, l);
-                r.contact = contact.at(r.max_slice);
-                r
-            })
-            .collect();
-        let bearings = self
-            .bearings
-            .iter()
-            .map(|b| {
-                let mut s = b.springs.map(|i| {
-                    let spring = &self.springs[i];
-                    if spring.lamina { 0.0 } else { spring.force(q, v) }
-                });
-                let mut load = BearingLoad::default();
-                if let Some(i) = b.rollers {
-                    let (r, rl) = (&self.rollers[i], sets[i]);
-                    for (si, f) in s.iter_mut().zip(rl.force) {
-                        *si += r.sign * f;
-                    }
-                    load.rollers_in_contact = rl.rollers_in_contact;
-                    load.max_roller_load = rl.max_roller_load;
-                    load.stresses = r.stresses(&rl);
-                }
-                load.radial = s[0].hypot(s[1]);
-                load.axial = s[2];
-                load.tilting = s[3].hypot(s[4]);
-                load
-            })
-            .collect();
-        let shafts = self
-            .shafts
-            .iter()
-            .map(|s| s.sign * self.springs[s.spring].force(q, v))
-            .collect();
-        Loads {
+        let mut loads = Loads::default();
+        self.loads_and_state_forces_into(q, v, forces, &mut loads);
+        loads
+    }
+
+    /// [`Self::loads_and_state_forces`] into `out`, its vectors reused: an owner that reports loads
+    /// at every step allocates them once (six vectors and the slices' zeroing were a fifth of a
+    /// report's instructions besides the forces with linear bearings, callgrind).
+    pub fn loads_and_state_forces_into(&self, q: &[f64], v: &[f64], forces: &mut [f64], out: &mut Loads) {
+        // every slice and every set is written by the evaluation (each mesh zeroes its slices first)
+        out.slices.resize(self.slice_count(), 0.0);
+        out.roller_sets.resize(self.rollers.len(), RollerLoads::default());
+        out.flanks.clear();
+        let Loads {
             meshes,
             bearings,
             shafts,
             slices,
-        }
+            flanks,
+            roller_sets: sets,
+        } = out;
+        self.state_forces(q, v, forces, Some(slices), Some(sets), |l| flanks.push(l));
+        meshes.clear();
+        meshes.extend(
+            self.meshes
+                .iter()
+                .zip(&*flanks)
+                .zip(&self.contacts)
+                .map(|((m, l), contact)| {
+                    let mut r = m.report(q, l);
+                    r.contact = contact.at(r.max_slice);
+                    r
+                }),
+        );
+        bearings.clear();
+        bearings.extend(self.bearings.iter().map(|b| {
+            let mut s = b.springs.map(|i| {
+                let spring = &self.springs[i];
+                if spring.lamina { 0.0 } else { spring.force(q, v) }
+            });
+            let mut load = BearingLoad::default();
+            if let Some(i) = b.rollers {
+                let (r, rl) = (&self.rollers[i], sets[i]);
+                for (si, f) in s.iter_mut().zip(rl.force) {
+                    *si += r.sign * f;
+                }
+                load.rollers_in_contact = rl.rollers_in_contact;
+                load.max_roller_load = rl.max_roller_load;
+                load.stresses = r.stresses(&rl);
+            }
+            load.radial = s[0].hypot(s[1]);
+            load.axial = s[2];
+            load.tilting = s[3].hypot(s[4]);
+            load
+        }));
+        shafts.clear();
+        shafts.extend(self.shafts.iter().map(|s| s.sign * self.springs[s.spring].force(q, v)));
     }
 
     /// Load sharing factor K_γ of a planetary stage's sun–planet meshes: N·max F / ΣF (1 = equal).

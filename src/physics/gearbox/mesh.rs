@@ -59,11 +59,15 @@ pub struct Mesh {
     pub line_masses: [f64; 2],
 }
 
-/// Slice sums of one flank.
+/// Slice sums of one flank, and where the per-slice loads are asked for ([`Mesh::add_forces`] with
+/// `slice`), its largest slice load and that slice's place across the face (the first of equal ones;
+/// 0 and 0 when no slice touches or the slices were not asked for).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct FlankLoad {
     pub force: f64,
     pub moment: f64,
+    pub largest: f64,
+    pub largest_at: f64,
 }
 
 /// The loads a mesh reports.
@@ -159,8 +163,9 @@ impl Mesh {
         }
     }
 
-    /// Calls `each(j, force)` for every slice of one flank (0 drive, 1 back) in contact.
-    #[inline(always)]
+    /// Calls `each(j, force)` for every slice of one flank (0 drive, 1 back) in contact: the plain slice
+    /// loop, which the tests hold [`Self::flank_load`]'s blocks to.
+    #[cfg(test)]
     fn each_slice(&self, flank: usize, roll: Option<f64>, q: &[f64], v: &[f64], mut each: impl FnMut(usize, f64)) {
         let (rows, errors, gap) = self.flank_parts(flank);
         let (d0, d1, r0, r1) = self.flank(rows, q, v);
@@ -222,6 +227,12 @@ impl Mesh {
                 load.moment += z * f;
                 if let Some(out) = slice.as_deref_mut() {
                     out[start + k] += sign * f;
+                    // the reported largest slice: `report` took it from a second pass over the slices
+                    // (a slice out of contact gives +0, never above the largest so far)
+                    if f > load.largest {
+                        load.largest = f;
+                        load.largest_at = z;
+                    }
                 }
             }
         }
@@ -294,16 +305,12 @@ impl Mesh {
     /// (the one carrying more load): ISO 6336's K_Hβ is the ratio on the flank that transmits the
     /// torque, and a slice of the other flank touching at the face's end (misalignment larger than
     /// the backlash) neither adds to that flank's mean nor cancels its slices.
-    pub fn report(&self, q: &[f64], v: &[f64], loads: &[FlankLoad; 2]) -> MeshReport {
+    /// The mesh's report at `q` from its flank loads there, as [`Self::add_forces`] gave them with the
+    /// per-slice loads (which find the largest slice).
+    pub fn report(&self, q: &[f64], loads: &[FlankLoad; 2]) -> MeshReport {
         let flank = usize::from(loads[1].force > loads[0].force);
         let sign = if flank == 0 { 1.0 } else { -1.0 };
-        let (mut max, mut at) = (0.0f64, 0.0);
-        self.each_slice(flank, self.roll(q), q, v, |j, f| {
-            if f > max {
-                max = f;
-                at = self.zeta[j];
-            }
-        });
+        let (max, at) = (loads[flank].largest, loads[flank].largest_at);
         let mean = loads[flank].force / self.slices() as f64;
         MeshReport {
             force: loads[0].force - loads[1].force,
@@ -378,12 +385,17 @@ mod tests {
                 load.force += f;
                 load.moment += m.zeta[j] * f;
                 slices[j] += sign * f;
+                if f > load.largest {
+                    load.largest = f;
+                    load.largest_at = m.zeta[j];
+                }
             });
         }
         (loads, slices)
     }
 
-    /// A flank's forces by blocks of slices give the bits of the slice loop, under both force laws
+    /// A flank's forces by blocks of slices give the bits of the slice loop (its largest slice load and
+    /// where, which the report takes, included), under both force laws
     /// and both stiffness models, across the blocks' boundaries (101 and 200 slices), at states that
     /// load the drive flanks, the back flanks (the deflections reversed past the backlash) and parts of
     /// a face only (a tilt across it).
@@ -423,18 +435,20 @@ mod tests {
                     let got = m.add_forces(&q, &v, &mut f_int, Some(&mut got_slices));
                     for flank in 0..2 {
                         let (a, b) = (got[flank], want[flank]);
-                        assert_eq!(
-                            (a.force.to_bits(), a.moment.to_bits()),
-                            (b.force.to_bits(), b.moment.to_bits()),
-                            "{} flank {flank}, {slices} slices",
-                            m.name
-                        );
+                        let bits = |l: FlankLoad| [l.force, l.moment, l.largest, l.largest_at].map(f64::to_bits);
+                        assert_eq!(bits(a), bits(b), "{} flank {flank}, {slices} slices", m.name);
                         loaded[flank] += usize::from(b.force != 0.0);
                     }
                     let bits = |x: &[f64]| x.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
                     assert_eq!(bits(&got_slices), bits(&want_slices), "{}", m.name);
+                    // without the slices: the same sums, no largest slice
                     let mut alone = vec![0.0; n];
-                    assert_eq!(m.add_forces(&q, &v, &mut alone, None), got, "{}", m.name);
+                    let without = got.map(|l| FlankLoad {
+                        largest: 0.0,
+                        largest_at: 0.0,
+                        ..l
+                    });
+                    assert_eq!(m.add_forces(&q, &v, &mut alone, None), without, "{}", m.name);
                 }
             }
             assert!(loaded[0] > 100 && loaded[1] > 100, "{loaded:?}");
