@@ -301,12 +301,12 @@ impl Mesh {
         }
     }
 
-    /// The loads a user sees. The face load factor and the largest slice are the loaded flank's
-    /// (the one carrying more load): ISO 6336's K_Hβ is the ratio on the flank that transmits the
-    /// torque, and a slice of the other flank touching at the face's end (misalignment larger than
-    /// the backlash) neither adds to that flank's mean nor cancels its slices.
-    /// The mesh's report at `q` from its flank loads there, as [`Self::add_forces`] gave them with the
-    /// per-slice loads (which find the largest slice).
+    /// The loads a user sees at `q`, from the flank loads there as [`Self::add_forces`] gave them with
+    /// the per-slice loads (which find each flank's largest slice). The face load factor and the
+    /// largest slice are the loaded flank's (the one carrying more load): ISO 6336's K_Hβ is the ratio
+    /// on the flank that transmits the torque, and a slice of the other flank touching at the face's
+    /// end (misalignment larger than the backlash) neither adds to that flank's mean nor cancels its
+    /// slices.
     pub fn report(&self, q: &[f64], loads: &[FlankLoad; 2]) -> MeshReport {
         let flank = usize::from(loads[1].force > loads[0].force);
         let sign = if flank == 0 { 1.0 } else { -1.0 };

@@ -159,14 +159,11 @@ pub(super) fn rigid_mode(b: &Builder, input: usize) -> Option<Vec<f64>> {
     let held: Vec<usize> = b
         .springs
         .iter()
-        .filter(|s| {
-            s.stiffness > 0.0
-                && s.row.indices().len() == 1
-                && b.bodies
-                    .iter()
-                    .any(|x| x.first.map(|f| f + SPIN) == Some(s.row.indices()[0]))
+        .filter(|s| s.stiffness > 0.0)
+        .filter_map(|s| match *s.row.indices() {
+            [i] if b.bodies.iter().any(|x| x.first.map(|f| f + SPIN) == Some(i)) => Some(i),
+            _ => None,
         })
-        .map(|s| s.row.indices()[0])
         .collect();
     for &h in &held {
         r[h] = 0.0;
