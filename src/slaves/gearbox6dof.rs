@@ -11,7 +11,7 @@ use crate::physics::brake::DiskBrake;
 use crate::physics::gearbox::Gearbox;
 use crate::physics::gearbox::description::{BearingModel, Description, MeshStiffnessModel};
 use crate::physics::gearbox::loads::BearingLoad;
-use crate::physics::gearbox::loads::Loads;
+use crate::physics::gearbox::mesh::MeshReport;
 use crate::physics::gearbox::model::{INPUT_BRAKE_COMMAND, INPUT_GENERATOR_TORQUE, INPUT_ROTOR_TORQUE};
 use crate::physics::gearbox::statics::equilibrium;
 use crate::solver::alpha::{Alpha, Newton};
@@ -251,12 +251,111 @@ impl StateForces {
     }
 }
 
-/// The loads of the current state, evaluated once per state when an output needs them; their vectors
-/// stay between steps (a run that records the loads evaluates them at every step).
+/// The loads of the current state, each mesh's, bearing's and shaft's evaluated on its own the first
+/// time an output of it is read in that state: a master that records a few load outputs (a campaign's
+/// channels) pays for their elements, not for every mesh's slices and every roller set's rollers. The
+/// vectors stay between steps.
 #[derive(Clone, Default)]
 struct LoadsCache {
-    loads: Loads,
+    /// Whether the entries below belong to the current state (false: every entry is stale).
     valid: bool,
+    meshes: Vec<Option<MeshReport>>,
+    bearings: Vec<Option<BearingLoad>>,
+    shafts: Vec<Option<f64>>,
+    /// One mesh's per-slice loads, and f_int's part of the element evaluated (both discarded).
+    slices: Vec<f64>,
+    scratch: Vec<f64>,
+}
+
+impl LoadsCache {
+    /// Forgets every entry when they belong to an earlier state, sized for `model`.
+    fn refresh(&mut self, model: &Gearbox) {
+        if !self.valid {
+            self.meshes.clear();
+            self.meshes.resize(model.meshes.len(), None);
+            self.bearings.clear();
+            self.bearings.resize(model.bearings.len(), None);
+            self.shafts.clear();
+            self.shafts.resize(model.shafts.len(), None);
+            self.valid = true;
+        }
+    }
+
+    /// Mesh `i`'s report in state `st`.
+    fn mesh(&mut self, model: &Gearbox, st: &DynState, i: usize) -> MeshReport {
+        if let Some(r) = self.meshes[i] {
+            return r;
+        }
+        self.slices.resize(model.meshes[i].slices(), 0.0);
+        self.scratch.clear();
+        self.scratch.resize(st.q.len(), 0.0);
+        let r = model.mesh_report(i, &st.q, &st.v, &mut self.slices, &mut self.scratch);
+        self.meshes[i] = Some(r);
+        r
+    }
+
+    /// Bearing `i`'s loads in state `st`.
+    fn bearing(&mut self, model: &Gearbox, st: &DynState, i: usize) -> BearingLoad {
+        if let Some(l) = self.bearings[i] {
+            return l;
+        }
+        self.scratch.clear();
+        self.scratch.resize(st.q.len(), 0.0);
+        let l = model.bearing_load(i, &st.q, &st.v, &mut self.scratch);
+        self.bearings[i] = Some(l);
+        l
+    }
+
+    /// Shaft `i`'s torsion in state `st`.
+    fn shaft(&mut self, model: &Gearbox, st: &DynState, i: usize) -> f64 {
+        *self.shafts[i].get_or_insert_with(|| model.shaft_torque(i, &st.q, &st.v))
+    }
+
+    /// The output `r` of the loads: shaft torques, load sharing, each bearing's and each mesh's.
+    fn output(&mut self, b: &Built, st: &DynState, r: u32) -> SlaveResult<f64> {
+        self.refresh(&b.model);
+        let m = &b.model;
+        Ok(match r {
+            vr::LSS_TORQUE..=vr::HSS_TORQUE => {
+                b.shafts[(r - vr::LSS_TORQUE) as usize].map_or(0.0, |i| self.shaft(m, st, i))
+            }
+            vr::LOAD_SHARING_FACTOR | vr::LOAD_SHARING_FACTOR_2 => {
+                let stage = if r == vr::LOAD_SHARING_FACTOR { "" } else { "2" };
+                m.load_sharing_by(stage, |i| self.mesh(m, st, i).force).unwrap_or(0.0)
+            }
+            r if r >= vr::MAIN_RADIAL_LOAD => {
+                let k = (r - vr::MAIN_RADIAL_LOAD) as usize;
+                let slot = k / BEARING_OUTPUTS;
+                match b.bearings.get(slot).copied().flatten() {
+                    Some(i) => bearing_output(&self.bearing(m, st, i), k % BEARING_OUTPUTS),
+                    None if slot < b.bearings.len() => 0.0,
+                    None => return Err(xml::no_getter(VarType::Real, r)),
+                }
+            }
+            r => {
+                let Some((family, first)) = FAMILIES
+                    .iter()
+                    .enumerate()
+                    .find(|(_, f)| (**f..**f + MESH_SLOTS.len() as u32).contains(&r))
+                else {
+                    return Err(xml::no_getter(VarType::Real, r));
+                };
+                b.meshes[(r - first) as usize].map_or(0.0, |i| {
+                    let m = self.mesh(m, st, i);
+                    match family {
+                        0 => m.force,
+                        1 => m.max_slice,
+                        2 => m.max_position,
+                        3 => m.face_load_factor,
+                        4 => m.transmission_error,
+                        5 => m.contact.pressure,
+                        6 => m.contact.max_shear,
+                        _ => m.contact.max_shear_depth,
+                    }
+                })
+            }
+        })
+    }
 }
 
 fn implicit_driver() -> Driver {
@@ -303,22 +402,6 @@ impl Gearbox6dofSlave {
     pub fn built(&mut self) -> SlaveResult<&Built> {
         Ok(self.ensure()?.0)
     }
-
-    fn current_loads(&mut self) -> SlaveResult<&Loads> {
-        if !self.loads.valid {
-            self.ensure()?;
-            let (b, st) = (self.built.as_ref().unwrap(), self.state.as_ref().unwrap());
-            let kept = &mut self.state_forces;
-            kept.forces.resize(st.q.len(), 0.0);
-            b.model
-                .loads_and_state_forces_into(&st.q, &st.v, &mut kept.forces, &mut self.loads.loads);
-            kept.q.clone_from(&st.q);
-            kept.v.clone_from(&st.v);
-            kept.valid = true;
-            self.loads.valid = true;
-        }
-        Ok(&self.loads.loads)
-    }
 }
 
 /// Per-mesh output families: value reference of the first slot.
@@ -350,44 +433,6 @@ fn state_output(b: &Built, st: &DynState, r: u32) -> Option<f64> {
         vr::MAIN_SHAFT_YAW_RATE => m.input_tilt_rates(&st.q, &st.v)[1],
         vr::BRAKE_TORQUE => -st.friction_force * m.output_sign,
         _ => return None,
-    })
-}
-
-/// The outputs of the loads: shaft torques, load sharing, each bearing's and each mesh's.
-fn load_output(b: &Built, loads: &Loads, r: u32) -> SlaveResult<f64> {
-    let slot_mesh = |slot: usize| b.meshes[slot].map(|i| loads.meshes[i]);
-    Ok(match r {
-        vr::LSS_TORQUE..=vr::HSS_TORQUE => b.shafts[(r - vr::LSS_TORQUE) as usize].map_or(0.0, |i| loads.shafts[i]),
-        vr::LOAD_SHARING_FACTOR => b.model.load_sharing(loads, "").unwrap_or(0.0),
-        vr::LOAD_SHARING_FACTOR_2 => b.model.load_sharing(loads, "2").unwrap_or(0.0),
-        r if r >= vr::MAIN_RADIAL_LOAD => {
-            let k = (r - vr::MAIN_RADIAL_LOAD) as usize;
-            let slot = k / BEARING_OUTPUTS;
-            match b.bearings.get(slot).copied().flatten().map(|i| &loads.bearings[i]) {
-                Some(l) => bearing_output(l, k % BEARING_OUTPUTS),
-                None if slot < b.bearings.len() => 0.0,
-                None => return Err(xml::no_getter(VarType::Real, r)),
-            }
-        }
-        r => {
-            let Some((family, first)) = FAMILIES
-                .iter()
-                .enumerate()
-                .find(|(_, f)| (**f..**f + MESH_SLOTS.len() as u32).contains(&r))
-            else {
-                return Err(xml::no_getter(VarType::Real, r));
-            };
-            slot_mesh((r - first) as usize).map_or(0.0, |m| match family {
-                0 => m.force,
-                1 => m.max_slice,
-                2 => m.max_position,
-                3 => m.face_load_factor,
-                4 => m.transmission_error,
-                5 => m.contact.pressure,
-                6 => m.contact.max_shear,
-                _ => m.contact.max_shear_depth,
-            })
-        }
     })
 }
 
@@ -495,11 +540,7 @@ impl Slave for Gearbox6dofSlave {
             );
             *value = match state_output(b, st, r) {
                 Some(v) => v,
-                None => {
-                    self.current_loads()?;
-                    let b = self.built.as_deref().expect("built by ensure");
-                    load_output(b, &self.loads.loads, r)?
-                }
+                None => self.loads.output(b, st, r)?,
             };
         }
         Ok(())

@@ -840,3 +840,62 @@ fn the_models_dynamic_factor_is_converged_in_step_and_slices() {
         assert!((c.k_v_model - b.k_v_model).abs() < 1e-3, "{}: slices", b.mesh);
     }
 }
+
+/// An owner that reports a few elements evaluates each on its own (`mesh_report`, `bearing_load`,
+/// `shaft_torque`, `load_sharing_by`): the bits of the whole report at the same state, for every
+/// bearing law, at rated equilibria shaken off their balance so that rollers tilt, back flanks and
+/// damping act. (A mutant that evaluates a bearing's roller set without its loads fails it.)
+#[test]
+fn each_elements_loads_on_its_own_are_the_whole_reports_bits() {
+    let mut rng = common::Rng(0x5eed_10ad);
+    for name in ["grc750", "c2mw"] {
+        for law in [BearingModel::Linear, BearingModel::Lamina, BearingModel::LaminaTable] {
+            let mut d = Description::load(name).unwrap();
+            d.model.bearings = law;
+            let g = Gearbox::new(&d).unwrap();
+            let (q0, v0) = loaded(&g, g.rated_rotor_torque.unwrap(), 1.5);
+            for shake in 0..4 {
+                let (mut q, mut v) = (q0.clone(), v0.clone());
+                for (x, y) in q.iter_mut().zip(v.iter_mut()) {
+                    *x += 1e-6 * shake as f64 * rng.symmetric();
+                    *y += 1e-3 * shake as f64 * rng.symmetric();
+                }
+                let whole = g.loads(&q, &v);
+                let mut scratch = vec![0.0; g.dofs()];
+                for (i, m) in g.meshes.iter().enumerate() {
+                    let mut slices = vec![f64::NAN; m.slices()];
+                    let own = g.mesh_report(i, &q, &v, &mut slices, &mut scratch);
+                    assert_eq!(
+                        format!("{own:?}"),
+                        format!("{:?}", whole.meshes[i]),
+                        "{name} {law:?} mesh {i}"
+                    );
+                }
+                for i in 0..g.bearings.len() {
+                    let own = g.bearing_load(i, &q, &v, &mut scratch);
+                    assert_eq!(
+                        format!("{own:?}"),
+                        format!("{:?}", whole.bearings[i]),
+                        "{name} {law:?} bearing {i}"
+                    );
+                }
+                for i in 0..g.shafts.len() {
+                    assert_eq!(
+                        g.shaft_torque(i, &q, &v).to_bits(),
+                        whole.shafts[i].to_bits(),
+                        "{name} shaft {i}"
+                    );
+                }
+                let by = g.load_sharing_by("", |i| {
+                    g.mesh_report(i, &q, &v, &mut vec![0.0; g.meshes[i].slices()], &mut scratch)
+                        .force
+                });
+                assert_eq!(
+                    by.map(f64::to_bits),
+                    g.load_sharing(&whole, "").map(f64::to_bits),
+                    "{name} load sharing"
+                );
+            }
+        }
+    }
+}

@@ -1,6 +1,6 @@
 //! What a gearbox run reports: mesh loads, bearing loads, shaft torques, load sharing.
 
-use super::bearing::{RaceStresses, RollerLoads};
+use super::bearing::{RaceStresses, RollerBearing, RollerLoads};
 use super::mesh::{FlankLoad, MeshReport};
 use super::model::{Gearbox, SPIN, TX, TY};
 
@@ -68,51 +68,94 @@ impl Gearbox {
         } = out;
         self.state_forces(q, v, forces, Some(slices), Some(sets), |l| flanks.push(l));
         meshes.clear();
-        meshes.extend(
-            self.meshes
-                .iter()
-                .zip(&*flanks)
-                .zip(&self.contacts)
-                .map(|((m, l), contact)| {
-                    let mut r = m.report(q, l);
-                    r.contact = contact.at(r.max_slice);
-                    r
-                }),
-        );
+        meshes.extend(flanks.iter().enumerate().map(|(i, l)| self.report_of(i, q, l)));
         bearings.clear();
-        bearings.extend(self.bearings.iter().map(|b| {
-            let mut s = b.springs.map(|i| {
-                let spring = &self.springs[i];
-                if spring.lamina { 0.0 } else { spring.force(q, v) }
-            });
-            let mut load = BearingLoad::default();
-            if let Some(i) = b.rollers {
-                let (r, rl) = (&self.rollers[i], sets[i]);
-                for (si, f) in s.iter_mut().zip(rl.force) {
-                    *si += r.sign * f;
-                }
-                load.rollers_in_contact = rl.rollers_in_contact;
-                load.max_roller_load = rl.max_roller_load;
-                load.stresses = r.stresses(&rl);
-            }
-            load.radial = s[0].hypot(s[1]);
-            load.axial = s[2];
-            load.tilting = s[3].hypot(s[4]);
-            load
-        }));
+        bearings.extend((0..self.bearings.len()).map(|i| self.bearing_load_of(i, q, v, sets)));
         shafts.clear();
-        shafts.extend(self.shafts.iter().map(|s| s.sign * self.springs[s.spring].force(q, v)));
+        shafts.extend((0..self.shafts.len()).map(|i| self.shaft_torque(i, q, v)));
+    }
+
+    /// Mesh `i`'s report at (q, v) on its own, its per-slice loads written to `slices` (its slice
+    /// count) and its part of f_int added to `scratch` (n entries, for the caller to discard): the
+    /// bits of its report in [`Self::loads`], for an owner that reports a few meshes and not the rest.
+    pub fn mesh_report(&self, i: usize, q: &[f64], v: &[f64], slices: &mut [f64], scratch: &mut [f64]) -> MeshReport {
+        let flanks = self.meshes[i].add_forces(q, v, scratch, Some(slices));
+        self.report_of(i, q, &flanks)
+    }
+
+    /// Bearing `i`'s loads at (q, v) on its own, its roller set's part of f_int added to `scratch`
+    /// (n entries, discarded): the bits of its loads in [`Self::loads`].
+    pub fn bearing_load(&self, i: usize, q: &[f64], v: &[f64], scratch: &mut [f64]) -> BearingLoad {
+        let set = self.bearings[i]
+            .rollers
+            .map(|k| (k, self.rollers[k].add_forces(q, v, true, scratch)));
+        match set {
+            Some((k, loads)) => self.bearing_load_with(i, q, v, Some((&self.rollers[k], loads))),
+            None => self.bearing_load_with(i, q, v, None),
+        }
+    }
+
+    /// The torsion of shaft `i` at (q, v), positive in normal operation, N·m.
+    pub fn shaft_torque(&self, i: usize, q: &[f64], v: &[f64]) -> f64 {
+        let s = &self.shafts[i];
+        s.sign * self.springs[s.spring].force(q, v)
+    }
+
+    /// Mesh `i`'s report from its flank loads, with the Hertz contact of its largest slice load.
+    fn report_of(&self, i: usize, q: &[f64], flanks: &[FlankLoad; 2]) -> MeshReport {
+        let mut r = self.meshes[i].report(q, flanks);
+        r.contact = self.contacts[i].at(r.max_slice);
+        r
+    }
+
+    /// Bearing `i`'s loads with its roller set's evaluated loads taken from `sets`.
+    fn bearing_load_of(&self, i: usize, q: &[f64], v: &[f64], sets: &[RollerLoads]) -> BearingLoad {
+        let set = self.bearings[i].rollers.map(|k| (&self.rollers[k], sets[k]));
+        self.bearing_load_with(i, q, v, set)
+    }
+
+    /// Bearing `i`'s loads: its linear springs' forces at (q, v) and its roller set's evaluated loads.
+    fn bearing_load_with(
+        &self,
+        i: usize,
+        q: &[f64],
+        v: &[f64],
+        set: Option<(&RollerBearing, RollerLoads)>,
+    ) -> BearingLoad {
+        let mut s = self.bearings[i].springs.map(|k| {
+            let spring = &self.springs[k];
+            if spring.lamina { 0.0 } else { spring.force(q, v) }
+        });
+        let mut load = BearingLoad::default();
+        if let Some((r, rl)) = set {
+            for (si, f) in s.iter_mut().zip(rl.force) {
+                *si += r.sign * f;
+            }
+            load.rollers_in_contact = rl.rollers_in_contact;
+            load.max_roller_load = rl.max_roller_load;
+            load.stresses = r.stresses(&rl);
+        }
+        load.radial = s[0].hypot(s[1]);
+        load.axial = s[2];
+        load.tilting = s[3].hypot(s[4]);
+        load
     }
 
     /// Load sharing factor K_γ of a planetary stage's sun–planet meshes: N·max F / ΣF (1 = equal).
     pub fn load_sharing(&self, loads: &Loads, stage_suffix: &str) -> Option<f64> {
+        self.load_sharing_by(stage_suffix, |i| loads.meshes[i].force)
+    }
+
+    /// [`Self::load_sharing`] with mesh `i`'s force from `force(i)`, asked of the stage's sun–planet
+    /// meshes only.
+    pub fn load_sharing_by(&self, stage_suffix: &str, mut force: impl FnMut(usize) -> f64) -> Option<f64> {
         let prefix = format!("sun_planet{stage_suffix}_");
         let forces: Vec<f64> = self
             .meshes
             .iter()
-            .zip(&loads.meshes)
-            .filter(|(m, _)| m.name.starts_with(&prefix))
-            .map(|(_, r)| r.force)
+            .enumerate()
+            .filter(|(_, m)| m.name.starts_with(&prefix))
+            .map(|(i, _)| force(i))
             .collect();
         let total: f64 = forces.iter().sum();
         (total > 0.0).then(|| forces.len() as f64 * forces.iter().fold(0.0f64, |m, &x| m.max(x)) / total)
