@@ -15,7 +15,7 @@ use crate::physics::gearbox::mesh::MeshReport;
 use crate::physics::gearbox::model::{INPUT_BRAKE_COMMAND, INPUT_GENERATOR_TORQUE, INPUT_ROTOR_TORQUE};
 use crate::physics::gearbox::statics::equilibrium;
 use crate::solver::alpha::{Alpha, Newton};
-use crate::solver::state::same_bits;
+use crate::solver::state::ForcesAt;
 use crate::solver::{Driver, DynState, Method, Statistics};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -66,6 +66,9 @@ impl Built {
     fn driver(&self) -> Driver {
         let mut d = Driver::new(self.method);
         d.set_newton(self.newton);
+        // the step's end forces from its equation: the next step starts from them instead of an
+        // evaluation (a read of the loads evaluates only the elements it reports)
+        d.set_forces_by_equation(true);
         d
     }
 }
@@ -232,23 +235,12 @@ pub struct Gearbox6dofSlave {
     stepped: bool,
 }
 
-/// The internal forces the reported loads were evaluated with (less the rotor's loads, which follow
-/// inputs) and the state they belong to: the next step's consistent accelerations take them instead of
-/// evaluating them again when it starts from that very state (compared exactly, so no path that
-/// changes the state or rebuilds the model can hand a step stale forces).
+/// f_int less the rotor's loads at the state the last step ended in, as the step's equation of motion
+/// left it ([`Driver::set_forces_by_equation`]), and a scratch vector for the rotor's loads.
 #[derive(Clone, Default)]
 struct StateForces {
-    q: Vec<f64>,
-    v: Vec<f64>,
-    forces: Vec<f64>,
-    valid: bool,
-}
-
-impl StateForces {
-    /// Whether these are the forces at (q, v), compared bit for bit.
-    fn at(&self, q: &[f64], v: &[f64]) -> bool {
-        self.valid && same_bits(&self.q, q) && same_bits(&self.v, v)
-    }
+    at: ForcesAt,
+    rotor: Vec<f64>,
 }
 
 /// The loads of the current state, each mesh's, bearing's and shaft's evaluated on its own the first
@@ -369,7 +361,7 @@ impl Gearbox6dofSlave {
             self.driver = built.driver();
             self.built = Some(Arc::new(built));
             self.loads.valid = false;
-            self.state_forces.valid = false;
+            self.state_forces.at.valid = false;
         }
         if self.state.is_none() {
             // the initial equilibrium carries the rotor's moments and thrust as the inputs have them
@@ -479,7 +471,7 @@ impl Slave for Gearbox6dofSlave {
         into.state.clone_from(&self.state);
         super::share_build(&mut into.built, &self.built);
         into.loads.valid = false;
-        into.state_forces.valid = false;
+        into.state_forces.at.valid = false;
         into.stepped = self.stepped;
     }
 
@@ -495,9 +487,12 @@ impl Slave for Gearbox6dofSlave {
         }
     }
 
-    /// The run goes on without factorisations, as a run restored from the state starts (see `restore`).
+    /// The run goes on without factorisations and without the last step's end forces, as a run
+    /// restored from the state starts (see `restore`): the next step evaluates its start forces, so
+    /// the run that goes on and every rerun from the state repeat bit for bit.
     fn state_taken(&mut self) {
         self.driver.forget_factorisations();
+        self.state_forces.at.valid = false;
     }
 
     fn instantiate(resources: Option<&Path>) -> Self {
@@ -672,14 +667,14 @@ impl Gearbox6dofSlave {
         let inputs = &self.inputs;
         let st = self.state.as_mut().unwrap();
         let kept = &mut self.state_forces;
-        if kept.at(&st.q, &st.v) {
-            // the loads' forces with this step's rotor loads: f_int at the start, to the bit
+        if let Some(forces) = kept.at.at(&st.q, &st.v) {
+            // the last step's end forces with this step's rotor loads
             self.driver.give_start_forces(st.q.len(), |fi| {
-                fi.copy_from_slice(&kept.forces);
+                fi.copy_from_slice(forces);
                 built.model.add_rotor_loads(&st.q, fi);
             });
         }
-        kept.valid = false;
+        kept.at.valid = false;
         self.driver.max_steps_per_call = self.params.max_steps_per_call;
         let result = self.driver.advance(
             &built.model,
@@ -692,6 +687,16 @@ impl Gearbox6dofSlave {
         );
         super::log_brake_events(&self.driver.events, log);
         result.map_err(|e| err(format!("{e} (communication step from t = {t} s, h = {h} s)")))?;
+        if let Some(forces) = self.driver.end_forces(&st.q, &st.v) {
+            // kept less this step's rotor loads, which the next step's inputs replace
+            let StateForces { at, rotor } = kept;
+            rotor.clear();
+            rotor.resize(forces.len(), 0.0);
+            built.model.add_rotor_loads(&st.q, rotor);
+            at.forces.clear();
+            at.forces.extend(forces.iter().zip(rotor.iter()).map(|(f, r)| f - r));
+            at.belong_to(&st.q, &st.v);
+        }
         self.inputs.advance(h);
         Ok(())
     }

@@ -23,7 +23,7 @@
 
 use super::factor::{Cache, Factor, Orderings, Solver, padded, same_key, same_step};
 use super::norms::max_abs;
-use super::state::{DynState, SolverError, Statistics};
+use super::state::{DynState, ForcesAt, SolverError, Statistics};
 use super::system::{Friction, Linearity, SecondOrderSystem, external_forces};
 use nalgebra::DMatrix;
 
@@ -387,12 +387,19 @@ pub struct AlphaIntegrator {
     /// The sparsity ordering of the patterns J has had: history, as the factorisations are.
     orderings: Orderings,
     work: Work,
+    /// Whether a Newton step leaves its end's internal forces from its own equation of motion
+    /// ([`Self::end_forces`]) instead of its owner evaluating them again.
+    pub forces_by_equation: bool,
+    /// With `forces_by_equation`: f_int at the end of the last step, by its equation, and the state
+    /// it belongs to (the next step within one call of the driver starts from them).
+    end: ForcesAt,
 }
 
 impl Clone for AlphaIntegrator {
     fn clone(&self) -> Self {
         let mut c = Self::new(self.params);
         c.newton = self.newton;
+        c.forces_by_equation = self.forces_by_equation;
         c
     }
 }
@@ -408,7 +415,20 @@ impl AlphaIntegrator {
             cache: Cache::default(),
             orderings: Orderings::default(),
             work: Work::default(),
+            forces_by_equation: false,
+            end: ForcesAt::default(),
         }
+    }
+
+    /// f_int at (q, v) when the last step ended there and left it ([`Self::forces_by_equation`]).
+    pub fn end_forces(&self, q: &[f64], v: &[f64]) -> Option<&[f64]> {
+        self.end.at(q, v)
+    }
+
+    /// Forgets the end forces: the system's forces may have changed with its owner's inputs (the
+    /// gearbox's rotor loads follow its inputs) between two calls of the driver.
+    pub fn forget_end_forces(&mut self) {
+        self.end.valid = false;
     }
 
     /// Drops every factorisation, the one [`Newton::keep`] carries from step to step with the cached
@@ -553,9 +573,9 @@ impl AlphaIntegrator {
             external_forces(sys, u1, &mut w.f1);
             if c.af != 0.0 {
                 external_forces(sys, u0, &mut w.f0);
-                match span.fi0 {
-                    Some(fi) => w.fi0[..n].copy_from_slice(&fi[..n]),
-                    None => sys.internal_forces(t, &st.q, &st.v, &mut w.fi0),
+                match (span.fi0, self.end.at(&st.q, &st.v)) {
+                    (Some(fi), _) | (None, Some(fi)) => w.fi0[..n].copy_from_slice(&fi[..n]),
+                    (None, None) => sys.internal_forces(t, &st.q, &st.v, &mut w.fi0),
                 }
                 if let Some(f) = friction_dof {
                     w.f0[f] += st.friction_force;
@@ -609,6 +629,8 @@ impl AlphaIntegrator {
         if let Some(f) = stuck {
             w.delta[f] = c.increment_to_rest(st.v[f], st.a[f]);
         }
+        // the start's accelerations into r (free after the iteration), for the end forces
+        w.r[..n].copy_from_slice(&st.a[..n]);
         for d in 0..n {
             let (dd, v, a) = (w.delta[d], st.v[d], st.a[d]);
             st.q[d] += dd;
@@ -616,7 +638,44 @@ impl AlphaIntegrator {
             st.a[d] = c.acceleration(dd, v, a);
         }
         finish_friction(st, stuck, force, u1);
+        self.end.valid = false;
+        if self.forces_by_equation {
+            self.equation_forces(sys, st, c, friction_dof);
+        }
         Ok(())
+    }
+
+    /// [`Self::forces_by_equation`]: f_int at the step's end as its equation of motion has it,
+    /// M·((1 − α_m)·a₁ + α_m·a₀) = (1 − α_f)·(f₁ − f_int,1 + friction) + α_f·(f₀ − f_int,0), solved
+    /// for f_int,1 with the accelerations the step ended with (the start's in `r`). The Newton
+    /// iteration solved that equation to its tolerance at the iterate before its last increment,
+    /// so these differ from an evaluation at the end by what that increment, below the tolerance,
+    /// moves the forces beyond the tangent's prediction; an evaluation costs as much as an iteration.
+    fn equation_forces<S: SecondOrderSystem>(
+        &mut self,
+        sys: &S,
+        st: &DynState,
+        c: &Coefficients,
+        friction_dof: Option<usize>,
+    ) {
+        let n = sys.dofs();
+        let w = &mut self.work;
+        for d in 0..n {
+            w.step[d] = (1.0 - c.am) * st.a[d] + c.am * w.r[d];
+        }
+        let forces = &mut self.end.forces;
+        forces.clear();
+        forces.resize(n, 0.0);
+        sys.mass().add_product(-1.0, &w.step, forces);
+        let weight = 1.0 - c.af;
+        for d in 0..n {
+            let start = if c.af != 0.0 { c.af * (w.f0[d] - w.fi0[d]) } else { 0.0 };
+            forces[d] = w.f1[d] + (start + forces[d]) / weight;
+        }
+        if let Some(f) = friction_dof {
+            forces[f] += st.friction_force;
+        }
+        self.end.belong_to(&st.q, &st.v);
     }
 
     /// The iteration every class takes from the Δ in the work: the factorisation of the start's

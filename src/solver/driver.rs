@@ -106,6 +106,20 @@ impl Driver {
         self.alpha.newton = newton;
     }
 
+    /// Whether the implicit integrator's Newton steps leave their end's internal forces from their own
+    /// equation of motion ([`AlphaIntegrator::forces_by_equation`]; [`Self::end_forces`]).
+    pub fn set_forces_by_equation(&mut self, on: bool) {
+        self.alpha.forces_by_equation = on;
+    }
+
+    /// f_int at (q, v) when the last call's last step ended there and left it by its equation of
+    /// motion ([`Self::set_forces_by_equation`]): the owner may hand it to the next call
+    /// ([`Self::give_start_forces`]) once it has made it its own inputs' (the system's forces that
+    /// follow the owner's inputs are in it as they were during that call).
+    pub fn end_forces(&self, q: &[f64], v: &[f64]) -> Option<&[f64]> {
+        self.alpha.end_forces(q, v)
+    }
+
     /// Drops every factorisation the integrator holds, kept or cached, and the history that picks
     /// between them: the next step builds the ones it needs, as after a rebuild (an FMU state taken or
     /// restored; see [`Newton::keep`]).
@@ -144,6 +158,8 @@ impl Driver {
     ) -> Result<(), SolverError> {
         // given forces serve this call or none: taken before any way out of it
         let given = std::mem::take(&mut self.start_forces_given);
+        // the last call's end forces are the owner's to hand on: its inputs may have changed them
+        self.alpha.forget_end_forces();
         // positive and finite (NaN fails both comparisons), as two comparisons
         if !(0.0 < h && h < f64::INFINITY) {
             return Err(SolverError::BadStep { step: h });

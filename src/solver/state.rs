@@ -51,6 +51,33 @@ pub fn same_bits(a: &[f64], b: &[f64]) -> bool {
     bytes(a) == bytes(b)
 }
 
+/// Internal forces and the state (q, v) they belong to, compared bit for bit: whoever holds them
+/// hands them to a step that starts from that very state instead of evaluating them again, and no path
+/// that changes the state can hand a step stale ones.
+#[derive(Debug, Clone, Default)]
+pub struct ForcesAt {
+    pub q: Vec<f64>,
+    pub v: Vec<f64>,
+    pub forces: Vec<f64>,
+    pub valid: bool,
+}
+
+impl ForcesAt {
+    /// The forces when they are the ones at (q, v).
+    pub fn at(&self, q: &[f64], v: &[f64]) -> Option<&[f64]> {
+        (self.valid && same_bits(&self.q, q) && same_bits(&self.v, v)).then_some(&self.forces[..])
+    }
+
+    /// Marks the forces as those at (q, v), which the caller has written to `forces`.
+    pub fn belong_to(&mut self, q: &[f64], v: &[f64]) {
+        for (own, x) in [(&mut self.q, q), (&mut self.v, v)] {
+            own.clear();
+            own.extend_from_slice(x);
+        }
+        self.valid = true;
+    }
+}
+
 impl DynState {
     pub fn new(q: Vec<f64>, v: Vec<f64>) -> Self {
         let n = q.len();
