@@ -248,8 +248,8 @@ pub fn variants_foot(stop: f64, base: &Baseline) -> String {
     format!(
         "torsional: {:.2} ms per simulated s ({:.0}× real time): {} ms per s; so no gearbox makes this scene faster \
          than {:.0}× real time; columns: ms per s and × real for the whole scene, FMU ms/s and FMU × for the gearbox \
-         FMU's steps and output reads alone, reads the ms per s of its output reads among them (the loads it \
-         evaluates after each step for them included), ÷ torsional the scene against the torsional scene, peak differences against \
+         FMU's steps and output reads alone, reads the ms per s of its output reads among them (the loads of \
+         the elements read, evaluated once per step, included), ÷ torsional the scene against the torsional scene, peak differences against \
          the reference (min rollr: fewest rollers carrying planet 1's upwind bearing in normal operation, the \
          reference's in brackets; linear bearings report none); the gearbox FMU's defaults are the row \"same, table, \
          kept+pred.\" with the FMU's own linear_solver and newton_tolerance (the rows \"same, FMU defaults\", which \
