@@ -573,9 +573,10 @@ impl AlphaIntegrator {
             external_forces(sys, u1, &mut w.f1);
             if c.af != 0.0 {
                 external_forces(sys, u0, &mut w.f0);
-                match (span.fi0, self.end.at(&st.q, &st.v)) {
-                    (Some(fi), _) | (None, Some(fi)) => w.fi0[..n].copy_from_slice(&fi[..n]),
-                    (None, None) => sys.internal_forces(t, &st.q, &st.v, &mut w.fi0),
+                // given ones first: the last step's end forces are compared with the state only without
+                match span.fi0.or_else(|| self.end.at(&st.q, &st.v)) {
+                    Some(fi) => w.fi0[..n].copy_from_slice(&fi[..n]),
+                    None => sys.internal_forces(t, &st.q, &st.v, &mut w.fi0),
                 }
                 if let Some(f) = friction_dof {
                     w.f0[f] += st.friction_force;
@@ -629,8 +630,10 @@ impl AlphaIntegrator {
         if let Some(f) = stuck {
             w.delta[f] = c.increment_to_rest(st.v[f], st.a[f]);
         }
-        // the start's accelerations into r (free after the iteration), for the end forces
-        w.r[..n].copy_from_slice(&st.a[..n]);
+        if self.forces_by_equation {
+            // the start's accelerations into r (free after the iteration), for the end forces
+            w.r[..n].copy_from_slice(&st.a[..n]);
+        }
         for d in 0..n {
             let (dd, v, a) = (w.delta[d], st.v[d], st.a[d]);
             st.q[d] += dd;

@@ -28,51 +28,32 @@ pub struct Loads {
     pub shafts: Vec<f64>,
     /// Per-slice loads of every mesh, one after another (drive positive).
     pub slices: Vec<f64>,
-    /// Each mesh's flank sums and each roller set's loads, as the forces' evaluation gave them (the
-    /// reports above are made from them).
-    pub flanks: Vec<[FlankLoad; 2]>,
-    pub roller_sets: Vec<RollerLoads>,
 }
 
 impl Gearbox {
-    /// Every reported load at (q, v).
+    /// Every reported load at (q, v), from one evaluation of the forces with every mesh's slices and
+    /// every roller set's loads.
     pub fn loads(&self, q: &[f64], v: &[f64]) -> Loads {
-        self.loads_and_state_forces(q, v, &mut vec![0.0; self.dofs()])
-    }
-
-    /// Every reported load at (q, v), and f_int there less the rotor's loads into `forces`, to the bit
-    /// what f_int is before [`Gearbox::add_rotor_loads`] adds them: the loads are taken from the forces'
-    /// own evaluation, so an owner that reports loads at a communication point can hand f_int to the
-    /// next step instead of evaluating it again.
-    pub fn loads_and_state_forces(&self, q: &[f64], v: &[f64], forces: &mut [f64]) -> Loads {
-        let mut loads = Loads::default();
-        self.loads_and_state_forces_into(q, v, forces, &mut loads);
-        loads
-    }
-
-    /// [`Self::loads_and_state_forces`] into `out`, its vectors reused: an owner that reports loads
-    /// at every step allocates them once (six vectors and the slices' zeroing were a fifth of a
-    /// report's instructions besides the forces with linear bearings, callgrind).
-    pub fn loads_and_state_forces_into(&self, q: &[f64], v: &[f64], forces: &mut [f64], out: &mut Loads) {
-        // every slice and every set is written by the evaluation (each mesh zeroes its slices first)
-        out.slices.resize(self.slice_count(), 0.0);
-        out.roller_sets.resize(self.rollers.len(), RollerLoads::default());
-        out.flanks.clear();
-        let Loads {
-            meshes,
-            bearings,
-            shafts,
+        let mut slices = vec![0.0; self.slice_count()];
+        let mut sets = vec![RollerLoads::default(); self.rollers.len()];
+        let mut flanks = Vec::with_capacity(self.meshes.len());
+        // f_int itself is not reported (the FMU's steps leave it by their equation of motion)
+        let mut forces = vec![0.0; self.dofs()];
+        self.state_forces(q, v, &mut forces, Some(&mut slices), Some(&mut sets), |l| {
+            flanks.push(l)
+        });
+        Loads {
+            meshes: flanks
+                .iter()
+                .enumerate()
+                .map(|(i, l)| self.report_of(i, q, l))
+                .collect(),
+            bearings: (0..self.bearings.len())
+                .map(|i| self.bearing_load_of(i, q, v, &sets))
+                .collect(),
+            shafts: (0..self.shafts.len()).map(|i| self.shaft_torque(i, q, v)).collect(),
             slices,
-            flanks,
-            roller_sets: sets,
-        } = out;
-        self.state_forces(q, v, forces, Some(slices), Some(sets), |l| flanks.push(l));
-        meshes.clear();
-        meshes.extend(flanks.iter().enumerate().map(|(i, l)| self.report_of(i, q, l)));
-        bearings.clear();
-        bearings.extend((0..self.bearings.len()).map(|i| self.bearing_load_of(i, q, v, sets)));
-        shafts.clear();
-        shafts.extend((0..self.shafts.len()).map(|i| self.shaft_torque(i, q, v)));
+        }
     }
 
     /// Mesh `i`'s report at (q, v) on its own, its per-slice loads written to `slices` (its slice

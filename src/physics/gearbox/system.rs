@@ -68,8 +68,9 @@ impl Gearbox {
 
     /// The rotor's moment and thrust on the input body, turned into its frame, added to f_int
     /// (negated): the only part of f_int that follows the inputs the owner sets each communication
-    /// step rather than the state. [`Self::forces`] adds it last, so the state's part the reported
-    /// loads evaluate ([`Self::state_forces`]) plus this is f_int to the bit. (It used to be added with
+    /// step rather than the state. [`Self::forces`] adds it last, so the state's part
+    /// ([`Self::state_forces`]) plus this is f_int to the bit; the gearbox FMU takes it off the forces a
+    /// step leaves for the next and adds that step's own. (It used to be added with
     /// the input body's frame forces; no mesh acts on the presets' input bodies, so the move changed
     /// no output.)
     pub fn add_rotor_loads(&self, q: &[f64], out: &mut [f64]) {
