@@ -172,8 +172,9 @@ pub struct Master<'s> {
     pub stats: Stats,
 }
 
-fn step_unit(unit: &mut Unit, t: f64, h: f64) -> Result<(), MasterError> {
-    timed(unit, |c| &mut c.step, |unit| step_and_fetch(unit, t, h))
+/// `with_recorded`: the step's row is kept, read the recorder's variables with the coupled outputs.
+fn step_unit(unit: &mut Unit, t: f64, h: f64, with_recorded: bool) -> Result<(), MasterError> {
+    timed(unit, |c| &mut c.step, |unit| step_and_fetch(unit, t, h, with_recorded))
 }
 
 /// `work` on `unit`, its wall time added to the part of the unit's clock `part` picks when it has one.
@@ -195,7 +196,7 @@ fn timed<R>(
     r
 }
 
-fn step_and_fetch(unit: &mut Unit, t: f64, h: f64) -> Result<(), MasterError> {
+fn step_and_fetch(unit: &mut Unit, t: f64, h: f64, with_recorded: bool) -> Result<(), MasterError> {
     let fail = |error| MasterError::Step {
         component: unit.name.clone(),
         time: t,
@@ -206,7 +207,17 @@ fn step_and_fetch(unit: &mut Unit, t: f64, h: f64) -> Result<(), MasterError> {
     if let (Some(start), Some(clock)) = (start, &mut unit.clock) {
         clock.do_step += start.elapsed();
     }
-    unit.fetch().map_err(|error| MasterError::Step {
+    let fetched = if with_recorded {
+        let start = unit.clock.is_some().then(std::time::Instant::now);
+        let fetched = unit.fetch_with_recorded();
+        if let (Some(start), Some(clock)) = (start, &mut unit.clock) {
+            clock.recorded_with_step += start.elapsed();
+        }
+        fetched
+    } else {
+        unit.fetch()
+    };
+    fetched.map_err(|error| MasterError::Step {
         component: unit.name.clone(),
         time: t + h,
         error,
@@ -226,6 +237,11 @@ fn step_and_fetch(unit: &mut Unit, t: f64, h: f64) -> Result<(), MasterError> {
 pub fn read_recorded(sys: &mut System, time: f64) -> Result<(), MasterError> {
     for unit in &mut sys.units {
         if unit.recorded_only.is_empty() {
+            continue;
+        }
+        if unit.recorded_fresh {
+            // read with the step's coupled outputs and checked there
+            unit.recorded_fresh = false;
             continue;
         }
         timed(unit, |c| &mut c.recorded, Unit::fetch_recorded).map_err(|error| MasterError::Step {
@@ -373,8 +389,9 @@ impl<'s> Master<'s> {
                 h_k = stop - t;
             }
             match self.opts.algorithm {
-                Algorithm::Jacobi => self.sweep(t, h_k, false, false)?,
-                Algorithm::GaussSeidel => self.sweep(t, h_k, true, false)?,
+                // neither retakes a step: a kept row's variables are read with the coupled outputs
+                Algorithm::Jacobi => self.sweep(t, h_k, false, false, self.sys.record_next)?,
+                Algorithm::GaussSeidel => self.sweep(t, h_k, true, false, self.sys.record_next)?,
                 Algorithm::Iterative => self.iterate(t, h_k)?,
                 Algorithm::Adaptive => {
                     let (taken, next) = self.adaptive(t, h_k)?;
@@ -519,15 +536,23 @@ impl<'s> Master<'s> {
     /// (or the previous iterate), then all steps, on worker threads if asked. Gauss–Seidel: unit by
     /// unit in the scene's order, each seeing its predecessors' new values.
     /// `ends_known`: every unit's values already hold an estimate at t+h (a previous iterate);
-    /// otherwise sources are extrapolated until they step.
-    fn sweep(&mut self, t: f64, h: f64, gauss_seidel: bool, ends_known: bool) -> Result<(), MasterError> {
+    /// otherwise sources are extrapolated until they step. `with_recorded`: the sweep is final and its
+    /// row kept, each unit reads the recorder's variables with its coupled outputs.
+    fn sweep(
+        &mut self,
+        t: f64,
+        h: f64,
+        gauss_seidel: bool,
+        ends_known: bool,
+        with_recorded: bool,
+    ) -> Result<(), MasterError> {
         self.stats.sweeps += 1;
         self.known.fill(ends_known);
         let n = self.sys.units.len();
         if gauss_seidel {
             for u in 0..n {
                 self.set_inputs(u, t, h)?;
-                step_unit(&mut self.sys.units[u], t, h)?;
+                step_unit(&mut self.sys.units[u], t, h, with_recorded)?;
                 self.known[u] = true;
             }
         } else {
@@ -538,11 +563,15 @@ impl<'s> Master<'s> {
                 Some(pool) => {
                     use rayon::prelude::*;
                     let units = &mut self.sys.units;
-                    pool.install(|| units.par_iter_mut().try_for_each(|unit| step_unit(unit, t, h)))?;
+                    pool.install(|| {
+                        units
+                            .par_iter_mut()
+                            .try_for_each(|unit| step_unit(unit, t, h, with_recorded))
+                    })?;
                 }
                 None => {
                     for unit in &mut self.sys.units {
-                        step_unit(unit, t, h)?;
+                        step_unit(unit, t, h, with_recorded)?;
                     }
                 }
             }
@@ -605,7 +634,7 @@ impl<'s> Master<'s> {
                 .collect();
             self.accelerator.start(scale.into_iter());
         }
-        self.sweep(t, h, true, false)?;
+        self.sweep(t, h, true, false, false)?;
         let result = self.iterate_sweeps(t, h, kind, &mut x, &mut g);
         (self.iterate_x, self.iterate_g) = (x, g);
         result
@@ -632,7 +661,7 @@ impl<'s> Master<'s> {
                 }
             }
             self.restore_all(t)?;
-            self.sweep(t, h, true, true)?;
+            self.sweep(t, h, true, true, false)?;
             if self.coupling_error(|k, _, _| self.previous_iterate[k]) <= 1.0 {
                 return Ok(());
             }
@@ -661,7 +690,7 @@ impl<'s> Master<'s> {
                     p[0] + p[1] * h + p[2] * h * h / 2.0
                 })
                 .collect();
-            self.sweep(t, h, true, false)?;
+            self.sweep(t, h, true, false, false)?;
             let err = self.coupling_error(|k, _, _| predicted[k]);
             let factor = if err > 0.0 { 0.9 * err.powf(-exponent) } else { 2.0 };
             if err <= 1.0 || h <= min_h * (1.0 + 1e-12) {

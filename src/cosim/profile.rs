@@ -41,14 +41,17 @@ impl Profile {
         other_threads_cpu_s: Option<f64>,
         threads: usize,
     ) -> Self {
+        // the recorder's wall holds the reads it called, not those joined to a step's
+        let mut recorded = 0.0;
         let units: Vec<(String, f64, f64)> = clocks
             .into_iter()
             .map(|(name, c)| {
                 let c = c.unwrap_or_default();
-                (name.to_string(), c.step.as_secs_f64(), c.recorded.as_secs_f64())
+                recorded += c.recorded.as_secs_f64();
+                let (steps, reads) = c.steps_and_reads();
+                (name.to_string(), steps.as_secs_f64(), reads.as_secs_f64())
             })
             .collect();
-        let recorded: f64 = units.iter().map(|u| u.2).sum();
         Self {
             units,
             recorder_s: (recorder.as_secs_f64() - recorded).max(0.0),
@@ -182,6 +185,25 @@ mod tests {
             (p.recorder_s, p.master_s(), p.other_threads_cpu_s),
             (0.0, 0.0, Some(0.0))
         );
+        // reads joined to a step count as the FMU's reads, outside both its steps and the recorder
+        let p = Profile::of(
+            [(
+                "x",
+                Some(Clock {
+                    step: ms(30),
+                    recorded: ms(2),
+                    recorded_with_step: ms(10),
+                    ..Clock::default()
+                }),
+            )],
+            0.100,
+            ms(7),
+            None,
+            1,
+        );
+        assert_eq!(p.units[0], ("x".to_string(), 0.020, 0.012));
+        assert!((p.recorder_s - 0.005).abs() < 1e-12, "{}", p.recorder_s);
+        assert!((p.master_s() - (0.100 - 0.020 - 0.012 - 0.005)).abs() < 1e-12);
         // Jacobi's workers: no writer's CPU to tell apart, and the FMUs' rows overlap
         let p = Profile::of([("x", None)], 0.005, ms(2), None, 4);
         let text = p.to_string();

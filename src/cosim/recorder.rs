@@ -119,6 +119,8 @@ pub struct Recorder {
     memory: Option<Series>,
     every: u64,
     seen: u64,
+    /// Communication points to skip before the next kept one (`seen` counted down, no division a step).
+    skip: u64,
     pub rows: u64,
     last_time: f64,
     /// The recorded columns as runs of consecutive values of one unit: (unit, first index, count).
@@ -165,6 +167,7 @@ impl Recorder {
             memory,
             every: every.max(1),
             seen: 0,
+            skip: 0,
             rows: 0,
             last_time: f64::NAN,
             runs: runs(&system.recorded),
@@ -190,12 +193,14 @@ impl Recorder {
     /// Offers one communication point; reads the recorder-only variables and writes the row if
     /// decimation keeps it.
     pub fn observe(&mut self, time: f64, system: &mut System) -> Result<(), MasterError> {
-        let keep = self.seen.is_multiple_of(self.every);
+        let keep = self.skip == 0;
+        self.skip = if keep { self.every - 1 } else { self.skip - 1 };
         self.seen += 1;
         if keep {
             read_recorded(system, time)?;
             self.write(time, system)?;
         }
+        system.record_next = self.skip == 0;
         Ok(())
     }
 

@@ -38,6 +38,11 @@ pub struct System {
     pub recorded: Vec<(String, usize, usize)>,
     /// Warnings found while checking (for example outputs whose dependencies are not declared).
     pub warnings: Vec<String>,
+    /// Whether the observer keeps the next communication point's row ([`super::recorder::Recorder`]
+    /// says so after each row it offers): a Jacobi or Gauss–Seidel step, never retaken, then reads
+    /// the recorder's variables with the coupled outputs ([`Unit::fetch_with_recorded`]). False, the
+    /// start: the recorder reads them itself when it keeps a row.
+    pub record_next: bool,
 }
 
 /// What to record: every output of every component, or the listed `component.variable` names.
@@ -343,6 +348,9 @@ impl System {
                 can_interpolate_inputs: cs.can_interpolate_inputs,
                 can_get_set_state: cs.can_get_and_set_fmu_state,
                 can_vary_step: cs.can_handle_variable_step,
+                joined_real: [&coupled.real[..], &recorded_only.real[..]].concat(),
+                joined_values: Vec::new(),
+                recorded_fresh: false,
                 coupled,
                 recorded_only,
                 fetch_names: order.iter().map(|&i| fetch[u][i].2.clone()).collect(),
@@ -402,6 +410,7 @@ impl System {
             start_time,
             recorded,
             warnings,
+            record_next: false,
         };
         system.apply_parameters(scene, overrides)?;
         Ok(system)

@@ -25,6 +25,7 @@ mod physics_modes;
 mod plain_step;
 mod read_plan;
 mod readme;
+mod recorded_reads;
 mod reproduction;
 mod rotor_aero_damping;
 mod rotor_blades;
