@@ -3,7 +3,7 @@
 //! every output recorded into memory at every step as `windrive run` does, and the two runs' results
 //! checked identical.
 
-use crate::cosim::master::read_recorded;
+use crate::cosim::master::read_every_row;
 use crate::cosim::{Algorithm, Master, Options, Record, Scene, System};
 use crate::fmi2::host::isolate::Isolation;
 use anyhow::bail;
@@ -30,7 +30,7 @@ fn timed(scene: &Scene, algorithm: Algorithm, stop: f64, host: Option<&Path>) ->
     let start = Instant::now();
     let mut master = Master::new(&mut system, Options::new(algorithm, step, stop))?;
     master.run(|t, sys| {
-        read_recorded(sys, t)?;
+        read_every_row(sys, t)?;
         for &(_, u, i) in &sys.recorded {
             checksum = checksum.rotate_left(5) ^ sys.units[u].values[i].to_bits();
         }

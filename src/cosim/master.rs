@@ -263,6 +263,15 @@ pub fn read_recorded(sys: &mut System, time: f64) -> Result<(), MasterError> {
     Ok(())
 }
 
+/// [`read_recorded`] for an observer that keeps every row, telling the master so
+/// ([`System::record_next`]): from the next step on each FMU's recorder-only variables come with its
+/// coupled outputs (Jacobi and Gauss–Seidel) and this reads nothing more.
+pub fn read_every_row(sys: &mut System, time: f64) -> Result<(), MasterError> {
+    read_recorded(sys, time)?;
+    sys.record_next = true;
+    Ok(())
+}
+
 impl<'s> Master<'s> {
     pub fn new(sys: &'s mut System, opts: Options) -> Result<Self, MasterError> {
         if !(opts.step.is_finite() && opts.step > 0.0) {
@@ -745,7 +754,7 @@ pub fn run_columns_with(
     let mut master = Master::new(&mut system, opts)?;
     let start = thread_cpu_seconds();
     master.run(|time, sys| {
-        read_recorded(sys, time)?;
+        read_every_row(sys, time)?;
         out[0].push(time);
         for (k, (_, u, i)) in sys.recorded.iter().enumerate() {
             out[k + 1].push(sys.units[*u].values[*i]);

@@ -138,12 +138,13 @@ impl ParquetWriter {
 
     /// Adds one row: the time, then the values in the columns' order.
     pub fn row(&mut self, time: f64, values: &[f64]) -> std::io::Result<()> {
-        if values.len() != self.width - 1 {
-            return Err(io_error(
-                &self.path,
-                format!("a row of {} values for {} columns", values.len(), self.width - 1),
-            ));
-        }
+        self.row_of_parts(time, std::iter::once(values))
+    }
+
+    /// Adds one row: the time, then the values of `parts` one after the other in the columns' order
+    /// (a recorder's row gathered straight into the buffer, without a copy of its own). A row of the
+    /// wrong width is refused and left out.
+    pub fn row_of_parts<'a>(&mut self, time: f64, parts: impl IntoIterator<Item = &'a [f64]>) -> std::io::Result<()> {
         if self.rows.capacity() == 0 {
             // the whole chunk at once: growing it would copy every row kept so far, repeatedly;
             // a buffer the writer thread has written comes back with its capacity
@@ -152,8 +153,19 @@ impl ParquetWriter {
                 .try_recv()
                 .unwrap_or_else(|_| Vec::with_capacity(CHUNK_ROWS * self.width));
         }
+        let start = self.rows.len();
         self.rows.push(time);
-        self.rows.extend_from_slice(values);
+        for part in parts {
+            self.rows.extend_from_slice(part);
+        }
+        let width = self.rows.len() - start;
+        if width != self.width {
+            self.rows.truncate(start);
+            return Err(io_error(
+                &self.path,
+                format!("a row of {} values for {} columns", width - 1, self.width - 1),
+            ));
+        }
         if self.rows.len() >= CHUNK_ROWS * self.width {
             self.send_buffered()?;
         }
@@ -335,10 +347,19 @@ mod tests {
             let path = dir.join(format!("{rows}-{close}.parquet"));
             let mut w = ParquetWriter::create(&path, ["a", "b"]).unwrap();
             for i in 0..rows {
-                w.row(i as f64 * 1e-3, &[value(i, 0), value(i, 1)]).unwrap();
+                let (t, a, b) = (i as f64 * 1e-3, value(i, 0), value(i, 1));
+                // every other row gathered from parts, as a recorder hands them over
+                if i % 2 == 0 {
+                    w.row(t, &[a, b]).unwrap();
+                } else {
+                    w.row_of_parts(t, [&[a][..], &[], &[b]]).unwrap();
+                }
             }
+            // rows of the wrong width are refused and left out (the values read back below)
             let refused = w.row(1.0, &[1.0]).unwrap_err().to_string();
             assert!(refused.contains("a row of 1 values for 2 columns"), "{refused}");
+            let refused = w.row_of_parts(1.0, [&[1.0, 2.0][..], &[3.0]]).unwrap_err().to_string();
+            assert!(refused.contains("a row of 3 values for 2 columns"), "{refused}");
             if close {
                 w.close().unwrap();
                 w.close().unwrap();

@@ -205,6 +205,17 @@ impl Recorder {
     }
 
     fn write(&mut self, time: f64, system: &System) -> std::io::Result<()> {
+        if let (None, Some((Sink::Parquet(w), _))) = (&self.memory, &mut self.out) {
+            // the runs straight into the writer's buffer
+            let parts = self
+                .runs
+                .iter()
+                .map(|&(u, start, n)| &system.units[u].values[start..start + n]);
+            w.row_of_parts(time, parts)?;
+            self.rows += 1;
+            self.last_time = time;
+            return Ok(());
+        }
         self.row.clear();
         for &(u, start, n) in &self.runs {
             self.row.extend_from_slice(&system.units[u].values[start..start + n]);
