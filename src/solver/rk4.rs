@@ -175,11 +175,17 @@ fn cholesky_solve_sparse(l: &nalgebra::DMatrix<f64>, below: &SparseColumns, x: &
         }
     }
     for i in (0..n).rev() {
+        let column = below.column(i);
+        if column.is_empty() {
+            // the running sums of no terms add up to +0.0, and x − (+0.0) is x to the bit (−0 too): most
+            // columns of a gearbox's mass factor hold no entry below the diagonal
+            x[i] /= diagonal(i);
+            continue;
+        }
         // nalgebra_dot over rows i + 1 … n − 1: position p = r − i − 1 goes to running sum p mod 8
         // in the blocks of eight, the tail after them is added in order
         let blocked = i + 1 + (n - i - 1) / 8 * 8;
         let mut acc = [0.0f64; 8];
-        let column = below.column(i);
         let split = column.partition_point(|&(r, _)| r < blocked);
         for &(r, li) in &column[..split] {
             acc[(r - i - 1) % 8] += li * x[r];
