@@ -208,12 +208,7 @@ fn step_and_fetch(unit: &mut Unit, t: f64, h: f64, with_recorded: bool) -> Resul
         clock.do_step += start.elapsed();
     }
     let fetched = if with_recorded {
-        let start = unit.clock.is_some().then(std::time::Instant::now);
-        let fetched = unit.fetch_with_recorded();
-        if let (Some(start), Some(clock)) = (start, &mut unit.clock) {
-            clock.recorded_with_step += start.elapsed();
-        }
-        fetched
+        timed(unit, |c| &mut c.recorded_with_step, Unit::fetch_with_recorded)
     } else {
         unit.fetch()
     };
