@@ -39,6 +39,12 @@ pub struct Ordering {
     /// entries of L's column k below the diagonal, which are also U's row k right of it.
     starts: Vec<usize>,
     below: Vec<usize>,
+    /// The same entries of L by rows: left[left_starts[i]..left_starts[i + 1]] the positions k < i
+    /// (ascending) of the columns that hold row i, and left_entry the index of each such entry in
+    /// `below` (and so in L's columns).
+    left_starts: Vec<usize>,
+    left: Vec<usize>,
+    left_entry: Vec<usize>,
 }
 
 /// Bits per word of a pattern column.
@@ -174,6 +180,23 @@ impl Ordering {
             below[first..].sort_unstable();
             starts.push(below.len());
         }
+        // L's rows from its columns: the columns in ascending order leave each row's list ascending
+        let mut left_starts = vec![0; n + 1];
+        for &i in &below {
+            left_starts[i + 1] += 1;
+        }
+        for i in 0..n {
+            left_starts[i + 1] += left_starts[i];
+        }
+        let mut next = left_starts.clone();
+        let (mut left, mut left_entry) = (vec![0; below.len()], vec![0; below.len()]);
+        for k in 0..n {
+            for (p, &i) in below.iter().enumerate().take(starts[k + 1]).skip(starts[k]) {
+                left[next[i]] = k;
+                left_entry[next[i]] = p;
+                next[i] += 1;
+            }
+        }
         Self {
             n,
             pattern,
@@ -181,6 +204,9 @@ impl Ordering {
             position,
             starts,
             below,
+            left_starts,
+            left,
+            left_entry,
         }
     }
 
@@ -278,10 +304,10 @@ fn eliminate(o: &Ordering, a: &mut [f64]) -> Option<(Vec<f64>, Vec<f64>, Vec<f64
     Some((l, u, inverse_pivots))
 }
 
-/// J = Pᵀ·L·U·P with P the ordering's permutation. L's columns and U's rows are packed beside the
-/// ordering's lists (`l[starts[k]..starts[k + 1]]`: L's column k at the positions `below(k)`, `u` the
-/// same for U's row k), the reciprocals of U's diagonal apart: a solve visits the factors' entries and
-/// nothing else.
+/// J = Pᵀ·L·U·P with P the ordering's permutation. L's rows and U's rows are packed beside the
+/// ordering's lists (`l[left_starts[i]..left_starts[i + 1]]`: L's row i at the positions `left`,
+/// `u[starts[k]..starts[k + 1]]`: U's row k at the positions `below(k)`), the reciprocals of U's
+/// diagonal apart: a solve visits the factors' entries and nothing else.
 #[derive(Debug, Clone)]
 pub struct PatternLu {
     ordering: Arc<Ordering>,
@@ -317,7 +343,8 @@ impl PatternLu {
                 a[i * n + k] = 0.0;
             }
         }
-        let (l, u, inverse_pivots) = factors?;
+        let (by_columns, u, inverse_pivots) = factors?;
+        let l = o.left_entry.iter().map(|&p| by_columns[p]).collect();
         Some(Self {
             ordering,
             l,
@@ -394,16 +421,18 @@ impl PatternLu {
         take(y, &self.ordering.order)
     }
 
-    /// L·U·y = y in elimination order: forward by L's columns, back by U's rows from the last.
-    /// Without bounds checks: most columns have a few entries or none, and the checks of each
-    /// column's slices and of each y index were half a solve's instructions.
+    /// L·U·y = y in elimination order: forward by L's rows from the first, back by U's rows from the
+    /// last. Without bounds checks: most rows have a few entries or none, and the checks of each
+    /// row's slices and of each y index were half a solve's instructions.
     ///
-    /// Each row of the back substitution sums its terms from the last column to the first and
-    /// multiplies by the pivot's reciprocal: its first terms are then values solved rows ago, so the
-    /// CPU overlaps consecutive rows' chains of dependent subtractions, where from the first column
-    /// each row's chain began with the value the row before it had only just produced, and a
-    /// multiplication waits a quarter as long as a division (`windrive bench solvers`: a solve of the
-    /// GRC's J 1.56 → 1.11 µs, docs/PERFORMANCE.md; the other order rounds differently, as stably).
+    /// Both sweeps sum a row's terms in a register, the values solved longest ago first (L's row from
+    /// its first column, U's from its last), and the back substitution multiplies by the pivot's
+    /// reciprocal: consecutive rows' chains of dependent subtractions then overlap in the CPU, where
+    /// the forward sweep by L's columns updated each value in memory once per column and the back
+    /// substitution from the first column began each row's chain with the value the row before it
+    /// had only just produced, and a multiplication waits a quarter as long as a division (`windrive
+    /// bench solvers`, docs/PERFORMANCE.md; the back substitution's order rounds differently, as
+    /// stably; the forward sweep subtracts in the columns' order as before).
     #[inline(always)]
     fn substitute(&self, y: &mut [f64]) {
         let o = &self.ordering;
@@ -411,23 +440,28 @@ impl PatternLu {
         assert!(
             y.len() == n
                 && o.starts.len() == n + 1
+                && o.left_starts.len() == n + 1
+                && o.left.len() == o.below.len()
                 && self.l.len() == o.below.len()
                 && self.u.len() == o.below.len()
                 && self.inverse_pivots.len() == n
         );
-        // SAFETY (every unchecked access below): `starts` rises from 0 to below.len() (`Ordering::new`),
-        // so each span lies within `below`, `l` and `u` (asserted of equal length); every entry of
-        // `below` is a position < n and y and the pivots' reciprocals have n entries; k < n.
+        // SAFETY (every unchecked access below): `starts` and `left_starts` rise from 0 to below.len()
+        // (`Ordering::new`), so each span lies within `below`, `left`, `l` and `u` (asserted of equal
+        // length); every entry of `below` and `left` is a position < n and y and the pivots'
+        // reciprocals have n entries; i, k < n.
         unsafe {
-            for k in 0..n {
-                let yk = *y.get_unchecked(k);
-                let span = *o.starts.get_unchecked(k)..*o.starts.get_unchecked(k + 1);
-                if yk != 0.0 && !span.is_empty() {
-                    let rows = o.below.get_unchecked(span.clone());
-                    for (li, &i) in self.l.get_unchecked(span).iter().zip(rows) {
-                        *y.get_unchecked_mut(i) -= li * yk;
-                    }
+            for i in 0..n {
+                let span = *o.left_starts.get_unchecked(i)..*o.left_starts.get_unchecked(i + 1);
+                if span.is_empty() {
+                    continue;
                 }
+                let mut s = *y.get_unchecked(i);
+                let columns = o.left.get_unchecked(span.clone());
+                for (li, &k) in self.l.get_unchecked(span).iter().zip(columns) {
+                    s -= li * *y.get_unchecked(k);
+                }
+                *y.get_unchecked_mut(i) = s;
             }
             for k in (0..n).rev() {
                 let span = *o.starts.get_unchecked(k)..*o.starts.get_unchecked(k + 1);
