@@ -36,19 +36,15 @@ struct Cell {
 }
 
 impl Cell {
-    /// By Estrin's scheme, pairs of coefficients first and then pairs of pairs: three dependent
-    /// multiply–adds instead of Horner's seven, which a roller's lookup waited for in full (a
-    /// roller's other work is too long for the CPU to overlap two rollers' polynomials).
     #[inline(always)]
     fn at(&self, t: f64) -> Sums {
-        const _: () = assert!(DEGREE == 7, "Estrin's scheme below is written out for degree 7");
-        let (t2, c) = (t * t, &self.coef);
-        let t4 = t2 * t2;
-        std::array::from_fn(|i| {
-            let low = (c[0][i] + c[1][i] * t) + (c[2][i] + c[3][i] * t) * t2;
-            let high = (c[4][i] + c[5][i] * t) + (c[6][i] + c[7][i] * t) * t2;
-            low + high * t4
-        })
+        let mut acc = self.coef[DEGREE];
+        for c in self.coef[..DEGREE].iter().rev() {
+            for (a, c) in acc.iter_mut().zip(c) {
+                *a = *a * t + c;
+            }
+        }
+        acc
     }
 }
 
