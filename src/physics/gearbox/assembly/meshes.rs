@@ -3,7 +3,7 @@
 
 use super::builder::{Builder, MeshSpec, cross};
 use crate::physics::gearbox::description::{ForceLaw, MeshStiffnessModel};
-use crate::physics::gearbox::mesh::{Law, Mesh, Phase};
+use crate::physics::gearbox::mesh::{FlankSums, Law, Mesh, Phase};
 use crate::physics::gearbox::model::SPIN;
 use crate::physics::gearbox::row::Row;
 use crate::solver::norms::max_abs;
@@ -124,6 +124,7 @@ pub(super) fn add_mesh(b: &mut Builder, m: &MeshSpec, sigma: f64) -> Result<(), 
             })
         }
     };
+    let sums = [FlankSums::of(&zeta, &error), FlankSums::of(&zeta, &error_back)];
     b.meshes.push(Mesh {
         name: m.name.clone(),
         drive,
@@ -139,6 +140,7 @@ pub(super) fn add_mesh(b: &mut Builder, m: &MeshSpec, sigma: f64) -> Result<(), 
         face_width: w,
         driver_arm,
         line_masses,
+        sums,
     });
     b.geometry.push(*g);
     Ok(())
