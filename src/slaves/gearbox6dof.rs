@@ -13,6 +13,7 @@ use crate::physics::gearbox::description::{BearingModel, Description, MeshStiffn
 use crate::physics::gearbox::loads::BearingLoad;
 use crate::physics::gearbox::mesh::MeshReport;
 use crate::physics::gearbox::model::{INPUT_BRAKE_COMMAND, INPUT_GENERATOR_TORQUE, INPUT_ROTOR_TORQUE};
+use crate::physics::gearbox::near::SetTangents;
 use crate::physics::gearbox::statics::equilibrium;
 use crate::solver::alpha::{Alpha, Newton};
 use crate::solver::state::ForcesAt;
@@ -224,6 +225,10 @@ pub struct Gearbox6dofSlave {
     built: Option<Arc<Built>>,
     #[serde(skip, default = "implicit_driver")]
     driver: Driver,
+    /// The roller sets' last exact evaluations (`roller_update_distance`): history no state holds,
+    /// forgotten with the driver's factorisations.
+    #[serde(skip)]
+    tangents: SetTangents,
     /// Loads of the current state (a master reads a hundred outputs per step).
     #[serde(skip)]
     loads: LoadsCache,
@@ -359,6 +364,7 @@ impl Gearbox6dofSlave {
         if self.built.is_none() {
             let built = self.params.build(self.resources.as_deref())?;
             self.driver = built.driver();
+            self.tangents.forget();
             self.built = Some(Arc::new(built));
             self.loads.valid = false;
             self.state_forces.at.valid = false;
@@ -369,6 +375,7 @@ impl Gearbox6dofSlave {
             let built = self.built.as_ref().unwrap();
             self.state = Some(self.params.initial_state(built, self.inputs.rotor_torque.value())?);
             self.loads.valid = false;
+            self.tangents.forget();
         }
         let built = self.built.as_ref().unwrap();
         Ok((built, self.state.as_mut().unwrap()))
@@ -455,6 +462,7 @@ impl Slave for Gearbox6dofSlave {
             state: self.state.clone(),
             built: self.built.clone(),
             driver: implicit_driver(),
+            tangents: SetTangents::default(),
             loads: LoadsCache::default(),
             state_forces: StateForces::default(),
             stepped: self.stepped,
@@ -485,6 +493,7 @@ impl Slave for Gearbox6dofSlave {
         } else {
             self.driver = self.built.as_ref().map_or_else(implicit_driver, |b| b.driver());
         }
+        self.tangents.forget();
     }
 
     /// The run goes on without factorisations and without the last step's end forces, as a run
@@ -492,6 +501,7 @@ impl Slave for Gearbox6dofSlave {
     /// the run that goes on and every rerun from the state repeat bit for bit.
     fn state_taken(&mut self) {
         self.driver.forget_factorisations();
+        self.tangents.forget();
         self.state_forces.at.valid = false;
     }
 
@@ -503,6 +513,7 @@ impl Slave for Gearbox6dofSlave {
             state: None,
             built: None,
             driver: implicit_driver(),
+            tangents: SetTangents::default(),
             loads: LoadsCache::default(),
             state_forces: StateForces::default(),
             stepped: false,
@@ -677,7 +688,7 @@ impl Gearbox6dofSlave {
         kept.at.valid = false;
         self.driver.max_steps_per_call = self.params.max_steps_per_call;
         let result = self.driver.advance(
-            &built.model,
+            &self.tangents.around(&built.model, self.params.roller_update_distance),
             st,
             t,
             h,

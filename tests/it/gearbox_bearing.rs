@@ -3,7 +3,7 @@
 //! set under a pure axial load, Hertz stresses of a roller on its race, and the tangent it hands
 //! the integrators.
 
-use windrive::physics::gearbox::bearing::{Mounting, RollerBearing, RollerLoads};
+use windrive::physics::gearbox::bearing::{Mounting, RollerBearing, RollerLoads, SetTangent};
 use windrive::physics::gearbox::description::{Contact, Rollers};
 use windrive::physics::gearbox::roller_table::RollerTables;
 use windrive::physics::gearbox::row::Row;
@@ -379,4 +379,118 @@ fn crowned_and_point_contact_sets_keep_the_lamina_loop() {
     (point.contact, point.roller_stiffness) = (Contact::Point, Some(1e9));
     assert!(!mounted(&point, 1e-4, true).tabulated());
     assert!(mounted(&crb(20, 60.0, 1), 1e-4, true).tabulated());
+}
+
+/// A damped, tilted, angular, crowned set with clearance at (x, ẋ) and the cage at ψ_c: q and v on
+/// the six coordinates of [`mounted`].
+fn near_case() -> (RollerBearing, [f64; 6], [f64; 6]) {
+    let mut r = crb(17, 30.0, 8);
+    r.contact_angle_deg = 10.0;
+    r.crowning_um = 5.0;
+    let b = mounted(&r, 2e-4, false);
+    let q = [60e-6, -25e-6, 20e-6, 1e-4, -2e-4, 0.3];
+    let v = [1e-3, -2e-3, 5e-4, 0.02, -0.01, 40.0];
+    (b, q, v)
+}
+
+/// The force `add_forces_near` adds at (q, v) with `distance`, from `near`.
+fn near_force(b: &RollerBearing, q: &[f64; 6], v: &[f64; 6], distance: f64, near: &mut Option<SetTangent>) -> [f64; 6] {
+    let mut out = [0.0; 6];
+    b.add_forces_near(q, v, distance, near, &mut out);
+    out
+}
+
+fn exact_force(b: &RollerBearing, q: &[f64; 6], v: &[f64; 6]) -> [f64; 6] {
+    let mut out = [0.0; 6];
+    b.add_forces(q, v, false, &mut out);
+    out
+}
+
+/// Between exact evaluations a roller set's force is its last exact evaluation's force plus its
+/// stiffness and damping times the change (so at the same point, the exact force to the bit); once
+/// a lamina can have moved further than the distance (a translation, a tilt at the farthest lamina
+/// or the load zone's turn with the cage), the set is evaluated exactly and that evaluation kept.
+#[test]
+fn a_set_near_its_last_evaluation_takes_its_tangent() {
+    let (b, q0, v0) = near_case();
+    let distance = 3e-7;
+    let mut near = None;
+    assert_eq!(
+        near_force(&b, &q0, &v0, distance, &mut near),
+        exact_force(&b, &q0, &v0),
+        "first: exact"
+    );
+    assert_eq!(
+        near_force(&b, &q0, &v0, distance, &mut near),
+        exact_force(&b, &q0, &v0),
+        "same point"
+    );
+
+    // within the distance: f0 + K·Δx + C·Δẋ, within the linearisation's remainder of the exact force
+    let (dq, dv) = (
+        [1e-7, -5e-8, 4e-8, 2e-7, -1e-7, 0.0],
+        [1e-4, 0.0, -2e-4, 1e-3, 0.0, 0.0],
+    );
+    let (q1, v1): ([f64; 6], [f64; 6]) = (
+        std::array::from_fn(|i| q0[i] + dq[i]),
+        std::array::from_fn(|i| v0[i] + dv[i]),
+    );
+    let x0: [f64; 5] = std::array::from_fn(|i| q0[i]);
+    let xd0: [f64; 5] = std::array::from_fn(|i| v0[i]);
+    let (mut k, mut c) = ([[0.0; 5]; 5], [[0.0; 5]; 5]);
+    let f0 = b.evaluate(&x0, &xd0, q0[5], false, Some((&mut k, &mut c))).force;
+    let linear: [f64; 5] =
+        std::array::from_fn(|a| f0[a] + (0..5).map(|j| k[a][j] * dq[j] + c[a][j] * dv[j]).sum::<f64>());
+    let got = near_force(&b, &q1, &v1, distance, &mut near);
+    let exact = exact_force(&b, &q1, &v1);
+    let scale = exact.iter().take(3).fold(0.0f64, |m, f| m.max(f.abs()));
+    for i in 0..5 {
+        assert!(
+            (got[i] - linear[i]).abs() <= 1e-12 * scale,
+            "f[{i}] = {} against f0 + KΔx + CΔẋ = {}",
+            got[i],
+            linear[i]
+        );
+        assert!(
+            (got[i] - exact[i]).abs() <= 1e-3 * scale,
+            "f[{i}] = {} against the exact {}",
+            got[i],
+            exact[i]
+        );
+        assert_ne!(got[i], exact[i], "f[{i}] must come from the tangent");
+    }
+
+    // a translation beyond the distance: exact, and kept (the same point again is exact to the bit)
+    let mut q2 = q0;
+    q2[0] += 4e-7;
+    assert_eq!(near_force(&b, &q2, &v0, distance, &mut near), exact_force(&b, &q2, &v0));
+    assert_eq!(near_force(&b, &q2, &v0, distance, &mut near), exact_force(&b, &q2, &v0));
+
+    // the cage's turn moves the load zone: 1e-2 rad at a radial displacement of 65 µm (plus the
+    // tilt's part at the farthest lamina, 13 µm) is beyond 3e-7 m, 1e-3 rad within it (the force
+    // then held where the cage was)
+    let turned = |dpsi: f64| {
+        let mut q = q2;
+        q[5] += dpsi;
+        q
+    };
+    let held = near_force(&b, &turned(1e-3), &v0, distance, &mut near);
+    assert_eq!(
+        held[..5],
+        exact_force(&b, &q2, &v0)[..5],
+        "the cage within the distance: the kept force"
+    );
+    let q3 = turned(1e-2);
+    assert_eq!(near_force(&b, &q3, &v0, distance, &mut near), exact_force(&b, &q3, &v0));
+
+    // a tilt: 1e-5 rad moves the farthest lamina by 0.59 µm, beyond 3e-7 m (the contact angle's arm
+    // at the 200 mm pitch radius, 35 mm, and half the roller's 50 mm along the axis)
+    let mut q4 = q3;
+    q4[4] += 1e-5;
+    assert_eq!(near_force(&b, &q4, &v0, distance, &mut near), exact_force(&b, &q4, &v0));
+
+    // no distance: always exact
+    let mut none = None;
+    near_force(&b, &q0, &v0, 0.0, &mut none);
+    assert_eq!(near_force(&b, &q1, &v1, 0.0, &mut none), exact, "distance 0");
 }

@@ -158,6 +158,21 @@ pub struct RollerBearing {
     offsets_from: [Vec<f64>; 2],
     /// e·τ: a lamina's damping per unit of its secant stiffness.
     exponent_damping: f64,
+    /// How far a tilt of 1 rad moves the farthest lamina's approach at most, m (through the contact
+    /// angle's arm at the pitch radius and the lamina's place along the axis).
+    tilt_reach: f64,
+}
+
+/// A roller set's force and its 5 × 5 stiffness and damping where it was last evaluated exactly: the
+/// force near there is taken from them ([`RollerBearing::add_forces_near`]).
+#[derive(Debug, Clone, Copy)]
+pub struct SetTangent {
+    x: [f64; 5],
+    xd: [f64; 5],
+    cage: f64,
+    force: [f64; 5],
+    k: Matrix5,
+    c: Matrix5,
 }
 
 /// A loaded roller's load, moment about the row's centre and the sums of its laminae's stiffness and
@@ -271,6 +286,10 @@ impl RollerBearing {
             RaceContacts::Point { inner, .. } => inner.max_shear(STEEL_NU),
             _ => subsurface_peaks(STEEL_NU).max_shear,
         };
+        let tilt_reach = roller_rows
+            .iter()
+            .map(|row| row.sin.abs() * 0.5 * dm + row.cos * (row.z.abs() + 0.5 * length))
+            .fold(0.0, f64::max);
         let uncrowned = crown == 0.0;
         let table = tables
             .filter(|_| uncrowned && exponent == LINE_EXPONENT)
@@ -297,6 +316,7 @@ impl RollerBearing {
             half_roller: 0.5 * length,
             offsets_from,
             exponent_damping: exponent * damping_time,
+            tilt_reach,
         }
     }
 
@@ -400,11 +420,26 @@ impl RollerBearing {
                     out.force[i] += roller * u[i] + moment * w[i - 3];
                 }
                 if let Some((k, c)) = tangent.as_mut() {
-                    let w = [0.0, 0.0, 0.0, w[0], w[1]];
+                    // the upper triangle (both blocks are symmetric: mirrored once below); w is zero
+                    // on the translations, so their 3 × 3 block has the u·uᵀ sums alone
                     let ([k0, k1, k2], [c0, c1, c2]) = (sums.stiffness, sums.damping);
-                    for a in 0..5 {
-                        for b in 0..5 {
-                            let (uu, uw, ww) = (u[a] * u[b], u[a] * w[b] + w[a] * u[b], w[a] * w[b]);
+                    for a in 0..3 {
+                        for b in a..3 {
+                            let uu = u[a] * u[b];
+                            k[a][b] += k0 * uu;
+                            c[a][b] += c0 * uu;
+                        }
+                        for b in 3..5 {
+                            let (uu, uw) = (u[a] * u[b], u[a] * w[b - 3]);
+                            k[a][b] += k0 * uu + k1 * uw;
+                            c[a][b] += c0 * uu + c1 * uw;
+                        }
+                    }
+                    for a in 3..5 {
+                        for b in a..5 {
+                            let uu = u[a] * u[b];
+                            let uw = u[a] * w[b - 3] + w[a - 3] * u[b];
+                            let ww = w[a - 3] * w[b - 3];
                             k[a][b] += k0 * uu + k1 * uw + k2 * ww;
                             c[a][b] += c0 * uu + c1 * uw + c2 * ww;
                         }
@@ -413,6 +448,13 @@ impl RollerBearing {
                 if roller > 0.0 {
                     out.rollers_in_contact += 1;
                     out.max_roller_load = out.max_roller_load.max(roller);
+                }
+            }
+        }
+        if let Some((k, c)) = tangent {
+            for a in 1..5 {
+                for b in 0..a {
+                    (k[a][b], c[a][b]) = (k[b][a], c[b][a]);
                 }
             }
         }
@@ -611,6 +653,54 @@ impl RollerBearing {
             }
         }
         loads
+    }
+
+    /// f_int += the bearing's force at (q, v) as [`Self::add_forces`] gives it without peaks, or, while no
+    /// lamina's approach to its races can have moved more than `distance` (m) from `near`'s exact
+    /// evaluation, f₀ + K·Δx + C·Δẋ from `near`'s tangent; else evaluated exactly with its tangent,
+    /// which `near` then keeps. The tangent holds the cage where it was: the bound counts the load
+    /// zone's turn with the cage as a motion of the laminae.
+    #[inline(always)]
+    pub fn add_forces_near(&self, q: &[f64], v: &[f64], distance: f64, near: &mut Option<SetTangent>, out: &mut [f64]) {
+        let (x, xd, cage) = self.kinematics(q, v);
+        let force = match near {
+            Some(t) if self.lamina_motion(t, &x, cage) <= distance => std::array::from_fn(|a| {
+                let (k, c) = (&t.k[a], &t.c[a]);
+                t.force[a]
+                    + (0..5)
+                        .map(|b| k[b] * (x[b] - t.x[b]) + c[b] * (xd[b] - t.xd[b]))
+                        .sum::<f64>()
+            }),
+            _ => {
+                let (mut k, mut c) = ([[0.0; 5]; 5], [[0.0; 5]; 5]);
+                let force = self.evaluate(&x, &xd, cage, false, Some((&mut k, &mut c))).force;
+                *near = Some(SetTangent {
+                    x,
+                    xd,
+                    cage,
+                    force,
+                    k,
+                    c,
+                });
+                force
+            }
+        };
+        for (row, f) in self.rows.iter().zip(force) {
+            if f != 0.0 {
+                row.axpy(f, out);
+            }
+        }
+    }
+
+    /// The most any lamina's approach can differ, m, between `t`'s relative displacement and cage
+    /// angle and (x, ψ_c): the translations', the tilts' at the farthest lamina, and the cage's turn,
+    /// which moves each roller's approach by at most the radial displacement at its laminae times the
+    /// angle.
+    #[inline(always)]
+    fn lamina_motion(&self, t: &SetTangent, x: &[f64; 5], cage: f64) -> f64 {
+        let d = |i: usize| (x[i] - t.x[i]).abs();
+        let radial = x[0].hypot(x[1]) + self.tilt_reach * x[3].hypot(x[4]);
+        d(0) + d(1) + d(2) + self.tilt_reach * (d(3) + d(4)) + radial * (cage - t.cage).abs()
     }
 
     /// j += c_c·C + c_k·K of the bearing at (q, v).

@@ -3,6 +3,7 @@
 use super::bearing::{RaceStresses, RollerBearing, RollerLoads};
 use super::mesh::{FlankLoad, MeshReport};
 use super::model::{Gearbox, SPIN, TX, TY};
+use super::system::Sets;
 
 /// Loads of one bearing, in the frame it sits in.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -39,7 +40,7 @@ impl Gearbox {
         let mut flanks = Vec::with_capacity(self.meshes.len());
         // f_int itself is not reported (the FMU's steps leave it by their equation of motion)
         let mut forces = vec![0.0; self.dofs()];
-        self.state_forces(q, v, &mut forces, Some(&mut slices), Some(&mut sets), |l| {
+        self.state_forces(q, v, &mut forces, Some(&mut slices), Sets::Reported(&mut sets), |l| {
             flanks.push(l)
         });
         Loads {

@@ -10,6 +10,7 @@ pub mod involute;
 pub mod loads;
 pub mod mesh;
 pub mod model;
+pub mod near;
 mod ninth_root;
 pub mod roller_table;
 pub mod row;

@@ -1,28 +1,50 @@
 //! The gearbox as a [`SecondOrderSystem`]: forces, tangent and contact pattern for the integrators,
 //! and the engaged-mesh linearisation for modal analysis.
 
-use super::bearing::RollerLoads;
+use super::bearing::{RollerLoads, SetTangent};
 use super::mesh::{FlankLoad, KeyBits};
 use super::model::{Gearbox, INPUT_BRAKE_COMMAND, SPIN, TX, TY, UX, UY, UZ};
 use super::row::add_outer;
 use crate::solver::system::{Friction, InputLoad, Linearisation, Linearity, Mass, SecondOrderSystem};
 use nalgebra::DMatrix;
 
+/// How an evaluation of f_int takes the roller sets' forces.
+pub(super) enum Sets<'a> {
+    /// Each set evaluated exactly.
+    Exact,
+    /// Exactly, each set's loads (its largest lamina load included) written to its entry.
+    Reported(&'a mut [RollerLoads]),
+    /// From each set's own tangent while its laminae are within the distance (m) of its last exact
+    /// evaluation, which each entry keeps ([`super::bearing::RollerBearing::add_forces_near`]).
+    Near(&'a mut [Option<SetTangent>], f64),
+}
+
 impl Gearbox {
-    /// Springs' forces (bearings, shafts) and the roller sets' into `out` (added); with `sets`, each
-    /// roller set's loads, its largest lamina load included, written to it.
+    /// Springs' forces (bearings, shafts) and the roller sets' into `out` (added), the roller sets'
+    /// as `sets` asks.
     #[inline(always)]
-    fn add_spring_forces(&self, q: &[f64], v: &[f64], out: &mut [f64], mut sets: Option<&mut [RollerLoads]>) {
+    fn add_spring_forces(&self, q: &[f64], v: &[f64], out: &mut [f64], sets: Sets<'_>) {
         for s in self.springs.iter().filter(|s| !s.lamina) {
             let f = s.force(q, v);
             if f != 0.0 {
                 s.row.axpy(f, out);
             }
         }
-        for (i, r) in self.rollers.iter().enumerate() {
-            let loads = r.add_forces(q, v, sets.is_some(), out);
-            if let Some(sets) = sets.as_deref_mut() {
-                sets[i] = loads;
+        match sets {
+            Sets::Exact => {
+                for r in &self.rollers {
+                    r.add_forces(q, v, false, out);
+                }
+            }
+            Sets::Reported(loads) => {
+                for (r, l) in self.rollers.iter().zip(loads) {
+                    *l = r.add_forces(q, v, true, out);
+                }
+            }
+            Sets::Near(tangents, distance) => {
+                for (r, near) in self.rollers.iter().zip(tangents) {
+                    r.add_forces_near(q, v, distance, near, out);
+                }
             }
         }
     }
@@ -85,8 +107,8 @@ impl Gearbox {
         out[f + UZ] -= self.thrust;
     }
 
-    /// f_int less the rotor's loads ([`Self::add_rotor_loads`]) into `out`, writing each roller set's
-    /// loads to `sets` when given and handing each mesh's flank loads to `each_mesh` and, when given,
+    /// f_int less the rotor's loads ([`Self::add_rotor_loads`]) into `out`, the roller sets' as `sets`
+    /// asks, handing each mesh's flank loads to `each_mesh` and, when given,
     /// writing the per-slice loads of every mesh to `slices` (mesh after mesh).
     pub(super) fn state_forces(
         &self,
@@ -94,7 +116,7 @@ impl Gearbox {
         v: &[f64],
         out: &mut [f64],
         slices: Option<&mut [f64]>,
-        sets: Option<&mut [RollerLoads]>,
+        sets: Sets<'_>,
         each_mesh: impl FnMut([FlankLoad; 2]),
     ) {
         #[cfg(target_arch = "x86_64")]
@@ -119,7 +141,7 @@ impl Gearbox {
         v: &[f64],
         out: &mut [f64],
         slices: Option<&mut [f64]>,
-        sets: Option<&mut [RollerLoads]>,
+        sets: Sets<'_>,
         each_mesh: impl FnMut([FlankLoad; 2]),
     ) {
         self.state_forces_by(q, v, out, slices, sets, each_mesh)
@@ -132,7 +154,7 @@ impl Gearbox {
         v: &[f64],
         out: &mut [f64],
         slices: Option<&mut [f64]>,
-        sets: Option<&mut [RollerLoads]>,
+        sets: Sets<'_>,
         each_mesh: impl FnMut([FlankLoad; 2]),
     ) {
         out.iter_mut().for_each(|x| *x = 0.0);
@@ -151,7 +173,7 @@ impl Gearbox {
         slices: Option<&mut [f64]>,
         each: impl FnMut([FlankLoad; 2]),
     ) {
-        self.state_forces(q, v, out, slices, None, each);
+        self.state_forces(q, v, out, slices, Sets::Exact, each);
         self.add_rotor_loads(q, out);
     }
 
