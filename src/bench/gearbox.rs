@@ -252,12 +252,13 @@ pub fn variants_foot(stop: f64, base: &Baseline) -> String {
          the elements read, evaluated once per step, included), ÷ torsional the scene against the torsional scene, peak differences against \
          the reference (min rollr: fewest rollers carrying planet 1's upwind bearing in normal operation, the \
          reference's in brackets; linear bearings report none); the gearbox FMU's defaults are the row \"same, table, \
-         kept+pred.\" with the FMU's own linear_solver and newton_tolerance (the rows \"same, FMU defaults\", which \
-         set neither); \"same, table, kept+pred.\" takes grc750's lamina-table bearings and newton = kept+predicted \
-         with dense LU and the tolerance {NEARLY_LINEAR_INCREMENT_TOLERANCE:e}, as every row that names neither; rows \
-         that name no bearings or iteration take the lamina loop and newton = pattern; the rows \"same, tolerance \
-         {LOOSER_TOLERANCE:e}\" and \"same, sparse J\" newton = kept+predicted with their section's bearings and \
-         newton_tolerance = {LOOSER_TOLERANCE:e} or linear_solver = sparse\n",
+         kept+pred.\" with the FMU's own linear_solver, newton_tolerance and roller_update_distance (the rows \"same, \
+         FMU defaults\", which set none of them; \"same, rollers exact\" sets roller_update_distance = 0, as every \
+         other row does); \"same, table, kept+pred.\" takes grc750's lamina-table bearings and newton = \
+         kept+predicted with dense LU and the tolerance {NEARLY_LINEAR_INCREMENT_TOLERANCE:e}, as every row that names \
+         neither; rows that name no bearings or iteration take the lamina loop and newton = pattern; the rows \"same, \
+         tolerance {LOOSER_TOLERANCE:e}\" and \"same, sparse J\" newton = kept+predicted with their section's \
+         bearings and newton_tolerance = {LOOSER_TOLERANCE:e} or linear_solver = sparse\n",
         ms(base.wall_s),
         stop / base.wall_s,
         split.join(", "),
@@ -372,54 +373,64 @@ pub fn torsional_baseline(dir: &Path, stop: f64) -> anyhow::Result<Baseline> {
 /// The looser Newton tolerance of the rows "same, tolerance 1e-7" (their labels spell it).
 const LOOSER_TOLERANCE: f64 = 1e-7;
 
-/// One row's settings: label, slices, bearing model, internal step, integrator, main shaft, Newton iteration,
-/// its tolerance and its linear solver (None: the FMU's start value).
-type Variant = (
-    &'static str,
-    usize,
-    &'static str,
-    f64,
-    &'static str,
-    MainShaft,
-    &'static str,
-    Option<f64>,
-    Option<&'static str>,
-);
+/// One row's settings; None: the FMU's start value.
+struct Variant {
+    label: &'static str,
+    slices: usize,
+    bearings: &'static str,
+    step: f64,
+    integrator: &'static str,
+    shaft: MainShaft,
+    newton: &'static str,
+    tolerance: Option<f64>,
+    solver: Option<&'static str>,
+    /// `roller_update_distance`, m.
+    rollers: Option<f64>,
+}
 
 /// The variants in d-shutdown-6dof (the folder `six`) over `stop` s; `row` after each.
 pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyhow::Result<()> {
     let mut reference: Option<Vec<Vec<f64>>> = None;
     // the reference is the full model at a quarter of the FMU's default internal step (1 ms): its
     // differences are the errors of each row, the step's included; rows take the lamina loop, the
-    // `pattern` iteration (the reference's, and the FMU's defaults until 2026-11-30), dense LU and the
-    // tolerance 1e-8 (the FMU's defaults until 2026-12-01) unless they name others: "same, table,
-    // kept+pred." is the FMU's defaults of 2026-11-30, the rows ending in 1e-7 take a looser Newton
-    // tolerance (`newton_tolerance`), the rows "same, sparse J" solve with J on its sparsity pattern
-    // (`linear_solver = sparse`), and the rows "same, FMU defaults" set neither (None): the FMU's start
-    // values (sparse and 3e-8 when these rows came, 2026-12-01)
+    // `pattern` iteration (the reference's, and the FMU's defaults until 2026-11-30), dense LU, the
+    // tolerance 1e-8 (the FMU's defaults until 2026-12-01) and every roller set evaluated exactly
+    // (until 2026-12-03) unless they name others: "same, table, kept+pred." is the FMU's defaults of
+    // 2026-11-30, the rows ending in 1e-7 take a looser Newton tolerance (`newton_tolerance`), the rows
+    // "same, sparse J" solve with J on its sparsity pattern (`linear_solver = sparse`), the rows "same,
+    // FMU defaults" set none of the three (the FMU's start values: sparse, 3e-8 and 3e-7 m since
+    // 2026-12-03), and "same, rollers exact" is the defaults with `roller_update_distance = 0`
     let tol = Some(NEARLY_LINEAR_INCREMENT_TOLERANCE);
-    let dense = Some("dense");
-    let pattern = |label, slices, bearings, step, integrator, shaft| {
-        (label, slices, bearings, step, integrator, shaft, "pattern", tol, dense)
+    let (dense, exact) = (Some("dense"), Some(0.0));
+    let pattern = |label, slices, bearings, step, integrator, shaft| Variant {
+        label,
+        slices,
+        bearings,
+        step,
+        integrator,
+        shaft,
+        newton: "pattern",
+        tolerance: tol,
+        solver: dense,
+        rollers: exact,
     };
-    let at = |label, bearings, newton, tolerance, solver| {
-        (
-            label,
-            35,
-            bearings,
-            1e-3,
-            "hht",
-            MainShaft::Preset,
-            newton,
-            tolerance,
-            solver,
-        )
+    let at = |label, bearings, newton, tolerance, solver, rollers| Variant {
+        label,
+        slices: 35,
+        bearings,
+        step: 1e-3,
+        integrator: "hht",
+        shaft: MainShaft::Preset,
+        newton,
+        tolerance,
+        solver,
+        rollers,
     };
-    let newton = |label, bearings, newton| at(label, bearings, newton, tol, dense);
-    let looser = |label, bearings| at(label, bearings, "kept+predicted", Some(LOOSER_TOLERANCE), dense);
-    let sparse = |label, bearings| at(label, bearings, "kept+predicted", tol, Some("sparse"));
-    let defaults = |label, bearings| at(label, bearings, "kept+predicted", None, None);
-    let variants: [Variant; 21] = [
+    let newton = |label, bearings, newton| at(label, bearings, newton, tol, dense, exact);
+    let looser = |label, bearings| at(label, bearings, "kept+predicted", Some(LOOSER_TOLERANCE), dense, exact);
+    let sparse = |label, bearings| at(label, bearings, "kept+predicted", tol, Some("sparse"), exact);
+    let defaults = |label, bearings| at(label, bearings, "kept+predicted", None, None, None);
+    let variants: [Variant; 22] = [
         pattern(
             "reference: 0.25 ms",
             35,
@@ -436,6 +447,14 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         newton("same, table, kept+pred.", "lamina-table", "kept+predicted"),
         looser("same, tolerance 1e-7", "lamina-table"),
         sparse("same, sparse J", "lamina-table"),
+        at(
+            "same, rollers exact",
+            "lamina-table",
+            "kept+predicted",
+            None,
+            None,
+            exact,
+        ),
         defaults("same, FMU defaults", "lamina-table"),
         pattern("same, Newmark", 35, "lamina", 1e-3, "implicit", MainShaft::Preset),
         pattern("same, 0.5 ms", 35, "lamina", 5e-4, "hht", MainShaft::Preset),
@@ -449,7 +468,19 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         sparse("same, sparse J", "linear"),
         defaults("same, FMU defaults", "linear"),
     ];
-    for (label, slices, bearings, step, integrator, shaft, newton, tolerance, solver) in variants {
+    for v in variants {
+        let Variant {
+            label,
+            slices,
+            bearings,
+            step,
+            integrator,
+            shaft,
+            newton,
+            tolerance,
+            solver,
+            rollers,
+        } = v;
         let mut o = vec![
             param("gearbox", "slices", slices),
             param("gearbox", "bearing_model", bearings),
@@ -459,6 +490,7 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         ];
         o.extend(tolerance.map(|t| param("gearbox", "newton_tolerance", t)));
         o.extend(solver.map(|s| param("gearbox", "linear_solver", s)));
+        o.extend(rollers.map(|d| param("gearbox", "roller_update_distance", d)));
         if let Some(file) = shaft.description()? {
             o.push(param("gearbox", "gearbox", file.display()));
         }

@@ -3,7 +3,7 @@
 //! set under a pure axial load, Hertz stresses of a roller on its race, and the tangent it hands
 //! the integrators.
 
-use windrive::physics::gearbox::bearing::{Mounting, RollerBearing, RollerLoads, SetTangent};
+use windrive::physics::gearbox::bearing::{Mounting, RollerBearing, RollerLoads, SetMemory};
 use windrive::physics::gearbox::description::{Contact, Rollers};
 use windrive::physics::gearbox::roller_table::RollerTables;
 use windrive::physics::gearbox::row::Row;
@@ -394,7 +394,7 @@ fn near_case() -> (RollerBearing, [f64; 6], [f64; 6]) {
 }
 
 /// The force `add_forces_near` adds at (q, v) with `distance`, from `near`.
-fn near_force(b: &RollerBearing, q: &[f64; 6], v: &[f64; 6], distance: f64, near: &mut Option<SetTangent>) -> [f64; 6] {
+fn near_force(b: &RollerBearing, q: &[f64; 6], v: &[f64; 6], distance: f64, near: &mut SetMemory) -> [f64; 6] {
     let mut out = [0.0; 6];
     b.add_forces_near(q, v, distance, near, &mut out);
     out
@@ -409,12 +409,13 @@ fn exact_force(b: &RollerBearing, q: &[f64; 6], v: &[f64; 6]) -> [f64; 6] {
 /// Between exact evaluations a roller set's force is its last exact evaluation's force plus its
 /// stiffness and damping times the change (so at the same point, the exact force to the bit); once
 /// a lamina can have moved further than the distance (a translation, a tilt at the farthest lamina
-/// or the load zone's turn with the cage), the set is evaluated exactly and that evaluation kept.
+/// or the load zone's turn with the cage), the set is evaluated exactly and that evaluation kept; after
+/// a tangent never used, eight evaluations are exact without one.
 #[test]
 fn a_set_near_its_last_evaluation_takes_its_tangent() {
     let (b, q0, v0) = near_case();
     let distance = 3e-7;
-    let mut near = None;
+    let mut near = SetMemory::Empty;
     assert_eq!(
         near_force(&b, &q0, &v0, distance, &mut near),
         exact_force(&b, &q0, &v0),
@@ -488,9 +489,62 @@ fn a_set_near_its_last_evaluation_takes_its_tangent() {
     let mut q4 = q3;
     q4[4] += 1e-5;
     assert_eq!(near_force(&b, &q4, &v0, distance, &mut near), exact_force(&b, &q4, &v0));
+    // q3's tangent was left unused: the next eight evaluations are exact even within the distance, and
+    // keep no tangent (the ninth evaluates one, the tenth takes a force from it)
+    let mut q5 = q4;
+    for k in 0..8 {
+        q5[0] += 1e-9;
+        assert_eq!(
+            near_force(&b, &q5, &v0, distance, &mut near),
+            exact_force(&b, &q5, &v0),
+            "after an unused tangent {k}"
+        );
+    }
+    assert!(matches!(near, SetMemory::Exact { left: 0, backoff: 16 }), "{near:?}");
+    near_force(&b, &q5, &v0, distance, &mut near);
+    assert!(matches!(near, SetMemory::Tangent { used: false, .. }), "{near:?}");
+    q5[0] += 1e-9;
+    assert_ne!(
+        near_force(&b, &q5, &v0, distance, &mut near),
+        exact_force(&b, &q5, &v0),
+        "from the new tangent"
+    );
 
     // no distance: always exact
-    let mut none = None;
+    let mut none = SetMemory::Empty;
     near_force(&b, &q0, &v0, 0.0, &mut none);
     assert_eq!(near_force(&b, &q1, &v1, 0.0, &mut none), exact, "distance 0");
+}
+
+/// A lamina near a kink of its law is not crossed on a tangent: with a roller 10 nm from touching
+/// its races, a move of 50 nm (within the distance, 300 nm) is evaluated exactly; 5 nm is not.
+#[test]
+fn a_set_near_a_kink_is_evaluated_exactly() {
+    let b = bearing(&crb(20, 30.0, 8));
+    let distance = 3e-7;
+    // the roller at the cage's zero is 10 nm from touching: half the clearance away
+    let q0 = [15e-6 - 10e-9, 0.0, 0.0, 0.0, 0.0, 0.0];
+    let v0 = [0.0; 6];
+    let mut near = SetMemory::Empty;
+    near_force(&b, &q0, &v0, distance, &mut near);
+    let mut q1 = q0;
+    q1[0] += 5e-9;
+    assert_eq!(
+        near_force(&b, &q1, &v0, distance, &mut near),
+        exact_force(&b, &q1, &v0),
+        "clear, and no load"
+    );
+    assert!(
+        matches!(near, SetMemory::Tangent { used: true, .. }),
+        "5 nm short of the kink: {near:?}"
+    );
+    let mut q2 = q0;
+    q2[0] += 50e-9;
+    let exact = exact_force(&b, &q2, &v0);
+    assert!(exact[0] > 0.0, "the roller touches at 40 nm");
+    assert_eq!(
+        near_force(&b, &q2, &v0, distance, &mut near),
+        exact,
+        "across the kink: exact"
+    );
 }

@@ -471,6 +471,17 @@ def test_gearbox_presets_and_slices(fmus):
     assert grc["rotor"]["shaft"]["beam"]["elements"] == 3
 
 
+def test_roller_update_distance_is_a_hundredth_of_the_smallest_clearance():
+    one(r"\(3e-7 m by default, a hundredth of the\s+presets' smallest diametral clearance\)", doc("gearbox6dof"),
+        "gearbox6dof documentation.html")
+    # the diametral (radial) clearances of every preset's roller sets, not the axial ones
+    clearances = [float(x) for name in gearbox_presets() for x in re.findall(
+        r"[^_]clearance_um = ([-\d.]+)", (ROOT / "fmus" / "gearbox6dof" / "resources" / f"{name}.toml").read_text())]
+    assert clearances and min(clearances) > 0, clearances
+    check("3e-7", min(clearances) * 1e-6 / 100, "a hundredth of the presets' smallest diametral clearance")
+    assert float(xml_variables("gearbox6dof")["roller_update_distance"][1]) == 3e-7
+
+
 def test_gearbox_bearing_compliance_lowers_the_first_mode(windrive):
     m = one(r"the preset's bearing compliance lowers it by (\S+) % \((\S+) Hz against (\S+) Hz free–free\)",
             doc("gearbox6dof"), "gearbox6dof documentation.html, Estimates")
@@ -547,6 +558,7 @@ DEFAULTS = [
     ("gearbox6dof", r"The default newton = kept\+predicted keeps one", "newton", "kept+predicted"),
     ("gearbox6dof", r"newton_tolerance \((\S+) by default\)", "newton_tolerance", float),
     ("gearbox6dof", r"The default linear_solver = sparse solves", "linear_solver", "sparse"),
+    ("gearbox6dof", r"roller_update_distance \((\S+) m by default", "roller_update_distance", float),
 ]
 
 

@@ -13,7 +13,7 @@
 //! integrator's factorisations, so a run restored from a state repeats the run that went on from it.
 //! The reported loads (the FMU's outputs) are always evaluated exactly.
 
-use super::bearing::SetTangent;
+use super::bearing::SetMemory;
 use super::mesh::FlankLoad;
 use super::model::Gearbox;
 use super::system::Sets;
@@ -25,7 +25,7 @@ use std::cell::RefCell;
 /// forgotten with its factorisations.
 #[derive(Debug, Clone, Default)]
 pub struct SetTangents {
-    sets: RefCell<Vec<Option<SetTangent>>>,
+    sets: RefCell<Vec<SetMemory>>,
 }
 
 impl SetTangents {
@@ -40,7 +40,7 @@ impl SetTangents {
         let mut sets = self.sets.borrow_mut();
         if sets.len() != gearbox.rollers.len() {
             sets.clear();
-            sets.resize(gearbox.rollers.len(), None);
+            sets.resize(gearbox.rollers.len(), SetMemory::Empty);
         }
         Near {
             gearbox,
@@ -54,7 +54,7 @@ impl SetTangents {
 /// else is the gearbox's own.
 pub struct Near<'a> {
     gearbox: &'a Gearbox,
-    tangents: &'a RefCell<Vec<Option<SetTangent>>>,
+    tangents: &'a RefCell<Vec<SetMemory>>,
     distance: f64,
 }
 

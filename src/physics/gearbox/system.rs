@@ -1,7 +1,7 @@
 //! The gearbox as a [`SecondOrderSystem`]: forces, tangent and contact pattern for the integrators,
 //! and the engaged-mesh linearisation for modal analysis.
 
-use super::bearing::{RollerLoads, SetTangent};
+use super::bearing::{RollerLoads, SetMemory};
 use super::mesh::{FlankLoad, KeyBits};
 use super::model::{Gearbox, INPUT_BRAKE_COMMAND, SPIN, TX, TY, UX, UY, UZ};
 use super::row::add_outer;
@@ -16,7 +16,7 @@ pub(super) enum Sets<'a> {
     Reported(&'a mut [RollerLoads]),
     /// From each set's own tangent while its laminae are within the distance (m) of its last exact
     /// evaluation, which each entry keeps ([`super::bearing::RollerBearing::add_forces_near`]).
-    Near(&'a mut [Option<SetTangent>], f64),
+    Near(&'a mut [SetMemory], f64),
 }
 
 impl Gearbox {
