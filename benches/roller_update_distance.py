@@ -35,7 +35,7 @@ CHANNELS = ["hss_torque", "mesh_force_sun_planet_1", "mesh_force_gear_pinion_2",
             "planet_1_uw_rollers_in_contact", "planet_1_uw_inner_race_pressure", "max_contact_pressure_gear_pinion_2"]
 COLUMNS = {"sun-planet": 1, "gear-pinion": 2, "planet UW": 3, "UW p_max": 5, "HSS p_H": 6}
 REFERENCE = ["max_internal_step=2.5e-4", "integrator=implicit", "newton=pattern", "newton_tolerance=1e-8",
-             "linear_solver=dense", "bearing_model=lamina", "slices=35"]
+             "linear_solver=dense", "bearing_model=lamina", "slices=35", "roller_update_distance=0"]
 
 
 def run(scene: pathlib.Path, out: pathlib.Path, stop: float, record: list[str], params: list[str]) -> float:

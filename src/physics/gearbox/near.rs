@@ -1,13 +1,14 @@
 //! The gearbox with each roller set's force taken from its own tangent between exact evaluations.
 //!
 //! The roller sets are about half of a lamina-bearing step's work, and the later iterations of a step,
-//! like the steps of a held gearbox, move them little: within `distance` (m) of the last exact
-//! evaluation, measured as the most any lamina's approach can have changed, a set's force is
-//! f₀ + K·Δx + C·Δẋ from the force, stiffness and damping that evaluation left. Evaluated exactly at
-//! least each time the laminae move that far, the model is the lamina model up to the linearisation's
-//! remainder: for an approach δ under q ∝ δ^(10/9) a relative error of about (Δ/δ)²/18, and for a
-//! lamina entering or leaving contact within Δ its load there, q(Δ). docs/PERFORMANCE.md measures what
-//! it moves against the exact evaluation and the bench's 0.25 ms reference.
+//! like the steps of a held gearbox, move them little. A set's force is f₀ + K·Δx + C·Δẋ from the force,
+//! stiffness and damping of its last exact evaluation while no lamina's approach can have moved more
+//! than `distance` (m) since, nor as far as the nearest kink of the lamina law (a lamina touching or
+//! leaving its race, or its damping pulling its load to zero): the linearised force then differs from
+//! the exact one by the smooth remainder of q ∝ δ^(10/9) alone, a relative (Δ/δ)²/18 for an approach δ.
+//! A set whose tangents go unused (rattling in its clearance, a fast cage) is evaluated exactly without
+//! one for a while. docs/PERFORMANCE.md measures what it moves against the exact evaluation and the
+//! bench's 0.25 ms reference.
 //!
 //! The kept evaluations are history no state holds: their owner forgets them wherever it forgets the
 //! integrator's factorisations, so a run restored from a state repeats the run that went on from it.
