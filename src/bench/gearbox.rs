@@ -388,6 +388,26 @@ struct Variant {
     rollers: Option<f64>,
 }
 
+impl Variant {
+    /// The scene's parameter settings of this row.
+    fn params(&self) -> anyhow::Result<Vec<(String, String, String)>> {
+        let mut o = vec![
+            param("gearbox", "slices", self.slices),
+            param("gearbox", "bearing_model", self.bearings),
+            param("gearbox", "max_internal_step", self.step),
+            param("gearbox", "integrator", self.integrator),
+            param("gearbox", "newton", self.newton),
+        ];
+        o.extend(self.tolerance.map(|t| param("gearbox", "newton_tolerance", t)));
+        o.extend(self.solver.map(|s| param("gearbox", "linear_solver", s)));
+        o.extend(self.rollers.map(|d| param("gearbox", "roller_update_distance", d)));
+        if let Some(file) = self.shaft.description()? {
+            o.push(param("gearbox", "gearbox", file.display()));
+        }
+        Ok(o)
+    }
+}
+
 /// The variants in d-shutdown-6dof (the folder `six`) over `stop` s; `row` after each.
 pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyhow::Result<()> {
     let mut reference: Option<Vec<Vec<f64>>> = None;
@@ -469,31 +489,7 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         defaults("same, FMU defaults", "linear"),
     ];
     for v in variants {
-        let Variant {
-            label,
-            slices,
-            bearings,
-            step,
-            integrator,
-            shaft,
-            newton,
-            tolerance,
-            solver,
-            rollers,
-        } = v;
-        let mut o = vec![
-            param("gearbox", "slices", slices),
-            param("gearbox", "bearing_model", bearings),
-            param("gearbox", "max_internal_step", step),
-            param("gearbox", "integrator", integrator),
-            param("gearbox", "newton", newton),
-        ];
-        o.extend(tolerance.map(|t| param("gearbox", "newton_tolerance", t)));
-        o.extend(solver.map(|s| param("gearbox", "linear_solver", s)));
-        o.extend(rollers.map(|d| param("gearbox", "roller_update_distance", d)));
-        if let Some(file) = shaft.description()? {
-            o.push(param("gearbox", "gearbox", file.display()));
-        }
+        let o = v.params()?;
         let run = run_scene(six, &o, &channels("gearbox"), stop)?;
         let gearbox_s = unit_s(&run.units, "gearbox");
         let phases = phase_ms_per_s(&run.gearbox_marks, gearbox_s, stop);
@@ -511,9 +507,12 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
                 .unwrap_or(f64::NAN)
         };
         row(&VariantRow {
-            label,
-            bearings,
-            full_model: slices == 35 && matches!(shaft, MainShaft::Preset) && step == 1e-3 && integrator == "hht",
+            label: v.label,
+            bearings: v.bearings,
+            full_model: v.slices == 35
+                && matches!(v.shaft, MainShaft::Preset)
+                && v.step == 1e-3
+                && v.integrator == "hht",
             wall_s,
             gearbox_s,
             gearbox_do_step_s,
