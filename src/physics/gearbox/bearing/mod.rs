@@ -16,9 +16,12 @@ use nalgebra::DMatrix;
 use std::f64::consts::TAU;
 use std::sync::Arc;
 
+mod geometry;
 mod places;
 mod tangent;
+use geometry::Gradient;
 use places::Places;
+use tangent::Grid;
 pub use tangent::{SetMemory, SetTangent};
 
 /// A 5×5 block on the relative coordinates (stiffness or damping).
@@ -126,6 +129,8 @@ pub struct RollerBearing {
     /// How far a tilt of 1 rad moves the farthest lamina's approach at most, m (through the contact
     /// angle's arm at the pitch radius and the lamina's place along the axis).
     tilt_reach: f64,
+    /// The laminae of a straight (uncrowned) roller, for the kink margin without a loop; None crowned.
+    grid: Option<Grid>,
 }
 
 /// A loaded roller's load, moment about the row's centre and the sums of its laminae's stiffness and
@@ -243,6 +248,7 @@ impl RollerBearing {
             .iter()
             .map(|row| row.sin.abs() * 0.5 * dm + row.cos * (row.z.abs() + 0.5 * length))
             .fold(0.0, f64::max);
+        let grid = Grid::of_straight(&laminae, width);
         let uncrowned = crown == 0.0;
         let table = tables
             .filter(|_| uncrowned && exponent == LINE_EXPONENT)
@@ -270,6 +276,7 @@ impl RollerBearing {
             offsets_from,
             exponent_damping: exponent * damping_time,
             tilt_reach,
+            grid,
         }
     }
 
@@ -323,31 +330,15 @@ impl RollerBearing {
         let mut out = RollerLoads::default();
         let roots = NinthRoots::get();
         let half_length = self.laminae.last().map_or(0.0, |l| l.0.abs());
-        let r = self.pitch_radius;
         let cage = cage.sin_cos();
         for row in &self.roller_rows {
-            let gap = row.cos * 0.5 * self.clearance + row.sin.abs() * 0.5 * self.axial_clearance;
-            // the approach at the row's centre and its change per metre along the axis (the tilt)
-            // cos α·(x₄ cos ψ − x₃ sin ψ), both p·cos ψ + q·sin ψ + constant round the row
-            let centre_pq = Places::turned(self.approach_round_the_row(row, x, row.z), cage);
-            let spread_pq = Places::turned((row.cos * x[4], -row.cos * x[3]), cage);
-            let constant = row.sin * x[2] - gap;
-            // the parts of u (below) that do not turn with the roller
-            let (sin_r, minus_sin_r, minus_cos) = (row.sin * r, -row.sin * r, -row.cos);
+            let approach = self.row_approach(row, x, cage);
             for place in self.places.iter() {
-                let centre = centre_pq.0 * place.0 + centre_pq.1 * place.1 + constant;
-                let spread = spread_pq.0 * place.0 + spread_pq.1 * place.1;
+                let (centre, spread) = approach.at(place);
                 if centre + spread.abs() * half_length <= 0.0 {
                     continue;
                 }
-                let (cs, sn) = Places::unit(place, cage);
-                // a lamina at z along the axis has the gradient u + z·w: the roller's sums over its
-                // laminae give its force and tangent without a 5×5 product per lamina; w's first
-                // three entries are zero, so neither rate nor force adds their products
-                let u = [row.cos * cs, row.cos * sn, row.sin, sin_r * sn, minus_sin_r * cs];
-                let w = [minus_cos * sn, row.cos * cs];
-                let rate_u = u[0] * xd[0] + u[1] * xd[1] + u[2] * xd[2] + u[3] * xd[3] + u[4] * xd[4];
-                let rate_w = w[0] * xd[3] + w[1] * xd[4];
+                let Gradient { u, w, rate_u, rate_w } = self.gradient(row, Places::unit(place, cage), xd);
                 let tabulated = table.and_then(|t| self.by_table(t, roots, row, centre, spread, rate_u, rate_w));
                 let sums = match tabulated {
                     Some(sums) => {
@@ -553,19 +544,6 @@ impl RollerBearing {
         })
     }
 
-    /// (p, q) of a roller's approach round `row` at `z` along the axis from the row's centre,
-    /// p·cos ψ + q·sin ψ in the roller's angle ψ without the axial part sin α·x₂ and the gap: the
-    /// approach is cos α·(x₀ cos ψ + x₁ sin ψ + z·(x₄ cos ψ − x₃ sin ψ)) + sin α·(x₂ + r·(x₃ sin ψ −
-    /// x₄ cos ψ)) − gap.
-    #[inline(always)]
-    fn approach_round_the_row(&self, row: &RollerRow, x: &[f64; 5], z: f64) -> (f64, f64) {
-        let (ca, sa, r) = (row.cos, row.sin, self.pitch_radius);
-        (
-            ca * (x[0] + z * x[4]) - sa * r * x[4],
-            ca * (x[1] - z * x[3]) + sa * r * x[3],
-        )
-    }
-
     /// The contact pattern the integrators key their factorisations by: per row, how many rollers
     /// approach their races (6 bits) and the octant the radial approach points to (3 bits). The
     /// lamina law is nearly linear between patterns (its stiffness goes as δ^(1/9): a load twice as
@@ -600,12 +578,18 @@ impl RollerBearing {
     pub fn add_forces(&self, q: &[f64], v: &[f64], peaks: bool, out: &mut [f64]) -> RollerLoads {
         let (x, xd, cage) = self.kinematics(q, v);
         let loads = self.evaluate(&x, &xd, cage, peaks, None);
-        for (row, f) in self.rows.iter().zip(loads.force) {
+        self.add_to(loads.force, out);
+        loads
+    }
+
+    /// f_int += a force on the five relative coordinates, through their rows.
+    #[inline(always)]
+    fn add_to(&self, force: [f64; 5], out: &mut [f64]) {
+        for (row, f) in self.rows.iter().zip(force) {
             if f != 0.0 {
                 row.axpy(f, out);
             }
         }
-        loads
     }
 
     /// j += c_c·C + c_k·K of the bearing at (q, v).

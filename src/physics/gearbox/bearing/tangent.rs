@@ -2,7 +2,7 @@
 //! `roller_update_distance`; [`super::super::near`] keeps each set's memory): the bounds on how far its
 //! laminae can have moved, the margin of the nearest lamina to a kink of its law, and the memory itself.
 
-use super::{Matrix5, Places, RollerBearing};
+use super::{Gradient, Matrix5, Places, RollerBearing};
 
 /// What a roller set keeps between evaluations of its force ([`RollerBearing::add_forces_near`]).
 // one per roller set, overwritten in place: a boxed tangent would allocate at each exact evaluation
@@ -46,13 +46,23 @@ pub struct SetTangent {
 }
 
 /// The laminae of a straight roller along its axis: s_k = first + k·width, k = 0..=last.
-struct Grid {
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Grid {
     first: f64,
     width: f64,
     last: usize,
 }
 
 impl Grid {
+    /// The grid of `laminae` (offset, profile drop) of `width` each; None when any is crowned.
+    pub(super) fn of_straight(laminae: &[(f64, f64)], width: f64) -> Option<Self> {
+        (!laminae.is_empty() && laminae.iter().all(|l| l.1 == 0.0)).then(|| Grid {
+            first: laminae[0].0,
+            width,
+            last: laminae.len() - 1,
+        })
+    }
+
     /// The least |a + b·s_k| over the laminae lo..=hi.
     #[inline(always)]
     fn least(&self, a: f64, b: f64, lo: usize, hi: usize) -> f64 {
@@ -160,11 +170,7 @@ impl RollerBearing {
                 force
             }
         };
-        for (row, f) in self.rows.iter().zip(force) {
-            if f != 0.0 {
-                row.axpy(f, out);
-            }
-        }
+        self.add_to(force, out);
     }
 
     /// Whether (x, ẋ, ψ_c) lies near enough `t` for its tangent: no lamina's approach δ can have moved
@@ -199,36 +205,23 @@ impl RollerBearing {
     /// laminae nearest their zeros, found without the loop (`by_loop` takes it: the tests compare).
     fn contact_margin(&self, x: &[f64; 5], xd: &[f64; 5], cage: f64, by_loop: bool) -> f64 {
         let half_length = self.laminae.last().map_or(0.0, |l| l.0.abs());
-        let grid = (!by_loop && self.laminae.iter().all(|l| l.1 == 0.0)).then(|| Grid {
-            first: self.laminae[0].0,
-            width: self.lamina_width,
-            last: self.laminae.len() - 1,
-        });
-        let r = self.pitch_radius;
+        let grid = self.grid.as_ref().filter(|_| !by_loop);
         let cage = cage.sin_cos();
         let mut margin = f64::INFINITY;
         for row in &self.roller_rows {
-            let gap = row.cos * 0.5 * self.clearance + row.sin.abs() * 0.5 * self.axial_clearance;
-            let centre_pq = Places::turned(self.approach_round_the_row(row, x, row.z), cage);
-            let spread_pq = Places::turned((row.cos * x[4], -row.cos * x[3]), cage);
-            let constant = row.sin * x[2] - gap;
+            let approach = self.row_approach(row, x, cage);
             for place in self.places.iter() {
-                let centre = centre_pq.0 * place.0 + centre_pq.1 * place.1 + constant;
-                let spread = spread_pq.0 * place.0 + spread_pq.1 * place.1;
+                let (centre, spread) = approach.at(place);
                 let most = centre + spread.abs() * half_length;
                 if most <= 0.0 {
                     margin = margin.min(-most);
                     continue;
                 }
-                let (cs, sn) = Places::unit(place, cage);
-                let u = [row.cos * cs, row.cos * sn, row.sin, row.sin * r * sn, -row.sin * r * cs];
-                let w = [-row.cos * sn, row.cos * cs];
-                let rate_u = u[0] * xd[0] + u[1] * xd[1] + u[2] * xd[2] + u[3] * xd[3] + u[4] * xd[4];
-                let rate_w = w[0] * xd[3] + w[1] * xd[4];
+                let Gradient { rate_u, rate_w, .. } = self.gradient(row, Places::unit(place, cage), xd);
                 // δ + e·τ·δ̇ = load_at + load_slope·s along the roller
                 let et = self.exponent_damping;
                 let (load_at, load_slope) = (centre + et * (rate_u + row.z * rate_w), spread + et * rate_w);
-                if let Some(g) = &grid {
+                if let Some(g) = grid {
                     let loaded = g.positive(centre, spread);
                     margin = margin
                         .min(g.least(centre, spread, 0, g.last))
