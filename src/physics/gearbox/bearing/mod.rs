@@ -310,14 +310,30 @@ impl RollerBearing {
         peaks: bool,
         tangent: Option<(&mut Matrix5, &mut Matrix5)>,
     ) -> RollerLoads {
+        self.evaluate_with_margin(x, xd, cage, peaks, tangent, None)
+    }
+
+    /// [`Self::evaluate`], with `margin` also the distance of the nearest lamina to a kink of its law
+    /// (as [`Self::contact_margin`] gives it, in the same pass over the rollers).
+    #[inline(always)]
+    fn evaluate_with_margin(
+        &self,
+        x: &[f64; 5],
+        xd: &[f64; 5],
+        cage: f64,
+        peaks: bool,
+        tangent: Option<(&mut Matrix5, &mut Matrix5)>,
+        margin: Option<&mut f64>,
+    ) -> RollerLoads {
         // chosen once, so the lamina loop's copy has no table test per roller
         match self.table.as_deref() {
-            Some(table) => self.evaluate_by(x, xd, cage, peaks, tangent, Some(table)),
-            None => self.evaluate_by(x, xd, cage, peaks, tangent, None),
+            Some(table) => self.evaluate_by(x, xd, cage, peaks, tangent, Some(table), margin),
+            None => self.evaluate_by(x, xd, cage, peaks, tangent, None, margin),
         }
     }
 
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn evaluate_by(
         &self,
         x: &[f64; 5],
@@ -326,6 +342,7 @@ impl RollerBearing {
         peaks: bool,
         mut tangent: Option<(&mut Matrix5, &mut Matrix5)>,
         table: Option<&RollerTable>,
+        mut margin: Option<&mut f64>,
     ) -> RollerLoads {
         let mut out = RollerLoads::default();
         let roots = NinthRoots::get();
@@ -335,10 +352,17 @@ impl RollerBearing {
             let approach = self.row_approach(row, x, cage);
             for place in self.places.iter() {
                 let (centre, spread) = approach.at(place);
-                if centre + spread.abs() * half_length <= 0.0 {
+                let most = centre + spread.abs() * half_length;
+                if most <= 0.0 {
+                    if let Some(m) = margin.as_deref_mut() {
+                        *m = m.min(-most);
+                    }
                     continue;
                 }
                 let Gradient { u, w, rate_u, rate_w } = self.gradient(row, Places::unit(place, cage), xd);
+                if let Some(m) = margin.as_deref_mut() {
+                    *m = m.min(self.loaded_edge(self.grid.as_ref(), row, centre, spread, rate_u, rate_w));
+                }
                 let tabulated = table.and_then(|t| self.by_table(t, roots, row, centre, spread, rate_u, rate_w));
                 let sums = match tabulated {
                     Some(sums) => {

@@ -2,7 +2,7 @@
 //! `roller_update_distance`; [`super::super::near`] keeps each set's memory): the bounds on how far its
 //! laminae can have moved, the margin of the nearest lamina to a kink of its law, and the memory itself.
 
-use super::{Gradient, Matrix5, Places, RollerBearing};
+use super::{Matrix5, RollerBearing, RollerRow};
 
 /// What a roller set keeps between evaluations of its force ([`RollerBearing::add_forces_near`]).
 // one per roller set, overwritten in place: a boxed tangent would allocate at each exact evaluation
@@ -151,8 +151,10 @@ impl RollerBearing {
                     SetMemory::Exact { backoff, .. } => *backoff,
                     _ => EXACT_AFTER_UNUSED,
                 };
-                let (mut k, mut c) = ([[0.0; 5]; 5], [[0.0; 5]; 5]);
-                let force = self.evaluate(&x, &xd, cage, false, Some((&mut k, &mut c))).force;
+                let (mut k, mut c, mut margin) = ([[0.0; 5]; 5], [[0.0; 5]; 5], f64::INFINITY);
+                let force = self
+                    .evaluate_with_margin(&x, &xd, cage, false, Some((&mut k, &mut c)), Some(&mut margin))
+                    .force;
                 let tangent = SetTangent {
                     x,
                     xd,
@@ -160,7 +162,7 @@ impl RollerBearing {
                     force,
                     k,
                     c,
-                    margin: self.contact_margin(&x, &xd, cage, false),
+                    margin,
                 };
                 *memory = SetMemory::Tangent {
                     tangent,
@@ -199,11 +201,13 @@ impl RollerBearing {
 
     /// How far, m, the nearest lamina is from a kink of its law at (x, ẋ, ψ_c): a lamina out of contact
     /// from touching (a roller clear of its races: its most compressed end, the crown ignored, which
-    /// only widens the gap), a loaded one from leaving (δ) and from its damping pulling its load to
-    /// zero (δ + e·τ·δ̇). Between two evaluations no kink is crossed while the laminae move less. A
-    /// straight roller's δ and δ + e·τ·δ̇ are affine along it: their least magnitudes lie at the
-    /// laminae nearest their zeros, found without the loop (`by_loop` takes it: the tests compare).
+    /// only widens the gap), a loaded one as [`Self::loaded_edge`]. Between two evaluations no kink is
+    /// crossed while the laminae move less. The exact evaluation with a tangent finds the same margin
+    /// in its own pass ([`Self::evaluate_with_margin`]); this one is the tests' (`by_loop` takes every
+    /// lamina of a straight roller too).
+    #[cfg(test)]
     fn contact_margin(&self, x: &[f64; 5], xd: &[f64; 5], cage: f64, by_loop: bool) -> f64 {
+        use super::{Gradient, Places};
         let half_length = self.laminae.last().map_or(0.0, |l| l.0.abs());
         let grid = self.grid.as_ref().filter(|_| !by_loop);
         let cage = cage.sin_cos();
@@ -218,28 +222,45 @@ impl RollerBearing {
                     continue;
                 }
                 let Gradient { rate_u, rate_w, .. } = self.gradient(row, Places::unit(place, cage), xd);
-                // δ + e·τ·δ̇ = load_at + load_slope·s along the roller
-                let et = self.exponent_damping;
-                let (load_at, load_slope) = (centre + et * (rate_u + row.z * rate_w), spread + et * rate_w);
-                if let Some(g) = grid {
-                    let loaded = g.positive(centre, spread);
-                    margin = margin
-                        .min(g.least(centre, spread, 0, g.last))
-                        .min(loaded.map_or(f64::INFINITY, |(lo, hi)| g.least(load_at, load_slope, lo, hi)));
-                    continue;
-                }
-                for &(s, drop) in &self.laminae {
-                    let delta = centre + spread * s - drop;
-                    let edge = if delta <= 0.0 {
-                        -delta
-                    } else {
-                        delta.min((load_at + load_slope * s - drop).abs())
-                    };
-                    margin = margin.min(edge);
-                }
+                margin = margin.min(self.loaded_edge(grid, row, centre, spread, rate_u, rate_w));
             }
         }
         margin
+    }
+
+    /// How far, m, the nearest lamina of a roller in contact is from leaving its race (δ) or from its
+    /// damping pulling its load to zero (δ + e·τ·δ̇). A straight roller's δ and δ + e·τ·δ̇ are affine
+    /// along it: their least magnitudes lie at the laminae nearest their zeros, found on `grid` without
+    /// the loop (None: the loop over every lamina, which a crowned roller keeps).
+    #[inline(always)]
+    pub(super) fn loaded_edge(
+        &self,
+        grid: Option<&Grid>,
+        row: &RollerRow,
+        centre: f64,
+        spread: f64,
+        rate_u: f64,
+        rate_w: f64,
+    ) -> f64 {
+        // δ + e·τ·δ̇ = load_at + load_slope·s along the roller
+        let et = self.exponent_damping;
+        let (load_at, load_slope) = (centre + et * (rate_u + row.z * rate_w), spread + et * rate_w);
+        if let Some(g) = grid {
+            let loaded = g.positive(centre, spread);
+            return g
+                .least(centre, spread, 0, g.last)
+                .min(loaded.map_or(f64::INFINITY, |(lo, hi)| g.least(load_at, load_slope, lo, hi)));
+        }
+        let mut edge = f64::INFINITY;
+        for &(s, drop) in &self.laminae {
+            let delta = centre + spread * s - drop;
+            edge = edge.min(if delta <= 0.0 {
+                -delta
+            } else {
+                delta.min((load_at + load_slope * s - drop).abs())
+            });
+        }
+        edge
     }
 }
 
