@@ -314,7 +314,7 @@ impl RollerBearing {
     }
 
     /// [`Self::evaluate`], with `margin` also the distance of the nearest lamina to a kink of its law
-    /// (as [`Self::contact_margin`] gives it, in the same pass over the rollers).
+    /// (as the tests' `contact_margin` gives it, in the same pass over the rollers).
     #[inline(always)]
     fn evaluate_with_margin(
         &self,
