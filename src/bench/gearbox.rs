@@ -252,9 +252,10 @@ pub fn variants_foot(stop: f64, base: &Baseline) -> String {
          the elements read, evaluated once per step, included), ÷ torsional the scene against the torsional scene, peak differences against \
          the reference (min rollr: fewest rollers carrying planet 1's upwind bearing in normal operation, the \
          reference's in brackets; linear bearings report none); the gearbox FMU's defaults are the row \"same, table, \
-         kept+pred.\" with the FMU's own linear_solver, newton_tolerance and roller_update_distance (the rows \"same, \
-         FMU defaults\", which set none of them; \"same, rollers exact\" sets roller_update_distance = 0, as every \
-         other row does); \"same, table, kept+pred.\" takes grc750's lamina-table bearings and newton = \
+         kept+pred.\" with the FMU's own linear_solver, newton_tolerance, roller_update_distance and \
+         newton_motion_floor (the rows \"same, FMU defaults\", which set none of them; \"same, rollers exact\" sets \
+         roller_update_distance = 0 and \"same, motion floor 0\" newton_motion_floor = 0, as every other row does \
+         both); \"same, table, kept+pred.\" takes grc750's lamina-table bearings and newton = \
          kept+predicted with dense LU and the tolerance {NEARLY_LINEAR_INCREMENT_TOLERANCE:e}, as every row that names \
          neither; rows that name no bearings or iteration take the lamina loop and newton = pattern; the rows \"same, \
          tolerance {LOOSER_TOLERANCE:e}\" and \"same, sparse J\" newton = kept+predicted with their section's \
@@ -386,6 +387,8 @@ struct Variant {
     solver: Option<&'static str>,
     /// `roller_update_distance`, m.
     rollers: Option<f64>,
+    /// `newton_motion_floor`.
+    floor: Option<f64>,
 }
 
 impl Variant {
@@ -401,6 +404,7 @@ impl Variant {
         o.extend(self.tolerance.map(|t| param("gearbox", "newton_tolerance", t)));
         o.extend(self.solver.map(|s| param("gearbox", "linear_solver", s)));
         o.extend(self.rollers.map(|d| param("gearbox", "roller_update_distance", d)));
+        o.extend(self.floor.map(|f| param("gearbox", "newton_motion_floor", f)));
         if let Some(file) = self.shaft.description()? {
             o.push(param("gearbox", "gearbox", file.display()));
         }
@@ -418,10 +422,12 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
     // (until 2026-12-03) unless they name others: "same, table, kept+pred." is the FMU's defaults of
     // 2026-11-30, the rows ending in 1e-7 take a looser Newton tolerance (`newton_tolerance`), the rows
     // "same, sparse J" solve with J on its sparsity pattern (`linear_solver = sparse`), the rows "same,
-    // FMU defaults" set none of the three (the FMU's start values: sparse, 3e-8 and 3e-7 m since
-    // 2026-12-03), and "same, rollers exact" is the defaults with `roller_update_distance = 0`
+    // FMU defaults" set none of the four (the FMU's start values: sparse, 3e-8 and 3e-7 m since
+    // 2026-12-03, the motion floor 1e-3 since 2026-12-04), "same, rollers exact" is the defaults with
+    // `roller_update_distance = 0` and "same, motion floor 0" the defaults with `newton_motion_floor = 0`,
+    // the floor every other row takes
     let tol = Some(NEARLY_LINEAR_INCREMENT_TOLERANCE);
-    let (dense, exact) = (Some("dense"), Some(0.0));
+    let (dense, exact, no_floor) = (Some("dense"), Some(0.0), Some(0.0));
     let pattern = |label, slices, bearings, step, integrator, shaft| Variant {
         label,
         slices,
@@ -433,6 +439,7 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         tolerance: tol,
         solver: dense,
         rollers: exact,
+        floor: no_floor,
     };
     let at = |label, bearings, newton, tolerance, solver, rollers| Variant {
         label,
@@ -445,12 +452,16 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         tolerance,
         solver,
         rollers,
+        floor: no_floor,
     };
     let newton = |label, bearings, newton| at(label, bearings, newton, tol, dense, exact);
     let looser = |label, bearings| at(label, bearings, "kept+predicted", Some(LOOSER_TOLERANCE), dense, exact);
     let sparse = |label, bearings| at(label, bearings, "kept+predicted", tol, Some("sparse"), exact);
-    let defaults = |label, bearings| at(label, bearings, "kept+predicted", None, None, None);
-    let variants: [Variant; 22] = [
+    let defaults = |label, bearings| Variant {
+        floor: None,
+        ..at(label, bearings, "kept+predicted", None, None, None)
+    };
+    let variants: [Variant; 23] = [
         pattern(
             "reference: 0.25 ms",
             35,
@@ -467,15 +478,22 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         newton("same, table, kept+pred.", "lamina-table", "kept+predicted"),
         looser("same, tolerance 1e-7", "lamina-table"),
         sparse("same, sparse J", "lamina-table"),
-        at(
-            "same, rollers exact",
-            "lamina-table",
-            "kept+predicted",
-            None,
-            None,
-            exact,
-        ),
+        Variant {
+            floor: None,
+            ..at(
+                "same, rollers exact",
+                "lamina-table",
+                "kept+predicted",
+                None,
+                None,
+                exact,
+            )
+        },
         defaults("same, FMU defaults", "lamina-table"),
+        Variant {
+            floor: no_floor,
+            ..defaults("same, motion floor 0", "lamina-table")
+        },
         pattern("same, Newmark", 35, "lamina", 1e-3, "implicit", MainShaft::Preset),
         pattern("same, 0.5 ms", 35, "lamina", 5e-4, "hht", MainShaft::Preset),
         pattern("11 slices, lamina", 11, "lamina", 1e-3, "hht", MainShaft::Preset),

@@ -149,6 +149,7 @@ impl Params {
         };
         let newton = Newton {
             tolerance: self.newton_tolerance,
+            motion_floor: self.newton_motion_floor,
             sparse,
             ..Newton::parse(&self.newton).ok_or_else(|| {
                 ParameterError::invalid("newton", &self.newton, "use pattern, kept, predicted or kept+predicted")

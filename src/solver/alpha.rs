@@ -118,6 +118,14 @@ pub struct Newton {
     /// ([`NEARLY_LINEAR_INCREMENT_TOLERANCE`] unless set; docs/PERFORMANCE.md measures what a looser
     /// one saves and moves).
     pub tolerance: f64,
+    /// The least "motion of the step" the nearly piecewise-linear class's increment tolerance is a
+    /// fraction of (m or rad, as the DOFs): the increment is converged at `tolerance` times the larger
+    /// of the step's motion and this floor. A held gearbox moves by a micrometre a step or less, and a
+    /// fraction of that motion alone asks its Newton iteration for increments of 1e-13 m, four
+    /// decades finer than the same tolerance resolves in operation (the GRC's HSS turns 0.19 rad a
+    /// step at rated speed); 0 takes the step's motion alone. docs/PERFORMANCE.md measures what it
+    /// saves and moves.
+    pub motion_floor: f64,
     /// Solve with J on its own sparsity pattern where that saves half the work
     /// ([`Solver::new_with`](super::factor::Solver::new_with)) instead of by dense LU: other rounding,
     /// so other bits at the Newton tolerance.
@@ -136,6 +144,7 @@ impl Newton {
         keep: false,
         predict: false,
         tolerance: NEARLY_LINEAR_INCREMENT_TOLERANCE,
+        motion_floor: 0.0,
         sparse: false,
     };
 
@@ -742,9 +751,12 @@ impl AlphaIntegrator {
                 Linearity::PiecewiseLinear => w.same_pattern(sys, st, t1),
                 Linearity::NearlyPiecewiseLinear => {
                     w.same_pattern(sys, st, t1)
-                        && (w.settled(residual, floor) || small_increment(w, st, c, self.newton.tolerance))
+                        && (w.settled(residual, floor)
+                            || small_increment(w, st, c, self.newton.tolerance, self.newton.motion_floor))
                 }
-                Linearity::Nonlinear => w.settled(residual, floor) || small_increment(w, st, c, INCREMENT_TOLERANCE),
+                Linearity::Nonlinear => {
+                    w.settled(residual, floor) || small_increment(w, st, c, INCREMENT_TOLERANCE, 0.0)
+                }
             };
             if converged {
                 break;
@@ -832,7 +844,7 @@ impl AlphaIntegrator {
             // mesh stiffness steps with the teeth's roll: an increment at the tolerance (some 10⁻⁸
             // of a base pitch) seldom straddles such a step, and the next step starts from the
             // forces at the state accepted
-            if w.settled(residual, 1.0) || small_increment(w, st, c, fraction) {
+            if w.settled(residual, 1.0) || small_increment(w, st, c, fraction, self.newton.motion_floor) {
                 self.kept = Some(idx);
                 return Ok(Some((force, held)));
             }
@@ -999,13 +1011,13 @@ impl Work {
     }
 }
 
-/// The last Newton increment is below `fraction` of the step's motion, or at the resolution of the
-/// positions themselves (a few ulps of absolute angles of thousands of radians: an increment there
-/// is rounding, not progress).
-fn small_increment(w: &Work, st: &DynState, c: &Coefficients, fraction: f64) -> bool {
+/// The last Newton increment is below `fraction` of the step's motion (no less than `motion_floor`),
+/// or at the resolution of the positions themselves (a few ulps of absolute angles of thousands of
+/// radians: an increment there is rounding, not progress).
+fn small_increment(w: &Work, st: &DynState, c: &Coefficients, fraction: f64, motion_floor: f64) -> bool {
     let size = max_abs(&w.delta);
     let motion = max_abs(&st.v) * c.h;
-    let tolerance = fraction * size.max(motion).max(f64::MIN_POSITIVE);
+    let tolerance = fraction * size.max(motion).max(motion_floor).max(f64::MIN_POSITIVE);
     w.step
         .iter()
         .zip(st.q.iter().zip(&w.delta))
@@ -1100,6 +1112,105 @@ mod tests {
             result.is_ok() && iterations <= 3,
             "{result:?} after {iterations} iterations"
         );
+    }
+
+    /// One unit mass on a stiffening spring, f = k·q·(1 + (q/a)²), whose tangent is understated by a
+    /// fifth (as the gearbox's leaves out frame terms): its modified Newton iteration contracts by about
+    /// a fifth an iteration.
+    struct Stiffening {
+        loads: [InputLoad; 1],
+    }
+
+    impl Stiffening {
+        const K: f64 = 1e4;
+        const A: f64 = 1e-4;
+    }
+
+    impl SecondOrderSystem for Stiffening {
+        fn dofs(&self) -> usize {
+            1
+        }
+        fn linearity(&self) -> Linearity {
+            Linearity::NearlyPiecewiseLinear
+        }
+        fn mass(&self) -> Mass<'_> {
+            Mass::Diagonal(&[1.0])
+        }
+        fn input_loads(&self) -> &[InputLoad] {
+            &self.loads
+        }
+        fn internal_forces(&self, _: f64, q: &[f64], _: &[f64], out: &mut [f64]) {
+            let r = q[0] / Self::A;
+            out[0] = Self::K * q[0] * (1.0 + r * r);
+        }
+        fn add_tangent(&self, _: f64, q: &[f64], _: &[f64], _: f64, c_k: f64, j: &mut DMatrix<f64>) {
+            let r = q[0] / Self::A;
+            j[(0, 0)] += c_k * 0.8 * Self::K * (1.0 + 3.0 * r * r);
+        }
+    }
+
+    /// A step of the stiffening spring from (q, v) pushed by `push` beyond the load that balances q;
+    /// the end state and the step's Newton iterations.
+    fn stiffening_step(newton: super::Newton, q: f64, v: f64, push: f64) -> (DynState, u64) {
+        let sys = Stiffening {
+            loads: [InputLoad {
+                input: 0,
+                dof: 0,
+                gain: 1.0,
+            }],
+        };
+        let mut balance = [0.0];
+        sys.internal_forces(0.0, &[q], &[v], &mut balance);
+        let u = [balance[0] + push];
+        let mut st = DynState::new(vec![q], vec![v]);
+        let span = Span {
+            t: 0.0,
+            h: 1e-3,
+            u0: &u,
+            u1: &u,
+            fi0: None,
+        };
+        let mut stats = Statistics::default();
+        let mut integrator = AlphaIntegrator::new(Alpha::NEWMARK);
+        integrator.newton = newton;
+        integrator.step(&sys, &mut st, &span, &mut stats).unwrap();
+        (st, stats.newton_iterations)
+    }
+
+    /// `motion_floor`: a step that barely moves (a held gearbox) ends its iteration at the tolerance
+    /// times the floor instead of times its own nanometre, in fewer iterations and within that
+    /// resolution of the iteration without the floor; a step that moves by more than the floor is
+    /// untouched, bit for bit. Both with and without the kept factorisation.
+    #[test]
+    fn a_step_that_barely_moves_is_resolved_to_the_motion_floor() {
+        for base in [super::Newton::PATTERN, super::Newton::parse("kept+predicted").unwrap()] {
+            let floored = super::Newton {
+                motion_floor: 1e-3,
+                ..base
+            };
+            // held: at rest, a push that moves the mass by about a nanometre within the step
+            let (exact, n_exact) = stiffening_step(base, 1e-4, 0.0, 2e-3);
+            let (fast, n_fast) = stiffening_step(floored, 1e-4, 0.0, 2e-3);
+            let moved = (exact.q[0] - 1e-4).abs();
+            assert!(moved > 1e-10 && moved < 1e-8, "{moved:e}");
+            assert!(
+                n_fast < n_exact,
+                "{n_fast} iterations with the floor, {n_exact} without"
+            );
+            let resolution = base.tolerance * floored.motion_floor;
+            assert!(
+                (fast.q[0] - exact.q[0]).abs() <= resolution,
+                "{:e} from the iteration without the floor, resolution {resolution:e}",
+                fast.q[0] - exact.q[0]
+            );
+            // moving: 10 mm a step, ten times the floor
+            let (a, n_a) = stiffening_step(base, 1e-4, 10.0, 1e-5);
+            let (b, n_b) = stiffening_step(floored, 1e-4, 10.0, 1e-5);
+            assert_eq!(
+                (a.q[0].to_bits(), a.v[0].to_bits(), n_a),
+                (b.q[0].to_bits(), b.v[0].to_bits(), n_b)
+            );
+        }
     }
 
     /// Newmark keeps every mode (radius 1 at any h·ω); HHT-α and generalised-α tend to their ρ∞ as

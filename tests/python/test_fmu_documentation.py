@@ -560,6 +560,7 @@ DEFAULTS = [
     ("gearbox6dof", r"newton_tolerance \((\S+) by default\)", "newton_tolerance", float),
     ("gearbox6dof", r"The default linear_solver = sparse solves", "linear_solver", "sparse"),
     ("gearbox6dof", r"roller_update_distance \((\S+) m by default", "roller_update_distance", float),
+    ("gearbox6dof", r"newton_motion_floor \((\S+) by default", "newton_motion_floor", float),
 ]
 
 
@@ -607,6 +608,7 @@ XML_DEFAULTS = [
     ("gearbox6dof", "integrator", r"^hht \(HHT-alpha with spectral_radius, the default:", "hht"),
     ("gearbox6dof", "spectral_radius", r"\((\S+) by default for both\)", float),
     ("gearbox6dof", "max_internal_step", r"no longer than this \((\S+) ms:", lambda x: 1e3 * float(x)),
+    ("gearbox6dof", "newton_motion_floor", r"The default, (\S+), resolves", float),
 ]
 
 
