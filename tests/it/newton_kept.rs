@@ -82,9 +82,11 @@ fn kept_factorisations_reach_the_default_iterations_answer_with_fewer_factorisat
     };
     // what the step itself costs: the default iteration at half the step
     let (step_f, step_v) = differences(&grc_run(Newton::default(), steps, 5e-4).1);
-    // and the gearbox FMU's defaults: the same with its looser tolerance
+    // and the gearbox FMU's defaults: the same with its looser tolerance and its motion floor
+    let params = windrive::slaves::gearbox6dof::Params::default();
     let fmu_defaults = Newton {
-        tolerance: windrive::slaves::gearbox6dof::Params::default().newton_tolerance,
+        tolerance: params.newton_tolerance,
+        motion_floor: params.newton_motion_floor,
         ..KEPT_PREDICTED_SPARSE
     };
     for newton in [KEPT, KEPT_PREDICTED, KEPT_PREDICTED_SPARSE, fmu_defaults] {
