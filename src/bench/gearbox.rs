@@ -271,20 +271,37 @@ pub fn variants_foot(stop: f64, base: &Baseline) -> String {
 /// ([`VariantRow::full_model`]) of each bearing model, named by its label (the lamina law by table counts
 /// as lamina bearings: the same law, its accuracy in its row).
 pub fn targets(rows: &[VariantRow], stop: f64) -> String {
+    // the reference row's FMU time: a row's speed against it is what no phase of the machine moves
+    let reference = rows
+        .iter()
+        .find(|r| r.label.starts_with("reference"))
+        .map(|r| r.gearbox_s);
     let fastest = |bearings: &[&str]| {
         rows.iter()
             .filter(|r| r.full_model && bearings.contains(&r.bearings))
             .min_by(|a, b| a.gearbox_s.total_cmp(&b.gearbox_s))
-            .map_or((f64::NAN, "none"), |r| (stop / r.gearbox_s, r.label))
+            .map_or((f64::NAN, "none", String::new()), |r| {
+                let against = reference.map_or(String::new(), |s| {
+                    format!("; {:.1}× the reference's speed", s / r.gearbox_s)
+                });
+                (stop / r.gearbox_s, r.label, against)
+            })
     };
     let verdict = |x: f64, target: f64| if x >= target { "met" } else { "not met" };
-    let ((lamina, lamina_row), (linear, linear_row)) = (fastest(&["lamina", "lamina-table"]), fastest(&["linear"]));
+    let ((lamina, lamina_row, lamina_ref), (linear, linear_row, linear_ref)) =
+        (fastest(&["lamina", "lamina-table"]), fastest(&["linear"]));
     format!(
         "targets for the gearbox FMU alone (the fastest full-model row at 1 ms): 35 slices with lamina bearings \
-         {lamina:.1}× real time ({lamina_row:?}; ≥ {LAMINA_TARGET}×: {}), linear bearings {linear:.1}× ({linear_row:?}; \
-         ≥ {LINEAR_TARGET}×: {})\n",
+         {lamina:.1}× real time ({lamina_row:?}; ≥ {LAMINA_TARGET}×: {}{lamina_ref}), linear bearings {linear:.1}× \
+         ({linear_row:?}; ≥ {LINEAR_TARGET}×: {}{linear_ref}){}\n",
         verdict(lamina, LAMINA_TARGET),
         verdict(linear, LINEAR_TARGET),
+        if reference.is_some() {
+            "; real time moves with the machine's load and speed, a row's speed against the reference in the same \
+             run does not"
+        } else {
+            ""
+        },
     )
 }
 
@@ -830,6 +847,14 @@ mod tests {
             text.contains("linear bearings 40.0× (\"35 slices, linear\"; ≥ 50×: not met)"),
             "{text}"
         );
+        // without a reference row, no ratio to it
+        assert!(!text.contains("reference"), "{text}");
+        // with one, each target's row against it
+        let mut referenced = rows.to_vec();
+        referenced.insert(0, row("reference: 0.25 ms", "lamina", false, 4.0));
+        let text = targets(&referenced, 10.0);
+        assert!(text.contains("≥ 20×: met; 10.0× the reference's speed)"), "{text}");
+        assert!(text.contains("≥ 50×: not met; 16.0× the reference's speed)"), "{text}");
         // the lamina law by table counts for the lamina target
         let mut more = rows.to_vec();
         more.push(row("same, lamina-table", "lamina-table", true, 0.2));
