@@ -272,10 +272,7 @@ pub fn variants_foot(stop: f64, base: &Baseline) -> String {
 /// as lamina bearings: the same law, its accuracy in its row).
 pub fn targets(rows: &[VariantRow], stop: f64) -> String {
     // the reference row's FMU time: a row's speed against it is what no phase of the machine moves
-    let reference = rows
-        .iter()
-        .find(|r| r.label.starts_with("reference"))
-        .map(|r| r.gearbox_s);
+    let reference = rows.iter().find(|r| r.label == REFERENCE_LABEL).map(|r| r.gearbox_s);
     let fastest = |bearings: &[&str]| {
         rows.iter()
             .filter(|r| r.full_model && bearings.contains(&r.bearings))
@@ -388,6 +385,10 @@ pub fn torsional_baseline(dir: &Path, stop: f64) -> anyhow::Result<Baseline> {
     })
 }
 
+/// The label of the first row, the 0.25 ms reference every row's differences and the targets' ratios are
+/// taken against.
+const REFERENCE_LABEL: &str = "reference: 0.25 ms";
+
 /// The looser Newton tolerance of the rows "same, tolerance 1e-7" (their labels spell it).
 const LOOSER_TOLERANCE: f64 = 1e-7;
 
@@ -479,14 +480,7 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         ..at(label, bearings, "kept+predicted", None, None, None)
     };
     let variants: [Variant; 23] = [
-        pattern(
-            "reference: 0.25 ms",
-            35,
-            "lamina",
-            2.5e-4,
-            "implicit",
-            MainShaft::Preset,
-        ),
+        pattern(REFERENCE_LABEL, 35, "lamina", 2.5e-4, "implicit", MainShaft::Preset),
         pattern("35 slices, lamina", 35, "lamina", 1e-3, "hht", MainShaft::Preset),
         newton("same, Newton kept", "lamina", "kept"),
         newton("same, Newton predicted", "lamina", "predicted"),
@@ -496,15 +490,8 @@ pub fn variants(six: &Path, stop: f64, mut row: impl FnMut(&VariantRow)) -> anyh
         looser("same, tolerance 1e-7", "lamina-table"),
         sparse("same, sparse J", "lamina-table"),
         Variant {
-            floor: None,
-            ..at(
-                "same, rollers exact",
-                "lamina-table",
-                "kept+predicted",
-                None,
-                None,
-                exact,
-            )
+            rollers: exact,
+            ..defaults("same, rollers exact", "lamina-table")
         },
         defaults("same, FMU defaults", "lamina-table"),
         Variant {
@@ -794,7 +781,7 @@ pub fn explicit_against_implicit() -> anyhow::Result<ExplicitImplicit> {
 
 #[cfg(test)]
 mod tests {
-    use super::{VariantRow, phase_ms_per_s, phases, targets};
+    use super::{REFERENCE_LABEL, VariantRow, phase_ms_per_s, phases, targets};
 
     #[test]
     fn phases_split_the_fmu_time_at_the_marks_the_run_passed() {
@@ -851,7 +838,7 @@ mod tests {
         assert!(!text.contains("reference"), "{text}");
         // with one, each target's row against it
         let mut referenced = rows.to_vec();
-        referenced.insert(0, row("reference: 0.25 ms", "lamina", false, 4.0));
+        referenced.insert(0, row(REFERENCE_LABEL, "lamina", false, 4.0));
         let text = targets(&referenced, 10.0);
         assert!(text.contains("≥ 20×: met; 10.0× the reference's speed)"), "{text}");
         assert!(text.contains("≥ 50×: not met; 16.0× the reference's speed)"), "{text}");
