@@ -43,6 +43,9 @@ pub const ROW_GROUP_ROWS: usize = 1 << 13;
 /// pages a column chunk instead of one) and a file 0.7 % larger.
 pub const CHUNK_ROWS: usize = 1 << 10;
 
+/// The file's write buffer: a row group's columns are appended through it.
+const WRITE_BUFFER_BYTES: usize = 1 << 20;
+
 /// Chunks handed over and not yet written: the simulation runs at most this far ahead of the file.
 const CHUNKS_AHEAD: usize = 4;
 
@@ -111,8 +114,13 @@ impl ParquetWriter {
             .set_write_batch_size(CHUNK_ROWS)
             .set_data_page_row_count_limit(CHUNK_ROWS)
             .build();
-        let writer = SerializedFileWriter::new(BufWriter::new(file), Arc::new(schema), Arc::new(properties))
-            .map_err(|e| io_error(&shown, e))?;
+        // A row group's column chunks reach the file through this buffer, copied in pieces of its size:
+        // 8 kB (the default) made the 11 MB file of the 30 s bench scene 1 490 write(2) calls, and
+        // completing the file (the last group, the footer) waited 1.6-2.0 ms; with 1 MB, 11 calls and
+        // 1.45-1.55 ms (six runs each, a timer around `close`, 2026-12-04).
+        let file = BufWriter::with_capacity(WRITE_BUFFER_BYTES, file);
+        let writer =
+            SerializedFileWriter::new(file, Arc::new(schema), Arc::new(properties)).map_err(|e| io_error(&shown, e))?;
         let (to_thread, chunks) = std::sync::mpsc::sync_channel::<Vec<f64>>(CHUNKS_AHEAD);
         let (give_back, from_thread) = std::sync::mpsc::channel();
         let file = GroupWriter {
