@@ -106,8 +106,9 @@ def main():
     # the campaign-length case: the simulation alone against every output at every step to Parquet
     long_walls, long_cpus = ours(n, [("gauss-seidel", 10**9, csv), ("gauss-seidel", 1, parquet)],
                                  scene=LONG_SCENE, extra=("--stop-time", str(LONG_STOP)))
-    long_case = (min(long_walls[0]), min(long_walls[1]), paired_ratio(long_walls[1], long_walls[0]),
-                 paired_ratio(long_cpus[1], long_cpus[0]))
+    long_alone, long_full = min(long_walls[0]), min(long_walls[1])
+    long_wall_ratio = paired_ratio(long_walls[1], long_walls[0])
+    long_cpu_ratio = paired_ratio(long_cpus[1], long_cpus[0])
 
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
@@ -145,10 +146,9 @@ def main():
     for alg, ((csv_wall, csv_cpu), (pq_wall, pq_cpu)) in recording:
         print(f"  {alg:<13} wall: CSV {csv_wall:.2f}x   Parquet {pq_wall:.2f}x"
               f"     CPU: CSV {csv_cpu:.2f}x   Parquet {pq_cpu:.2f}x")
-    alone, full, wall_ratio, cpu_ratio = long_case
     print(f"  a campaign-length case ({LONG_SCENE.name}, {LONG_STOP:g} s, gauss-seidel): the simulation alone"
-          f" {alone:.3f} s, every output to Parquet {full:.3f} s (best of {n})")
-    print(f"  {'':<13} wall: Parquet {wall_ratio:.2f}x     CPU: Parquet {cpu_ratio:.2f}x")
+          f" {long_alone:.3f} s, every output to Parquet {long_full:.3f} s (best of {n})")
+    print(f"  {'':<13} wall: Parquet {long_wall_ratio:.2f}x     CPU: Parquet {long_cpu_ratio:.2f}x")
     print()
     print("where the time of a Parquet run went (windrive run --profile, Gauss-Seidel, one run):")
     done = subprocess.run([str(WINDRIVE), "run", str(SCENE), "--out", str(parquet), "--profile"], check=True,
@@ -156,7 +156,7 @@ def main():
     text = done.stdout + done.stderr
     print(text[text.index("profile "):].rstrip())
     print(json.dumps({**{name: t for name, t in rows},
-                      "long case, simulation alone": long_case[0], "long case, every output to Parquet": long_case[1]}))
+                      "long case, simulation alone": long_alone, "long case, every output to Parquet": long_full}))
 
 
 if __name__ == "__main__":

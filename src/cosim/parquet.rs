@@ -118,9 +118,9 @@ impl ParquetWriter {
         // 8 kB (the default) made the 11 MB file of the 30 s bench scene 1 490 write(2) calls, and
         // completing the file (the last group, the footer) waited 1.6-2.0 ms; with 1 MB, 11 calls and
         // 1.45-1.55 ms (six runs each, a timer around `close`, 2026-12-04).
-        let file = BufWriter::with_capacity(WRITE_BUFFER_BYTES, file);
-        let writer =
-            SerializedFileWriter::new(file, Arc::new(schema), Arc::new(properties)).map_err(|e| io_error(&shown, e))?;
+        let buffered = BufWriter::with_capacity(WRITE_BUFFER_BYTES, file);
+        let writer = SerializedFileWriter::new(buffered, Arc::new(schema), Arc::new(properties))
+            .map_err(|e| io_error(&shown, e))?;
         let (to_thread, chunks) = std::sync::mpsc::sync_channel::<Vec<f64>>(CHUNKS_AHEAD);
         let (give_back, from_thread) = std::sync::mpsc::channel();
         let file = GroupWriter {
